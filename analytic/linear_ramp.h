@@ -1,0 +1,20 @@
+#pragma once
+// f(x) = offset + dot(gradient, x): linear along every ray, so with a piecewise-linear
+// transfer function every piece of a ray has a closed form.
+#include <vector>
+
+#include "lib/geometry.h"
+
+namespace vrv {
+
+struct LinearRamp {
+  Vec3 gradient{1, 0, 0};
+  double offset = 0;
+
+  double value(const Vec3& p) const { return offset + gradient.dot(p); }
+  int degree_along_ray() const { return 1; }
+  double bandwidth() const { return 0; }
+  void append_breaks(const Ray&, Interval, std::vector<double>&) const {}
+};
+
+}  // namespace vrv

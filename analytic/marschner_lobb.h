@@ -1,0 +1,26 @@
+#pragma once
+// The Marschner-Lobb (1994) test signal on world coordinates:
+//   f(x,y,z) = (1 - sin(pi z / 2) + alpha (1 + rho_r(sqrt(x^2 + y^2)))) / (2 (1 + alpha)),
+//   rho_r(r) = cos(2 pi fM cos(pi r / 2)).
+#include <numbers>
+#include <vector>
+
+#include "lib/geometry.h"
+
+namespace vrv {
+
+struct MarschnerLobb {
+  double fM = 6;
+  double alpha = 0.25;
+
+  double value(const Vec3& p) const;
+  int degree_along_ray() const { return -1; }
+  // |d/dr of the phase 2 pi fM cos(pi r / 2)| <= pi^2 fM, plus pi/2 from sin(pi z / 2).
+  double bandwidth() const {
+    constexpr double pi = std::numbers::pi;
+    return pi * pi * fM + pi / 2;
+  }
+  void append_breaks(const Ray&, Interval, std::vector<double>&) const {}
+};
+
+}  // namespace vrv

@@ -1,0 +1,105 @@
+#include "lib/chebyshev.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <numbers>
+#include <stdexcept>
+
+namespace vrv {
+
+ChebyshevRule::ChebyshevRule(int n) : n_(n), nodes_(n), to_coefficients_(n, n) {
+  if (n == 1) {
+    nodes_[0] = 0;
+    to_coefficients_(0, 0) = 1;
+    return;
+  }
+  const double pi = std::numbers::pi;
+  const int m = n - 1;
+  for (int j = 0; j < n; ++j) nodes_[j] = std::cos(pi * j / m);
+  // Symmetric nodes exactly: cos() rounding would make x_j and -x_{m-j} differ in the last bit.
+  for (int j = 0; j < n / 2; ++j) nodes_[m - j] = -nodes_[j];
+  if (n % 2 == 1) nodes_[m / 2] = 0;
+  // Discrete cosine transform of type I: c_k = (2/m) sum'' f_j cos(pi j k / m).
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j) {
+      double w = 2.0 / m * std::cos(pi * ((static_cast<long>(j) * k) % (2 * m)) / m);
+      if (j == 0 || j == m) w *= 0.5;
+      if (k == 0 || k == m) w *= 0.5;
+      to_coefficients_(k, j) = w;
+    }
+}
+
+const ChebyshevRule& ChebyshevRule::get(int n) {
+  constexpr int max_n = 129;
+  if (n < 1 || n > max_n) throw std::out_of_range("ChebyshevRule: n must be in [1, 129]");
+  static std::array<std::unique_ptr<ChebyshevRule>, max_n + 1> cache;
+  static std::once_flag flags[max_n + 1];
+  std::call_once(flags[n], [n] { cache[n].reset(new ChebyshevRule(n)); });
+  return *cache[n];
+}
+
+void ChebyshevRule::coefficients(std::span<const double> values, std::span<double> c) const {
+  Eigen::Map<const Eigen::VectorXd> v(values.data(), n_);
+  Eigen::Map<Eigen::VectorXd> out(c.data(), n_);
+  out.noalias() = to_coefficients_ * v;
+}
+
+double chebyshev_evaluate(std::span<const double> c, double x) {
+  double b1 = 0, b2 = 0;
+  const double two_x = 2 * x;
+  for (std::size_t k = c.size(); k-- > 1;) {
+    const double b0 = c[k] + two_x * b1 - b2;
+    b2 = b1;
+    b1 = b0;
+  }
+  return c.empty() ? 0.0 : c[0] + x * b1 - b2;
+}
+
+void chebyshev_antiderivative(std::span<const double> c, std::span<double> out) {
+  const std::size_t n = c.size();
+  auto at = [&](std::size_t k) { return k < n ? c[k] : 0.0; };
+  std::fill(out.begin(), out.end(), 0.0);
+  // int T_k = T_{k+1}/(2(k+1)) - T_{k-1}/(2(k-1)), int T_0 = T_1, int T_1 = T_2 / 4 (+ const).
+  for (std::size_t k = 1; k <= n; ++k) {
+    const double lower = k == 1 ? 2 * at(0) : at(k - 1);
+    out[k] = (lower - at(k + 1)) / (2.0 * k);
+  }
+  double at_minus_one = 0;  // F(-1) without the constant term
+  for (std::size_t k = 1; k <= n; ++k) at_minus_one += (k % 2 ? -out[k] : out[k]);
+  out[0] = -at_minus_one;
+}
+
+double chebyshev_integral(std::span<const double> c) {
+  double sum = 0;
+  for (std::size_t k = 0; k < c.size(); k += 2) sum += 2.0 * c[k] / (1.0 - static_cast<double>(k * k));
+  return sum;
+}
+
+ChebyshevAccuracy chebyshev_accuracy(std::span<const double> c) {
+  const int n = static_cast<int>(c.size());
+  const double eps = std::numeric_limits<double>::epsilon();
+  double scale = 0;
+  for (double x : c) scale = std::max(scale, std::abs(x));
+  // What rounding alone leaves in the coefficients of values of size `scale`.
+  const double floor = 4 * eps * scale * std::sqrt(static_cast<double>(n));
+  if (n < 8) {
+    // Too short to judge decay: only exact (polynomial) data, used for known-degree pieces.
+    return {floor, true, true};
+  }
+  // Pairs, so that an odd or even function's zero coefficients do not fake convergence.
+  const double tail = std::max(std::abs(c[n - 1]), std::abs(c[n - 2]));
+  const double before = std::max(std::abs(c[n - 5]), std::abs(c[n - 6])) +
+                        std::numeric_limits<double>::min();
+  if (tail <= floor) return {floor, true, true};
+  // Geometric decay rate per degree from the last few coefficients; the neglected tail
+  // sum_{k >= n} |a_k| plus aliasing is about 2 tail r / (1 - r).
+  const double r = std::pow(tail / before, 0.25);
+  if (!(r < 0.8)) return {2 * tail / 0.2, false, false};
+  return {std::max(2 * tail * r / (1 - r), floor), true, false};
+}
+
+}  // namespace vrv

@@ -1,0 +1,45 @@
+#pragma once
+// Chebyshev-Lobatto interpolation on [-1, 1]: the spectral tool behind the reference
+// integrator's panels.  Values at x_j = cos(pi j / (n - 1)) become coefficients of
+// p(x) = sum_k c_k T_k(x); p can then be evaluated, integrated and its accuracy judged from
+// how fast the coefficients decay (Trefethen, "Approximation Theory and Practice").
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace vrv {
+
+class ChebyshevRule {
+ public:
+  // The rule with n points (cached; n from 1 to 129).  n = 1 is the midpoint.
+  static const ChebyshevRule& get(int n);
+
+  int size() const { return n_; }
+  double node(int j) const { return nodes_[j]; }  // from +1 down to -1
+  // Coefficients c_0..c_{n-1} of the interpolant through values[j] at node(j).
+  void coefficients(std::span<const double> values, std::span<double> c) const;
+
+ private:
+  explicit ChebyshevRule(int n);
+  int n_;
+  std::vector<double> nodes_;
+  Eigen::MatrixXd to_coefficients_;  // row-major use: c = M * values
+};
+
+// p(x) by Clenshaw's recurrence.
+double chebyshev_evaluate(std::span<const double> c, double x);
+// Coefficients of the antiderivative F with F(-1) = 0 (one more coefficient than c).
+void chebyshev_antiderivative(std::span<const double> c, std::span<double> out);
+// Integral of p over [-1, 1].
+double chebyshev_integral(std::span<const double> c);
+
+// A posteriori bound on max |f - p| from the decay of the last coefficients.
+struct ChebyshevAccuracy {
+  double error = 0;       // estimated max |f - p| on the interval
+  bool resolved = false;  // the coefficients decay (or sit at round-off level)
+  bool at_rounding = false;  // the tail is rounding noise: splitting the interval cannot help
+};
+ChebyshevAccuracy chebyshev_accuracy(std::span<const double> c);
+
+}  // namespace vrv

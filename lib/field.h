@@ -1,0 +1,26 @@
+#pragma once
+// What an integrator needs from a scalar field.  Fields are plain types used through
+// templates (no virtual call per evaluation); a scene holds one of them in a std::variant.
+#include <concepts>
+#include <vector>
+
+#include "lib/geometry.h"
+
+namespace vrv {
+
+template <class F>
+concept ScalarField = requires(const F& f, const Vec3& p, const Ray& ray, Interval iv,
+                               std::vector<double>& breaks) {
+  // f at a world position.
+  { f.value(p) } -> std::convertible_to<double>;
+  // Degree of the polynomial t -> f(ray.at(t)) between structural breaks, or -1 when the
+  // field is smooth but not a polynomial (then it is resolved adaptively).
+  { f.degree_along_ray() } -> std::convertible_to<int>;
+  // An upper bound on the angular frequency of f along any line (radians per unit length),
+  // or 0 when unknown; it only sizes the first panels, correctness never depends on it.
+  { f.bandwidth() } -> std::convertible_to<double>;
+  // Appends the parameters in (iv.t0, iv.t1) where f is not smooth (grid cell faces).
+  f.append_breaks(ray, iv, breaks);
+};
+
+}  // namespace vrv

@@ -1,0 +1,56 @@
+#pragma once
+// A regular grid of samples of another field, interpolated trilinearly or to the nearest node.
+//
+// layout node: nodes on the box faces, x_i = min + i h, h = extent / (n - 1).
+// layout cell: texel centres, x_i = min + (i + 1/2) h, h = extent / n; positions between
+//              the box face and the outermost centre are clamped (as a GPU texture does).
+#include <array>
+#include <functional>
+#include <vector>
+
+#include "lib/geometry.h"
+
+namespace vrv {
+
+enum class GridLayout { node, cell };
+enum class Interpolation { trilinear, nearest };
+
+class GridField {
+ public:
+  using Index3 = std::array<int, 3>;
+
+  // Samples `source` at every node.  Throws std::invalid_argument for a resolution below
+  // 2 (node layout) or 1 (cell layout) on any axis.
+  GridField(const Box& box, Index3 resolution, GridLayout layout, Interpolation interpolation,
+            const std::function<double(const Vec3&)>& source);
+
+  double value(const Vec3& p) const;
+  int degree_along_ray() const { return interpolation_ == Interpolation::trilinear ? 3 : 0; }
+  double bandwidth() const { return 0; }
+  // Trilinear: the node planes (the interpolant is a cubic in t between them).
+  // Nearest: the planes half way between nodes (the value is constant between them).
+  void append_breaks(const Ray& ray, Interval iv, std::vector<double>& breaks) const;
+
+  const Box& box() const { return box_; }
+  Index3 resolution() const { return n_; }
+  GridLayout layout() const { return layout_; }
+  Interpolation interpolation() const { return interpolation_; }
+  Vec3 node_position(int i, int j, int k) const;
+  double node(int i, int j, int k) const {
+    return values_[(static_cast<std::size_t>(k) * n_[1] + j) * n_[0] + i];
+  }
+
+ private:
+  // Continuous node coordinate along axis a, clamped to [0, n - 1].
+  double coordinate(double x, int a) const;
+
+  Box box_;
+  Index3 n_;
+  GridLayout layout_;
+  Interpolation interpolation_;
+  Vec3 spacing_;
+  double offset_;  // 0 for node layout, 1/2 for cell layout
+  std::vector<double> values_;
+};
+
+}  // namespace vrv

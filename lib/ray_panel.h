@@ -1,0 +1,31 @@
+#pragma once
+// A Chebyshev proxy of the field along one stretch [a, b] of a ray: f(t) ~ p(t).
+// The reference integrator builds these front to back; every field evaluation it makes
+// goes into one.  Proxies of known-degree fields (ramps, trilinear cells) are exact.
+#include <span>
+#include <vector>
+
+#include "lib/chebyshev.h"
+
+namespace vrv {
+
+struct RayPanel {
+  double a = 0;
+  double b = 0;
+  std::vector<double> coefficients;  // of f on [a, b] mapped to [-1, 1]
+  double error = 0;                  // estimated max |f - p| on [a, b]
+  bool resolved = true;
+
+  double x_of(double t) const { return (2 * t - a - b) / (b - a); }
+  double t_of(double x) const { return 0.5 * (a + b) + 0.5 * (b - a) * x; }
+  double operator()(double t) const { return chebyshev_evaluate(coefficients, x_of(t)); }
+  int size() const { return static_cast<int>(coefficients.size()); }
+};
+
+// Parameters t in (panel.a, panel.b) where p(t) crosses one of the sorted `levels`
+// (transfer-function control values), sorted, appended to `out`.  Sign changes are found on
+// a dense Chebyshev sampling and refined with TOMS 748 on the proxy.  Two crossings closer
+// than the sampling can be missed; the integrand's own accuracy check then catches the kink.
+void find_crossings(const RayPanel& panel, std::span<const double> levels, std::vector<double>& out);
+
+}  // namespace vrv

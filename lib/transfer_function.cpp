@@ -1,0 +1,159 @@
+#include "lib/transfer_function.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace vrv {
+
+PiecewiseLinear::PiecewiseLinear(std::vector<ControlPoint> points) : points_(std::move(points)) {
+  if (points_.empty()) throw std::invalid_argument("needs at least one control point");
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    const auto& p = points_[i];
+    if (!std::isfinite(p.v) || !std::isfinite(p.y))
+      throw std::invalid_argument(fmt::format("control point {} is not finite", i));
+    if (i > 0 && p.v < points_[i - 1].v)
+      throw std::invalid_argument(fmt::format("control values are not sorted at point {}", i));
+    if (i > 1 && p.v == points_[i - 2].v)
+      throw std::invalid_argument(
+          fmt::format("value {} is repeated more than twice (a jump takes exactly two)", p.v));
+  }
+}
+
+Line PiecewiseLinear::line_at(double v_inside) const {
+  const auto after = std::upper_bound(points_.begin(), points_.end(), v_inside,
+                                      [](double v, const ControlPoint& p) { return v < p.v; });
+  if (after == points_.begin()) return Line{points_.front().v, points_.front().y, 0};
+  if (after == points_.end()) return Line{points_.back().v, points_.back().y, 0};
+  const ControlPoint& a = *(after - 1);
+  const ControlPoint& b = *after;
+  return Line{a.v, a.y, (b.y - a.y) / (b.v - a.v)};
+}
+
+double PiecewiseLinear::operator()(double v) const { return line_at(v)(v); }
+
+double PiecewiseLinear::max_value() const {
+  return std::max_element(points_.begin(), points_.end(),
+                          [](auto& a, auto& b) { return a.y < b.y; })->y;
+}
+
+double PiecewiseLinear::min_value() const {
+  return std::min_element(points_.begin(), points_.end(),
+                          [](auto& a, auto& b) { return a.y < b.y; })->y;
+}
+
+double PiecewiseLinear::max_abs_slope() const {
+  double s = 0;
+  for (std::size_t i = 1; i < points_.size(); ++i) {
+    const double dv = points_[i].v - points_[i - 1].v;
+    if (dv > 0) s = std::max(s, std::abs(points_[i].y - points_[i - 1].y) / dv);
+  }
+  return s;
+}
+
+double TransferSegment::tau(double v) const {
+  if (convention == Convention::emission_extinction) return std::max(0.0, second(v));
+  const double a = std::max(0.0, first(v));
+  return -std::log1p(-a) / unit_length;
+}
+
+double TransferSegment::g(double v) const {
+  if (convention == Convention::emission_extinction) return std::max(0.0, first(v));
+  return std::max(0.0, second(v)) * tau(v);
+}
+
+TransferFunction TransferFunction::emission_extinction(PiecewiseLinear emission,
+                                                       PiecewiseLinear extinction) {
+  if (emission.min_value() < 0) throw std::invalid_argument("emission must not be negative");
+  if (extinction.min_value() < 0) throw std::invalid_argument("extinction must not be negative");
+  TransferFunction tf;
+  tf.convention_ = Convention::emission_extinction;
+  tf.first_ = std::move(emission);
+  tf.second_ = std::move(extinction);
+  tf.finish();
+  return tf;
+}
+
+TransferFunction TransferFunction::opacity_color(PiecewiseLinear opacity, PiecewiseLinear color,
+                                                 double unit_length) {
+  if (!(unit_length > 0) || !std::isfinite(unit_length))
+    throw std::invalid_argument("unit_length must be a positive finite number");
+  if (opacity.min_value() < 0) throw std::invalid_argument("opacity must not be negative");
+  if (opacity.max_value() >= 1)
+    throw std::invalid_argument("opacity must be below 1 (opacity 1 is infinite extinction)");
+  if (color.min_value() < 0) throw std::invalid_argument("color must not be negative");
+  TransferFunction tf;
+  tf.convention_ = Convention::opacity_color;
+  tf.first_ = std::move(opacity);
+  tf.second_ = std::move(color);
+  tf.unit_length_ = unit_length;
+  tf.finish();
+  return tf;
+}
+
+TransferSegment TransferFunction::segment(double v_inside) const {
+  return TransferSegment{convention_, first_.line_at(v_inside), second_.line_at(v_inside),
+                         unit_length_};
+}
+
+double TransferFunction::emission(double v) const { return segment(v).g(v); }
+double TransferFunction::extinction(double v) const { return segment(v).tau(v); }
+
+void TransferFunction::finish() {
+  breakpoints_.clear();
+  for (const auto* curve : {&first_, &second_})
+    for (const auto& p : curve->points()) breakpoints_.push_back(p.v);
+  std::sort(breakpoints_.begin(), breakpoints_.end());
+  breakpoints_.erase(std::unique(breakpoints_.begin(), breakpoints_.end()), breakpoints_.end());
+
+  // Every segment's branch at both of its ends, plus the constant tails: g and tau are
+  // monotone (or products of monotone factors) on a branch, so the ends bound them.
+  struct Sample { double g, tau, dg, dtau; };
+  std::vector<Sample> samples;
+  auto add_branch = [&](double v_inside, double lo, double hi) {
+    const TransferSegment s = segment(v_inside);
+    for (double v : {lo, hi}) {
+      const double tau = s.tau(v);
+      double dtau = 0, dg = 0;
+      if (convention_ == Convention::emission_extinction) {
+        dtau = std::abs(s.second.slope);
+        dg = std::abs(s.first.slope);
+      } else {
+        const double a = std::max(0.0, s.first(v));
+        dtau = std::abs(s.first.slope) / (unit_length_ * (1 - a));
+        dg = std::abs(s.second.slope) * tau + std::max(0.0, s.second(v)) * dtau;
+      }
+      samples.push_back({s.g(v), tau, dg, dtau});
+    }
+  };
+  const auto& b = breakpoints_;
+  add_branch(b.front() - 1, b.front(), b.front());
+  add_branch(b.back() + 1, b.back(), b.back());
+  for (std::size_t i = 1; i < b.size(); ++i) add_branch(0.5 * (b[i - 1] + b[i]), b[i - 1], b[i]);
+
+  max_g_ = max_dg_ = max_dtau_ = 0;
+  double max_tau = 0, g_at_max_tau = 0;
+  for (const auto& s : samples) {
+    max_g_ = std::max(max_g_, s.g);
+    max_dg_ = std::max(max_dg_, s.dg);
+    max_dtau_ = std::max(max_dtau_, s.dtau);
+    if (s.tau > max_tau) max_tau = s.tau, g_at_max_tau = s.g;
+  }
+  if (convention_ == Convention::opacity_color) {
+    // g <= max color * max tau on every branch.
+    max_g_ = second_.max_value() * -std::log1p(-first_.max_value()) / unit_length_;
+  }
+
+  kappa_.reset();
+  const double kappa = max_tau > 0 ? g_at_max_tau / max_tau : 0.0;
+  const double eps = std::numeric_limits<double>::epsilon();
+  const bool proportional = std::all_of(samples.begin(), samples.end(), [&](const Sample& s) {
+    return std::abs(s.g - kappa * s.tau) <= 8 * eps * (s.g + kappa * s.tau);
+  });
+  if (proportional) kappa_ = kappa;
+}
+
+}  // namespace vrv

@@ -1,0 +1,106 @@
+#pragma once
+// Transfer functions: emission g(v) and extinction tau(v) of the scalar value v.
+//
+// Both are given as piecewise-linear control points, constant beyond the ends; a repeated
+// value makes a jump.  Between two consecutive control values (of either curve) g and tau
+// are smooth, so the integrators split rays where the field crosses those values.
+#include <optional>
+#include <vector>
+
+namespace vrv {
+
+struct ControlPoint {
+  double v = 0;  // scalar value
+  double y = 0;  // function value
+};
+
+// y0 + slope * (v - v0): one linear piece, extended beyond its own interval on purpose, so
+// that a value a rounding error outside a segment does not fall onto the next branch.
+struct Line {
+  double v0 = 0;
+  double y0 = 0;
+  double slope = 0;
+  double operator()(double v) const { return y0 + slope * (v - v0); }
+};
+
+class PiecewiseLinear {
+ public:
+  PiecewiseLinear() = default;
+  // Requires at least one point, finite numbers, non-decreasing v and no value repeated
+  // more than twice; throws std::invalid_argument naming the reason otherwise.
+  explicit PiecewiseLinear(std::vector<ControlPoint> points);
+
+  double operator()(double v) const;  // right-continuous at jumps
+  // The linear piece that holds v_inside (a value strictly between two breakpoints).
+  Line line_at(double v_inside) const;
+  const std::vector<ControlPoint>& points() const { return points_; }
+  double max_value() const;
+  double min_value() const;
+  double max_abs_slope() const;
+
+ private:
+  std::vector<ControlPoint> points_;
+};
+
+enum class Convention {
+  emission_extinction,  // g = emission(v), tau = extinction(v), per unit world length
+  opacity_color,        // renderer's: tau = -ln(1 - opacity(v)) / unit_length, g = color(v) * tau
+};
+
+// g and tau on one smooth branch (between two consecutive breakpoints).
+struct TransferSegment {
+  Convention convention = Convention::emission_extinction;
+  Line first;   // emission or opacity
+  Line second;  // extinction or color
+  double unit_length = 1;
+
+  // Clamped at 0 so that a rounding excursion past a zero-crossing never gives negative values.
+  double tau(double v) const;
+  double g(double v) const;
+};
+
+class TransferFunction {
+ public:
+  TransferFunction() = default;
+  static TransferFunction emission_extinction(PiecewiseLinear emission, PiecewiseLinear extinction);
+  // opacity values must lie in [0, 1); unit_length > 0.
+  static TransferFunction opacity_color(PiecewiseLinear opacity, PiecewiseLinear color,
+                                        double unit_length);
+
+  Convention convention() const { return convention_; }
+  const PiecewiseLinear& first() const { return first_; }
+  const PiecewiseLinear& second() const { return second_; }
+  double unit_length() const { return unit_length_; }
+
+  // Sorted distinct control values of both curves.
+  const std::vector<double>& breakpoints() const { return breakpoints_; }
+  // The branch valid around v_inside; use a value strictly inside a segment.
+  TransferSegment segment(double v_inside) const;
+  double emission(double v) const;    // right-continuous
+  double extinction(double v) const;  // right-continuous
+
+  // g and tau affine in v on every segment (the emission/extinction convention).
+  bool affine() const { return convention_ == Convention::emission_extinction; }
+  // kappa when g = kappa * tau for every v; then I = kappa (1 - e^-Phi) needs only Phi.
+  std::optional<double> emission_per_extinction() const { return kappa_; }
+
+  // Bounds used to turn a field error into an error on I.
+  double max_emission() const { return max_g_; }
+  double max_emission_slope() const { return max_dg_; }
+  double max_extinction_slope() const { return max_dtau_; }
+
+ private:
+  void finish();  // breakpoints, kappa and bounds
+
+  Convention convention_ = Convention::emission_extinction;
+  PiecewiseLinear first_;
+  PiecewiseLinear second_;
+  double unit_length_ = 1;
+  std::vector<double> breakpoints_;
+  std::optional<double> kappa_;
+  double max_g_ = 0;
+  double max_dg_ = 0;
+  double max_dtau_ = 0;
+};
+
+}  // namespace vrv

@@ -1,0 +1,10 @@
+#pragma once
+// The `vrv` subcommands.  Each registers its options on the app and runs when chosen.
+#include <CLI/CLI.hpp>
+
+namespace vrv::cli {
+
+void add_ray_command(CLI::App& app);
+void add_demo_command(CLI::App& app);
+
+}  // namespace vrv::cli

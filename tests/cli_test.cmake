@@ -1,0 +1,72 @@
+# End-to-end checks of the vrv command line; run by CTest as `cli`.
+# -DVRV=<path to vrv> -DSRC=<source dir> -DOUT=<scratch dir>
+file(MAKE_DIRECTORY ${OUT})
+
+function(expect_success name)
+  execute_process(COMMAND ${VRV} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${name}: exit ${rc}\n${out}\n${err}")
+  endif()
+  set(LAST_OUT "${out}" PARENT_SCOPE)
+endfunction()
+
+function(expect_failure name pattern)
+  execute_process(COMMAND ${VRV} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(rc EQUAL 0)
+    message(FATAL_ERROR "${name}: expected a non-zero exit, got 0\n${out}")
+  endif()
+  string(STRIP "${err}" err)
+  if(NOT err MATCHES "${pattern}")
+    message(FATAL_ERROR "${name}: stderr does not match '${pattern}':\n${err}")
+  endif()
+  if(err MATCHES "\n")
+    message(FATAL_ERROR "${name}: the error is more than one line:\n${err}")
+  endif()
+endfunction()
+
+# Negative components, both spellings, give the same full-precision JSON line.
+expect_success(negative_space ray --origin -3,0.5,0 --direction 1,0,0 --json)
+set(a "${LAST_OUT}")
+expect_success(negative_equals ray --origin=-3,0.5,0 --direction=1,0,0 --json)
+if(NOT a STREQUAL LAST_OUT)
+  message(FATAL_ERROR "--origin -3,.. and --origin=-3,.. differ:\n${a}\n${LAST_OUT}")
+endif()
+foreach(key value error_estimate evaluations t_entry t_exit optical_depth)
+  if(NOT a MATCHES "\"${key}\":")
+    message(FATAL_ERROR "JSON line lacks ${key}: ${a}")
+  endif()
+endforeach()
+string(JSON t_entry GET "${a}" t_entry)
+if(NOT t_entry EQUAL 2)
+  message(FATAL_ERROR "t_entry should be 2 for origin x = -3: ${a}")
+endif()
+
+# A ray that misses returns the background with null entry and exit.
+expect_success(miss ray --origin -3,5,0 --direction 1,0,0 --json)
+if(NOT LAST_OUT MATCHES "\"t_entry\":null")
+  message(FATAL_ERROR "miss: ${LAST_OUT}")
+endif()
+
+# --rays: one JSON line per ray.
+file(WRITE ${OUT}/rays.jsonl "{\"origin\": [-3, 0.1, 0.2], \"direction\": [1, 0, 0]}\n{\"origin\": [0, 0, -5], \"direction\": [0.1, 0.2, 1]}\n")
+expect_success(rays_file ray --rays ${OUT}/rays.jsonl)
+string(REGEX MATCHALL "\n" lines "${LAST_OUT}")
+list(LENGTH lines n)
+if(NOT n EQUAL 2)
+  message(FATAL_ERROR "--rays: expected 2 lines, got ${n}:\n${LAST_OUT}")
+endif()
+
+expect_success(help_ray ray --help)
+expect_success(help_demo demo --help)
+expect_success(demo demo --rays 3)
+
+# Bad input: one line naming the file, key or option, and a non-zero exit.
+expect_failure(zero_direction "direction.*zero" ray --origin 0,0,0 --direction 0,0,0)
+expect_failure(bad_vector "--origin" ray --origin 1,2 --direction 1,0,0)
+expect_failure(nan_vector "--origin" ray --origin nan,0,0 --direction 1,0,0)
+expect_failure(bad_tol "--tol" ray --origin 0,0,0 --direction 1,0,0 --tol -1)
+expect_failure(missing_scene "nope.toml" ray --scene ${OUT}/nope.toml --origin 0,0,0 --direction 1,0,0)
+file(WRITE ${OUT}/bad.toml "[volume]\nmin = [1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n")
+expect_failure(bad_box "bad.toml.*volume" ray --scene ${OUT}/bad.toml --origin 0,0,0 --direction 1,0,0)
+file(WRITE ${OUT}/bad_rays.jsonl "{\"origin\": [0, 0], \"direction\": [1, 0, 0]}\n")
+expect_failure(bad_rays "bad_rays.jsonl:1: origin" ray --rays ${OUT}/bad_rays.jsonl)
