@@ -73,33 +73,48 @@ void chebyshev_antiderivative(std::span<const double> c, std::span<double> out) 
   out[0] = -at_minus_one;
 }
 
+void chebyshev_derivative(std::span<const double> c, std::span<double> out) {
+  const std::size_t n = c.size();
+  std::fill(out.begin(), out.end(), 0.0);
+  // d_k = d_{k+2} + 2 (k + 1) c_{k+1}, then d_0 halved.
+  for (std::size_t k = n - 1; k-- > 0;) out[k] = (k + 2 < n ? out[k + 2] : 0.0) + 2.0 * (k + 1) * c[k + 1];
+  if (n > 0) out[0] *= 0.5;
+}
+
 double chebyshev_integral(std::span<const double> c) {
   double sum = 0;
   for (std::size_t k = 0; k < c.size(); k += 2) sum += 2.0 * c[k] / (1.0 - static_cast<double>(k * k));
   return sum;
 }
 
-ChebyshevAccuracy chebyshev_accuracy(std::span<const double> c) {
+ChebyshevAccuracy chebyshev_accuracy(std::span<const double> c, double noise) {
   const int n = static_cast<int>(c.size());
   const double eps = std::numeric_limits<double>::epsilon();
-  double scale = 0;
-  for (double x : c) scale = std::max(scale, std::abs(x));
-  // What rounding alone leaves in the coefficients of values of size `scale`.
-  const double floor = 4 * eps * scale * std::sqrt(static_cast<double>(n));
+  double scale = 0, sum = 0;
+  for (double x : c) scale = std::max(scale, std::abs(x)), sum += std::abs(x);
+  // Rounding in the sampled values (noise) reaches the interpolant amplified at most by the
+  // Lebesgue constant of Chebyshev points, 2/pi ln(n - 1) + 1; Clenshaw's recurrence adds
+  // about eps sqrt(n) sum |c_k| when the interpolant is evaluated.
+  const double value_noise = std::max(noise, 2 * eps * scale);
+  const double lebesgue = n > 2 ? 2 / std::numbers::pi * std::log(n - 1.0) + 1 : 1.0;
+  const double rounding_error =
+      lebesgue * value_noise + 2 * eps * std::sqrt(static_cast<double>(n)) * sum;
+  // Coefficients of noise of that size sit below this level.
+  const double floor = std::max(4 * eps * scale * std::sqrt(static_cast<double>(n)), noise);
   if (n < 8) {
     // Too short to judge decay: only exact (polynomial) data, used for known-degree pieces.
-    return {floor, true, true};
+    return {rounding_error, true, true};
   }
   // Pairs, so that an odd or even function's zero coefficients do not fake convergence.
   const double tail = std::max(std::abs(c[n - 1]), std::abs(c[n - 2]));
   const double before = std::max(std::abs(c[n - 5]), std::abs(c[n - 6])) +
                         std::numeric_limits<double>::min();
-  if (tail <= floor) return {floor, true, true};
+  if (tail <= floor) return {2 * tail + rounding_error, true, true};
   // Geometric decay rate per degree from the last few coefficients; the neglected tail
   // sum_{k >= n} |a_k| plus aliasing is about 2 tail r / (1 - r).
   const double r = std::pow(tail / before, 0.25);
   if (!(r < 0.8)) return {2 * tail / 0.2, false, false};
-  return {std::max(2 * tail * r / (1 - r), floor), true, false};
+  return {2 * tail * r / (1 - r) + rounding_error, true, false};
 }
 
 }  // namespace vrv

@@ -31,6 +31,8 @@ class ChebyshevRule {
 double chebyshev_evaluate(std::span<const double> c, double x);
 // Coefficients of the antiderivative F with F(-1) = 0 (one more coefficient than c).
 void chebyshev_antiderivative(std::span<const double> c, std::span<double> out);
+// Coefficients of the derivative p' (same length as c; the last is zero).
+void chebyshev_derivative(std::span<const double> c, std::span<double> out);
 // Integral of p over [-1, 1].
 double chebyshev_integral(std::span<const double> c);
 
@@ -40,6 +42,8 @@ struct ChebyshevAccuracy {
   bool resolved = false;  // the coefficients decay (or sit at round-off level)
   bool at_rounding = false;  // the tail is rounding noise: splitting the interval cannot help
 };
-ChebyshevAccuracy chebyshev_accuracy(std::span<const double> c);
+// `noise` is the absolute rounding level of the sampled values when it exceeds what their
+// size implies (values computed by subtracting larger numbers).
+ChebyshevAccuracy chebyshev_accuracy(std::span<const double> c, double noise = 0);
 
 }  // namespace vrv

@@ -7,43 +7,74 @@
 #include <boost/math/tools/toms748_solve.hpp>
 
 namespace vrv {
+namespace {
 
-void find_crossings(const RayPanel& panel, std::span<const double> levels, std::vector<double>& out) {
-  if (levels.empty() || panel.b <= panel.a) return;
-  // Dense Chebyshev sampling: twice the proxy's degree resolves its sign pattern except for
-  // near-double roots.
-  const ChebyshevRule& rule = ChebyshevRule::get(std::min(2 * panel.size() + 1, 129));
-  const int m = rule.size();
-  double ts[129], ps[129];
-  double lo = INFINITY, hi = -INFINITY;
-  for (int j = 0; j < m; ++j) {
-    ts[j] = panel.t_of(rule.node(m - 1 - j));  // increasing t
-    ps[j] = panel(ts[j]);
-    lo = std::min(lo, ps[j]);
-    hi = std::max(hi, ps[j]);
-  }
-  ts[0] = panel.a;
-  ts[m - 1] = panel.b;
-  const auto first = std::lower_bound(levels.begin(), levels.end(), lo);
-  const auto last = std::upper_bound(levels.begin(), levels.end(), hi);
-  const std::size_t start = out.size();
-  for (auto level = first; level != last; ++level) {
-    const double v = *level;
-    for (int j = 0; j + 1 < m; ++j) {
-      const double fa = ps[j] - v, fb = ps[j + 1] - v;
-      if (fa == 0) {
-        if (j > 0) out.push_back(ts[j]);
-        continue;
+// Root of p(t) - v on [lo, hi] where p(lo) - v and p(hi) - v have opposite signs.
+template <class F>
+double bracketed_root(F&& f, double lo, double hi, double f_lo, double f_hi) {
+  std::uintmax_t iterations = 100;
+  const auto root = boost::math::tools::toms748_solve(
+      f, lo, hi, f_lo, f_hi, boost::math::tools::eps_tolerance<double>(), iterations);
+  return 0.5 * (root.first + root.second);
+}
+
+// Splits [a, b] where p' changes sign, so p is monotone on every part.  A double root of p'
+// that the sampling misses leaves p monotone across it, so no crossing is ever lost.
+void monotone_breaks(const RayPanel& panel, std::vector<double>& breaks) {
+  const int n = panel.size();
+  breaks.push_back(panel.a);
+  if (n > 2) {
+    double dc[129];
+    chebyshev_derivative(panel.coefficients, {dc, static_cast<std::size_t>(n)});
+    const std::span<const double> derivative{dc, static_cast<std::size_t>(n - 1)};
+    const ChebyshevRule& rule = ChebyshevRule::get(std::min(2 * n + 1, 129));
+    const int m = rule.size();
+    double x_prev = -1, d_prev = chebyshev_evaluate(derivative, -1);
+    for (int j = m - 2; j >= 0; --j) {  // nodes run from +1 down to -1
+      const double x = rule.node(j);
+      const double d = chebyshev_evaluate(derivative, x);
+      if (d_prev * d < 0) {
+        const double root = bracketed_root(
+            [&](double y) { return chebyshev_evaluate(derivative, y); }, x_prev, x, d_prev, d);
+        breaks.push_back(panel.t_of(root));
       }
-      if (fa * fb >= 0) continue;
-      std::uintmax_t iterations = 64;
-      const auto root = boost::math::tools::toms748_solve(
-          [&](double t) { return panel(t) - v; }, ts[j], ts[j + 1], fa, fb,
-          boost::math::tools::eps_tolerance<double>(), iterations);
-      out.push_back(0.5 * (root.first + root.second));
+      if (d != 0) x_prev = x, d_prev = d;
     }
   }
-  std::sort(out.begin() + static_cast<std::ptrdiff_t>(start), out.end());
+  breaks.push_back(panel.b);
+}
+
+}  // namespace
+
+ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
+                          std::vector<Crossing>& out) {
+  std::vector<double> breaks;
+  monotone_breaks(panel, breaks);
+  ValueRange range{INFINITY, -INFINITY};
+  double dc[129];
+  const auto n = static_cast<std::size_t>(panel.size());
+  chebyshev_derivative(panel.coefficients, {dc, n});
+  auto slope = [&](double t) { return chebyshev_evaluate({dc, n}, panel.x_of(t)) * 2 / (panel.b - panel.a); };
+  const std::size_t start = out.size();
+  for (std::size_t i = 0; i + 1 < breaks.size(); ++i) {
+    const double lo = breaks[i], hi = breaks[i + 1];
+    const double p_lo = panel(lo), p_hi = panel(hi);
+    range.min = std::min({range.min, p_lo, p_hi});
+    range.max = std::max({range.max, p_lo, p_hi});
+    if (!(hi > lo) || levels.empty()) continue;
+    // Monotone here: each level strictly between the end values is crossed exactly once.
+    const auto first = std::upper_bound(levels.begin(), levels.end(), std::min(p_lo, p_hi));
+    const auto last = std::lower_bound(levels.begin(), levels.end(), std::max(p_lo, p_hi));
+    for (auto level = first; level < last; ++level) {
+      const double v = *level;
+      const double t = bracketed_root([&](double u) { return panel(u) - v; }, lo, hi, p_lo - v, p_hi - v);
+      out.push_back({t, v, slope(t)});
+    }
+    if (i > 0 && std::binary_search(levels.begin(), levels.end(), p_lo)) out.push_back({lo, p_lo, slope(lo)});
+  }
+  std::sort(out.begin() + static_cast<std::ptrdiff_t>(start), out.end(),
+            [](const Crossing& x, const Crossing& y) { return x.t < y.t; });
+  return range;
 }
 
 }  // namespace vrv

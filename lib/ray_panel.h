@@ -23,9 +23,20 @@ struct RayPanel {
 };
 
 // Parameters t in (panel.a, panel.b) where p(t) crosses one of the sorted `levels`
-// (transfer-function control values), sorted, appended to `out`.  Sign changes are found on
-// a dense Chebyshev sampling and refined with TOMS 748 on the proxy.  Two crossings closer
-// than the sampling can be missed; the integrand's own accuracy check then catches the kink.
-void find_crossings(const RayPanel& panel, std::span<const double> levels, std::vector<double>& out);
+// (transfer-function control values), sorted, appended to `out`.  The panel is first cut
+// where p' changes sign; on each monotone part every level between the end values is
+// crossed once and found with TOMS 748 on the proxy, so close pairs of crossings are kept.
+struct Crossing {
+  double t = 0;
+  double level = 0;
+  double slope = 0;  // dp/dt there: a field error df moves the crossing by df / |slope|
+};
+struct ValueRange {
+  double min = 0;
+  double max = 0;
+};
+// Returns the exact range of p on the panel (its values at the monotone breaks).
+ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
+                          std::vector<Crossing>& out);
 
 }  // namespace vrv

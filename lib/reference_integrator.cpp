@@ -12,6 +12,9 @@ constexpr double kQuadratureShare = 0.5;
 constexpr double kTerminationShare = 0.25;
 constexpr int kMaxLevel = 50;
 constexpr int kSpectralPoints = 33;
+// Work cap per ray: past it pieces are accepted as they are and their (large) error
+// estimates reported, so a pathological input costs bounded time instead of hanging.
+constexpr long kMaxSpectralPieces = 20000;
 
 }  // namespace
 
@@ -34,28 +37,46 @@ double RayAccumulator::field_tolerance() const {
   return weight > 0 ? kFieldShare * tol_ / weight : std::numeric_limits<double>::infinity();
 }
 
+void RayAccumulator::book_depth_error(double dphi) {
+  depth_error_ += dphi;
+  depth_error_weighted_ += dphi * value_;
+}
+
 void RayAccumulator::consume(const RayPanel& panel) {
   const double transmittance = std::exp(-phi_);
-  const double per_unit = (emission_done_ ? 0.0 : tf_.max_emission_slope()) +
-                          tf_.max_extinction_slope() * sensitivity_after(panel.a);
-  error_ += panel.error * (panel.b - panel.a) * transmittance * per_unit;
-
-  cuts_.clear();
-  find_crossings(panel, tf_.breakpoints(), cuts_);
-  cuts_.push_back(panel.b);
+  crossings_.clear();
+  find_crossings(panel, tf_.breakpoints(), crossings_);
+  const double length = panel.b - panel.a;
+  // A proxy error df moves the crossings of jumps by df / |p'| (those of kinks only to
+  // second order) ...
+  for (const Crossing& x : crossings_) {
+    const auto jump = tf_.jump_at(x.level);
+    if (jump.emission == 0 && jump.extinction == 0) continue;
+    const double df = panel.error + 4 * eps * std::max(1.0, std::abs(x.level));
+    const double dt = std::min(df / std::abs(x.slope), length) + 4 * eps * std::abs(x.t);
+    error_ += transmittance * jump.emission * dt;
+    book_depth_error(jump.extinction * dt);
+  }
   double c = panel.a;
-  for (double t : cuts_) {
+  for (std::size_t k = 0; k <= crossings_.size(); ++k) {
+    const double t = k < crossings_.size() ? crossings_[k].t : panel.b;
     if (!(t > c)) continue;
-    integrate_piece(panel, c, t, tf_.segment(panel(0.5 * (c + t))));
+    const double v = panel(0.5 * (c + t));
+    // ... and changes g and tau through the slopes of the branch each piece is on.
+    const auto slopes = tf_.slope_bounds(v, v);
+    error_ += panel.error * (t - c) * std::exp(-phi_) * (emission_done_ ? 0.0 : slopes.emission);
+    book_depth_error(panel.error * (t - c) * slopes.extinction);
+    integrate_piece(panel, c, t, tf_.segment(v));
     c = t;
   }
 }
 
 void RayAccumulator::add(const PieceIntegral& piece) {
   const double attenuated = std::exp(-phi_) * piece.emission;
-  value_ += attenuated;
   // The closed forms are accurate to a few dozen ulps (their documented amplification cap).
   error_ += 64 * eps * std::abs(attenuated);
+  book_depth_error(4 * eps * (phi_ + piece.optical_depth));
+  value_ += attenuated;
   phi_ += piece.optical_depth;
 }
 
@@ -87,16 +108,24 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   const auto count = static_cast<std::size_t>(n);
   double tau[129], g[129], tau_c[129], anti[130], h[129], h_c[129];
   const double half = 0.5 * (d - c), mid = 0.5 * (c + d);
+  double v_max = 1, tau_max = 0, g_max = 0;
   for (int j = 0; j < n; ++j) {
     const double v = panel(mid + half * rule.node(j));
+    v_max = std::max(v_max, std::abs(v));
     tau[j] = seg.tau(v);
-    if (!depth_only) g[j] = seg.g(v);
+    tau_max = std::max(tau_max, tau[j]);
+    if (!depth_only) g[j] = seg.g(v), g_max = std::max(g_max, g[j]);
   }
+  // Rounding in v (size v_max) reaches tau and g through the branch's slopes: that, not the
+  // size of tau, is the noise floor when a steep branch is evaluated near its zero.
+  const double vc = panel(c), vd = panel(d);
+  const auto slopes = tf_.slope_bounds(std::min(vc, vd), std::max(vc, vd));
   rule.coefficients({tau, count}, {tau_c, count});
-  const ChebyshevAccuracy tau_acc = chebyshev_accuracy({tau_c, count});
+  const ChebyshevAccuracy tau_acc =
+      chebyshev_accuracy({tau_c, count}, 8 * eps * (slopes.extinction * v_max + tau_max));
   const double dphi = half * chebyshev_integral({tau_c, count});
-  // A depth error dPhi here scales everything behind by up to dPhi.
-  double error = 2 * half * tau_acc.error * std::exp(-phi_) * sensitivity_after(c);
+  const double depth_error = 2 * half * tau_acc.error;
+  double error = 0;
   bool converged = tau_acc.resolved, at_rounding = tau_acc.at_rounding;
   double emission = 0;
   if (!depth_only) {
@@ -104,19 +133,26 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
     for (int j = 0; j < n; ++j)
       h[j] = g[j] * std::exp(-(phi_ + half * chebyshev_evaluate({anti, count + 1}, rule.node(j))));
     rule.coefficients({h, count}, {h_c, count});
-    const ChebyshevAccuracy h_acc = chebyshev_accuracy({h_c, count});
+    const double h_noise =
+        8 * eps * (slopes.emission * v_max + g_max) * std::exp(-phi_) * (1 + phi_ + dphi);
+    const ChebyshevAccuracy h_acc = chebyshev_accuracy({h_c, count}, h_noise);
     error += 2 * half * h_acc.error;
     emission = half * chebyshev_integral({h_c, count});
     converged = converged && h_acc.resolved;
     at_rounding = at_rounding && h_acc.at_rounding;
   }
   const double local_tol = kQuadratureShare * tol_ * (d - c) / iv_.length();
-  const bool splittable = level < kMaxLevel && mid > c && mid < d;
-  if (splittable && (!converged || (error > local_tol && !at_rounding))) {
+  ++spectral_pieces_;
+  const bool splittable =
+      level < kMaxLevel && mid > c && mid < d && spectral_pieces_ < kMaxSpectralPieces;
+  const double judged = error + depth_error * std::exp(-phi_) * sensitivity_after(c);
+  if (splittable && (!converged || (judged > local_tol && !at_rounding))) {
     integrate_spectral(panel, c, mid, seg, depth_only, level + 1);
     integrate_spectral(panel, mid, d, seg, depth_only, level + 1);
     return;
   }
+  // Rounding in the running sum Phi is booked apart: splitting cannot reduce it.
+  book_depth_error(depth_error + 4 * eps * (phi_ + dphi));
   value_ += emission;
   phi_ += dphi;
   error_ += error;
@@ -139,7 +175,9 @@ ReferenceResult RayAccumulator::finish() const {
   r.t_exit = iv_.t1;
   r.optical_depth = phi_;
   r.value = value_ + background_ * std::exp(-phi_);
-  r.error_estimate = error_ + 16 * eps * (std::abs(value_) + background_);
+  // First order in dPhi; 10 % covers the second-order terms.
+  const double after = std::max(0.0, r.value * depth_error_ - depth_error_weighted_);
+  r.error_estimate = error_ + 1.1 * after + 16 * eps * (std::abs(value_) + background_);
   return r;
 }
 

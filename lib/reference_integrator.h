@@ -60,7 +60,10 @@ class RayAccumulator {
                           bool depth_only, int level);
   void add(const PieceIntegral& piece);
   void check_termination(double t);
-  double sensitivity_after(double t) const;  // |dI / d tau| bound from t on, per unit Phi
+  double sensitivity_after(double t) const;  // a priori bound on |dI / dPhi| at t
+  // An uncertainty dPhi in the optical depth here scales everything behind by e^-dPhi, so it
+  // costs dPhi times the part of I that comes after this point: known once the ray is done.
+  void book_depth_error(double dphi);
 
   const TransferFunction& tf_;
   double background_;
@@ -70,7 +73,10 @@ class RayAccumulator {
   double value_ = 0;
   double error_ = 0;
   bool emission_done_ = false;
-  std::vector<double> cuts_;
+  long spectral_pieces_ = 0;
+  double depth_error_ = 0;           // sum of dPhi_i
+  double depth_error_weighted_ = 0;  // sum of dPhi_i * (value before i)
+  std::vector<Crossing> crossings_;
 };
 
 template <ScalarField F>
@@ -93,10 +99,11 @@ void resolve_smooth(const F& field, const Ray& ray, double a, double b, int leve
                     RayAccumulator& acc, long& evaluations) {
   constexpr int n = 33;
   constexpr int max_level = 30;
+  constexpr long max_evaluations = 1'000'000;  // work cap per ray, as for the quadrature
   RayPanel panel = fit_panel(field, ray, a, b, n, evaluations);
   const ChebyshevAccuracy check = chebyshev_accuracy(panel.coefficients);
   const bool good = check.resolved && (check.at_rounding || panel.error <= acc.field_tolerance());
-  if (!good && level < max_level) {
+  if (!good && level < max_level && evaluations < max_evaluations) {
     const double m = 0.5 * (a + b);
     resolve_smooth(field, ray, a, m, level + 1, acc, evaluations);
     resolve_smooth(field, ray, m, b, level + 1, acc, evaluations);

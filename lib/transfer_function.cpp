@@ -99,6 +99,24 @@ TransferSegment TransferFunction::segment(double v_inside) const {
                          unit_length_};
 }
 
+TransferFunction::Slopes TransferFunction::slope_bounds(double v_lo, double v_hi) const {
+  const auto& b = breakpoints_;
+  const auto first = std::lower_bound(b.begin(), b.end(), v_lo) - b.begin();
+  const auto last = std::upper_bound(b.begin(), b.end(), v_hi) - b.begin();
+  Slopes out;
+  for (auto s = first; s <= last; ++s) {
+    out.emission = std::max(out.emission, segment_slopes_[s].emission);
+    out.extinction = std::max(out.extinction, segment_slopes_[s].extinction);
+  }
+  return out;
+}
+
+TransferFunction::Slopes TransferFunction::jump_at(double v) const {
+  const auto it = std::lower_bound(breakpoints_.begin(), breakpoints_.end(), v);
+  if (it == breakpoints_.end() || *it != v) return {};
+  return jumps_[it - breakpoints_.begin()];
+}
+
 double TransferFunction::emission(double v) const { return segment(v).g(v); }
 double TransferFunction::extinction(double v) const { return segment(v).tau(v); }
 
@@ -111,36 +129,50 @@ void TransferFunction::finish() {
 
   // Every segment's branch at both of its ends, plus the constant tails: g and tau are
   // monotone (or products of monotone factors) on a branch, so the ends bound them.
-  struct Sample { double g, tau, dg, dtau; };
+  struct Sample { double g, tau; };
   std::vector<Sample> samples;
+  segment_slopes_.clear();
   auto add_branch = [&](double v_inside, double lo, double hi) {
     const TransferSegment s = segment(v_inside);
+    Slopes slopes;
     for (double v : {lo, hi}) {
       const double tau = s.tau(v);
-      double dtau = 0, dg = 0;
       if (convention_ == Convention::emission_extinction) {
-        dtau = std::abs(s.second.slope);
-        dg = std::abs(s.first.slope);
+        slopes.extinction = std::abs(s.second.slope);
+        slopes.emission = std::abs(s.first.slope);
       } else {
         const double a = std::max(0.0, s.first(v));
-        dtau = std::abs(s.first.slope) / (unit_length_ * (1 - a));
-        dg = std::abs(s.second.slope) * tau + std::max(0.0, s.second(v)) * dtau;
+        const double dtau = std::abs(s.first.slope) / (unit_length_ * (1 - a));
+        slopes.extinction = std::max(slopes.extinction, dtau);
+        slopes.emission = std::max(slopes.emission, std::abs(s.second.slope) * tau +
+                                                        std::max(0.0, s.second(v)) * dtau);
       }
-      samples.push_back({s.g(v), tau, dg, dtau});
+      samples.push_back({s.g(v), tau});
     }
+    segment_slopes_.push_back(slopes);
   };
   const auto& b = breakpoints_;
   add_branch(b.front() - 1, b.front(), b.front());
-  add_branch(b.back() + 1, b.back(), b.back());
   for (std::size_t i = 1; i < b.size(); ++i) add_branch(0.5 * (b[i - 1] + b[i]), b[i - 1], b[i]);
+  add_branch(b.back() + 1, b.back(), b.back());
+
+  jumps_.clear();
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const double below = i == 0 ? b[0] - 1 : 0.5 * (b[i - 1] + b[i]);
+    const double above = i + 1 == b.size() ? b[i] + 1 : 0.5 * (b[i] + b[i + 1]);
+    const TransferSegment l = segment(below), r = segment(above);
+    jumps_.push_back({std::abs(r.g(b[i]) - l.g(b[i])), std::abs(r.tau(b[i]) - l.tau(b[i]))});
+  }
 
   max_g_ = max_dg_ = max_dtau_ = 0;
   double max_tau = 0, g_at_max_tau = 0;
   for (const auto& s : samples) {
     max_g_ = std::max(max_g_, s.g);
-    max_dg_ = std::max(max_dg_, s.dg);
-    max_dtau_ = std::max(max_dtau_, s.dtau);
     if (s.tau > max_tau) max_tau = s.tau, g_at_max_tau = s.g;
+  }
+  for (const auto& s : segment_slopes_) {
+    max_dg_ = std::max(max_dg_, s.emission);
+    max_dtau_ = std::max(max_dtau_, s.extinction);
   }
   if (convention_ == Convention::opacity_color) {
     // g <= max color * max tau on every branch.
@@ -148,6 +180,12 @@ void TransferFunction::finish() {
   }
 
   kappa_.reset();
+  if (convention_ == Convention::opacity_color) {
+    // g = color * tau: proportional exactly when the color is one constant.
+    if (second_.min_value() == second_.max_value()) kappa_ = second_.max_value();
+    return;
+  }
+  // Emission and extinction are linear on each segment, so agreement at its ends is enough.
   const double kappa = max_tau > 0 ? g_at_max_tau / max_tau : 0.0;
   const double eps = std::numeric_limits<double>::epsilon();
   const bool proportional = std::all_of(samples.begin(), samples.end(), [&](const Sample& s) {

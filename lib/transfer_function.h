@@ -85,6 +85,14 @@ class TransferFunction {
   std::optional<double> emission_per_extinction() const { return kappa_; }
 
   // Bounds used to turn a field error into an error on I.
+  struct Slopes {
+    double emission = 0;    // max |dg/dv|
+    double extinction = 0;  // max |dtau/dv|
+  };
+  // Over the values in [v_lo, v_hi] (both sides of any breakpoint in it).
+  Slopes slope_bounds(double v_lo, double v_hi) const;
+  // |g(v+) - g(v-)| and |tau(v+) - tau(v-)|: nonzero only at the jumps of a step function.
+  Slopes jump_at(double v) const;
   double max_emission() const { return max_g_; }
   double max_emission_slope() const { return max_dg_; }
   double max_extinction_slope() const { return max_dtau_; }
@@ -98,6 +106,8 @@ class TransferFunction {
   double unit_length_ = 1;
   std::vector<double> breakpoints_;
   std::optional<double> kappa_;
+  std::vector<Slopes> segment_slopes_;  // below b_0, between b_{i-1} and b_i, above the last
+  std::vector<Slopes> jumps_;           // at each breakpoint
   double max_g_ = 0;
   double max_dg_ = 0;
   double max_dtau_ = 0;
