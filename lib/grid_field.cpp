@@ -26,6 +26,12 @@ GridField::GridField(const Box& box, Index3 resolution, GridLayout layout,
             source(node_position(i, j, k));
 }
 
+GridField GridField::mapped(const std::function<double(double)>& fn) const {
+  GridField out = *this;
+  for (double& v : out.values_) v = fn(v);
+  return out;
+}
+
 Vec3 GridField::node_position(int i, int j, int k) const {
   const Vec3 index(i + offset_, j + offset_, k + offset_);
   return box_.min + index.cwiseProduct(spacing_);

@@ -24,6 +24,9 @@ class GridField {
   GridField(const Box& box, Index3 resolution, GridLayout layout, Interpolation interpolation,
             const std::function<double(const Vec3&)>& source);
 
+  // The same grid with fn applied to every node value (pre-classification).
+  GridField mapped(const std::function<double(double)>& fn) const;
+
   double value(const Vec3& p) const;
   int degree_along_ray() const { return interpolation_ == Interpolation::trilinear ? 3 : 0; }
   double bandwidth() const { return 0; }

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "studies/cli_support.h"
+#include "studies/discrete_options.h"
 #include "studies/commands.h"
 
 namespace vrv::cli {
@@ -19,7 +20,19 @@ struct RayOptions {
   std::string rays;
   double tol = 1e-12;
   bool json = false;
+  DiscreteOptions discrete;
 };
+
+void print_discrete(const DiscreteResult& r, bool json) {
+  if (json) {
+    nlohmann::ordered_json j;
+    j["value"] = r.value;
+    j["samples"] = r.samples;
+    std::cout << j.dump() << '\n';
+    return;
+  }
+  fmt::print("value          {:.17g}\nsamples        {}\n", r.value, r.samples);
+}
 
 void print_result(const ReferenceResult& r, bool json) {
   if (json) {
@@ -49,7 +62,16 @@ Vec3 json_vec3(const nlohmann::json& line, const char* key, const std::string& w
   return v;
 }
 
-void run_rays_file(const Scene& scene, const RayOptions& opt) {
+// One ray: the discrete raycast when a method is configured, else the reference.
+void answer(const Scene& scene, const Ray& ray, const RayOptions& opt,
+            const std::optional<DiscreteConfig>& discrete, bool json) {
+  if (discrete)
+    print_discrete(discrete_raycast(scene, ray, *discrete), json);
+  else
+    print_result(integrate_reference(scene, ray, {opt.tol}), json);
+}
+
+void run_rays_file(const Scene& scene, const RayOptions& opt, const std::optional<DiscreteConfig>& discrete) {
   std::ifstream in(opt.rays);
   if (!in) throw std::invalid_argument(fmt::format("{}: cannot be read", opt.rays));
   std::string text;
@@ -66,17 +88,18 @@ void run_rays_file(const Scene& scene, const RayOptions& opt) {
       const std::string m = e.what();
       throw std::invalid_argument(m.starts_with(where) ? m : fmt::format("{}: {}", where, m));
     }
-    std::cout << to_json(integrate_reference(scene, ray, {opt.tol})).dump() << '\n';
+    answer(scene, ray, opt, discrete, true);
   }
 }
 
 void run_ray(const RayOptions& opt) {
   check_tolerance(opt.tol);
   const Scene scene = load_scene_or_default(opt.scene);
+  const auto discrete = discrete_config(opt.discrete, scene);
   if (!opt.rays.empty()) {
     if (!opt.origin.empty() || !opt.direction.empty())
       throw std::invalid_argument("--rays: give either --rays or --origin/--direction, not both");
-    run_rays_file(scene, opt);
+    run_rays_file(scene, opt, discrete);
     return;
   }
   if (opt.origin.empty() || opt.direction.empty())
@@ -88,7 +111,7 @@ void run_ray(const RayOptions& opt) {
     const std::string m = e.what();
     throw std::invalid_argument(m.starts_with("--") ? m : "--direction: " + m);
   }
-  print_result(integrate_reference(scene, ray, {opt.tol}), opt.json);
+  answer(scene, ray, opt, discrete, opt.json);
 }
 
 }  // namespace
@@ -104,6 +127,7 @@ void add_ray_command(CLI::App& app) {
                   "JSON-lines file, one {\"origin\": [x,y,z], \"direction\": [x,y,z]} per line");
   cmd->add_option("--tol", opt->tol, "Absolute tolerance on I")->capture_default_str();
   cmd->add_flag("--json", opt->json, "One JSON line per ray, values to full double precision");
+  add_discrete_options(*cmd, opt->discrete);
   cmd->callback([opt] { run_ray(*opt); });
 }
 

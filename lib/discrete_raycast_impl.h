@@ -1,0 +1,164 @@
+#pragma once
+// Template definitions for lib/discrete_raycast.h.
+#include <algorithm>
+#include <vector>
+
+namespace vrv {
+namespace detail {
+
+// Front to back (with early termination and skipping) or back to front (eq. 1 and 2 of Lee &
+// Newman): both combine the same (emission, transparency) pairs.
+template <class Real>
+class Compositor {
+ public:
+  explicit Compositor(const DiscreteConfig& c) : config_(c) {}
+  void add(Composite<Real> c) {
+    if (config_.skip_below && Real(1) - c.transparency < Real(*config_.skip_below)) return;
+    if (config_.compositing == Compositing::back_to_front) {
+      stack_.push_back(c);
+      return;
+    }
+    value_ += transmittance_ * c.emission;
+    transmittance_ *= c.transparency;
+    if (config_.termination && Real(1) - transmittance_ >= Real(*config_.termination)) done_ = true;
+  }
+  bool done() const { return done_; }
+  Real finish(Real background) const {
+    if (config_.compositing == Compositing::front_to_back) return value_ + transmittance_ * background;
+    Real value = background;
+    for (auto it = stack_.rbegin(); it != stack_.rend(); ++it) value = it->emission + it->transparency * value;
+    return value;
+  }
+
+ private:
+  const DiscreteConfig& config_;
+  Real value_ = 0, transmittance_ = 1;
+  bool done_ = false;
+  std::vector<Composite<Real>> stack_;
+};
+
+// Samples every dt / N from the same first sample, while below the same end.
+inline SamplePlan oversampled(const SamplePlan& plan, int N) {
+  SamplePlan fine = plan;
+  fine.dt = plan.dt / N;
+  fine.count = 0;
+  if (plan.count == 0) return fine;
+  while (fine.t(fine.count) < fine.t_end) ++fine.count;
+  return fine;
+}
+
+// One segment between two classified nodes h apart, by the segment rules.
+template <class Real>
+Composite<Real> segment(SegmentRule rule, const Classified<Real>& a, const Classified<Real>& b, Real h) {
+  switch (rule) {
+    case SegmentRule::trapezoid:
+      return trapezoid_segment(h, a.g, b.g, a.tau, b.tau);
+    case SegmentRule::exact_linear:
+      return exact_linear_segment(h, a.g, b.g, a.tau, b.tau);
+    default:  // moreland: the node opacities over this segment's length
+      return moreland_segment(a.color, b.color, Real(-std::expm1(-a.tau * h)),
+                              Real(-std::expm1(-b.tau * h)));
+  }
+}
+
+}  // namespace detail
+
+template <ScalarField F>
+DiscreteRaycaster<F>::DiscreteRaycaster(const F& field, const Box& box, const TransferFunction& tf,
+                                        double background, DiscreteConfig config)
+    : field_(field), box_(box), tf_(tf), background_(background), config_(std::move(config)) {
+  validate(config_, std::is_same_v<F, GridField>);
+  if constexpr (std::is_same_v<F, GridField>) {
+    if (config_.classification == Classification::pre) {
+      // Classify once at the nodes; samples then interpolate the classes.
+      const bool oc = tf.convention() == Convention::opacity_color;
+      pre_first_ = field.mapped([&](double v) { return oc ? tf.first()(v) : tf.emission(v); });
+      pre_second_ = field.mapped([&](double v) { return oc ? tf.second()(v) : tf.extinction(v); });
+    }
+  }
+}
+
+template <ScalarField F>
+template <class Real>
+detail::Classified<Real> DiscreteRaycaster<F>::classify(const Ray& ray, Real t, double unit_step) const {
+  Vec3 p;
+  if constexpr (std::is_same_v<Real, float>) {
+    // A GPU forms the position in single precision.
+    const Eigen::Vector3f q = ray.origin.cast<float>() + t * ray.direction.cast<float>();
+    p = q.cast<double>();
+  } else {
+    p = ray.at(t);
+  }
+  const detail::Classifier classes(tf_, unit_step);
+  if (pre_first_) {
+    const double a = pre_first_->value(p), b = pre_second_->value(p);
+    return tf_.convention() == Convention::opacity_color ? classes.from_opacity_color<Real>(a, b)
+                                                         : classes.from_emission_extinction<Real>(a, b);
+  }
+  return classes.from_value<Real>(field_.value(p));
+}
+
+template <ScalarField F>
+DiscreteResult DiscreteRaycaster<F>::cast(const Ray& ray) const {
+  const auto iv = clip(ray, box_);
+  if (!iv) return {background_, 0};
+  return config_.precision == Precision::single_precision ? cast_in<float>(ray, *iv)
+                                                          : cast_in<double>(ray, *iv);
+}
+
+template <ScalarField F>
+template <class Real>
+DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const {
+  const SamplePlan plan = plan_samples(config_.sampling, ray, iv, box_);
+  const double unit_step = plan.dt;  // the strategy's step; N oversamples divide it
+  const int N = config_.oversample;
+  const SamplePlan fine = detail::oversampled(plan, N);
+  const Real dx = Real(fine.dt);
+  auto t_of = [&](long m) { return Real(fine.t_first) + Real(m) * dx; };
+  detail::Compositor<Real> out(config_);
+  long samples = 0;
+  auto sample = [&](Real t) {
+    ++samples;
+    return classify<Real>(ray, t, unit_step);
+  };
+
+  switch (config_.rule) {
+    case SegmentRule::riemann:
+      for (long m = 0; m < fine.count && !out.done(); ++m) {
+        const auto c = sample(t_of(m));
+        out.add(riemann_sample(c.g, c.tau, dx));
+      }
+      break;
+    case SegmentRule::alpha: {
+      std::vector<double> alphas(N), colors(N);
+      for (long m0 = 0; m0 < fine.count && !out.done(); m0 += N) {
+        const long n = std::min<long>(N, fine.count - m0);
+        for (long j = 0; j < n; ++j) {
+          const auto c = sample(t_of(m0 + j));
+          alphas[j] = c.alpha_unit;
+          colors[j] = c.color;
+        }
+        correct_group(config_.correction, std::span(alphas).first(n), std::span(colors).first(n), N);
+        for (long j = 0; j < n && !out.done(); ++j)
+          out.add({Real(colors[j]) * Real(alphas[j]), Real(1) - Real(alphas[j])});
+      }
+      break;
+    }
+    default: {
+      // Nodes: the entry point, the samples, the exit point.
+      Real t_a = Real(iv.t0);
+      auto a = sample(t_a);
+      for (long m = 0; m <= fine.count && !out.done(); ++m) {
+        const Real t_b = m < fine.count ? t_of(m) : Real(iv.t1);
+        const auto b = sample(t_b);
+        const Real h = t_b - t_a;
+        if (h > 0) out.add(detail::segment(config_.rule, a, b, h));
+        t_a = t_b;
+        a = b;
+      }
+    }
+  }
+  return {static_cast<double>(out.finish(Real(background_))), samples};
+}
+
+}  // namespace vrv

@@ -1,0 +1,58 @@
+#pragma once
+// Where a discrete raycast puts its samples along a ray: the published sample-placement
+// strategies and the conventions of two renderers.  See docs/sampling.md (formulas, borders and
+// corners, what VTK and Inviwo actually do) and docs/discrete-raycasts.md.
+#include <array>
+#include <optional>
+#include <string_view>
+
+#include "lib/geometry.h"
+
+namespace vrv {
+
+enum class Strategy {
+  eye,                // Listing 1 of Steneteg et al.: aligned with the eye, rate-based step
+  entry,              // Listing 2: first sample half a step inside the entry
+  entry_exit,         // Listing 3: floor(samples), half a step inside both ends
+  entry_exit_corner,  // Listing 4: ceil(rate * length(ray * (dims - 1))), keeps corner rays
+  step,               // fixed world step H, first sample H/2 inside
+  vtk,                // fixed step H, first sample one full step inside, last partial step dropped
+  inviwo,             // step rounded so a whole number of steps fits, samples at midpoints
+};
+
+// Names: "eye", "entry", "entry_exit", "entry_exit_corner", "step", "vtk", "inviwo".
+std::optional<Strategy> parse_strategy(std::string_view name);
+std::string_view strategy_name(Strategy s);
+
+struct SamplingConfig {
+  Strategy strategy = Strategy::entry_exit_corner;
+  double rate = 1;                        // samples per voxel (eye, entry, entry_exit, corner)
+  double step = 0;                        // world step H (step, vtk, inviwo)
+  std::array<int, 3> dims{64, 64, 64};    // voxel grid that turns `rate` into a step
+  std::optional<Vec3> eye;                // eye position for `eye` (default: the ray origin)
+};
+
+// Samples at t = t_first + k * dt for k = 0, 1, ... while t < t_end (world parameter along the
+// ray, as Ray::at), each standing for a world length dt.  count is that number (may be 0), and
+// it is exact for this predicate: t(k) < t_end for every k < count and t(count) >= t_end, with
+// t(k) evaluated as below (no running sums), so `for (k = 0; k < count; ++k)` and
+// `for (k = 0; t(k) < t_end; ++k)` visit the same samples.
+// t_end is iv.t1, except for Strategy::vtk, whose loop keeps a sample lying exactly on the exit
+// (t <= iv.t1): there t_end = nextafter(iv.t1, +inf).  A plan without samples has count 0 and
+// t(0) >= t_end; dt is then the step the strategy would have used, or 0 (never NaN or inf).
+struct SamplePlan {
+  double t_first = 0;
+  double dt = 0;
+  double t_end = 0;
+  long count = 0;
+  double t(long k) const { return t_first + static_cast<double>(k) * dt; }
+};
+
+// The plan for a ray whose clipped range is iv (as clip(ray, box)).  The rate-based strategies
+// work in texture space (box -> [0,1]^3) exactly as Listings 1-4 and map back to world units.
+// A zero-length range gives count 0.  Throws std::invalid_argument for a non-positive or
+// non-finite rate (message names --rate) or step (names --step), for dims < 1 or a box without
+// volume (rate-based strategies only), and when the plan would exceed 10^12 samples.
+SamplePlan plan_samples(const SamplingConfig& config, const Ray& ray, Interval iv, const Box& box);
+
+}  // namespace vrv

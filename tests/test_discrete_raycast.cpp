@@ -1,0 +1,215 @@
+// Discrete raycasts against the reference: convergence orders, exact cases, compositing order,
+// classification, termination, float precision.
+#include "lib/discrete_raycast.h"
+
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include "lib/reference_integrator.h"
+
+namespace vrv {
+namespace {
+
+const Box kBox;
+
+TransferFunction linear_tf() {  // g = f, tau = f / 2: no kink inside (0, 1)
+  return TransferFunction::emission_extinction(PiecewiseLinear({{0, 0}, {1, 1}}),
+                                               PiecewiseLinear({{0, 0}, {1, 0.5}}));
+}
+
+TransferFunction smooth_nonproportional_tf() {  // linear pieces, kinks only outside the ray's values
+  return TransferFunction::emission_extinction(PiecewiseLinear({{-1, 1.5}, {2, 0}}),
+                                               PiecewiseLinear({{-1, 0.1}, {2, 2.5}}));
+}
+
+DiscreteConfig config(SegmentRule rule, Strategy strategy, double step_or_rate) {
+  DiscreteConfig c;
+  c.rule = rule;
+  c.sampling.strategy = strategy;
+  if (strategy == Strategy::step || strategy == Strategy::vtk || strategy == Strategy::inviwo)
+    c.sampling.step = step_or_rate;
+  else
+    c.sampling.rate = step_or_rate;
+  return c;
+}
+
+// Observed order: slope of log(error) against log(step), least squares (Eigen).
+double observed_order(const std::vector<double>& steps, const std::vector<double>& errors) {
+  Eigen::MatrixXd A(steps.size(), 2);
+  Eigen::VectorXd b(steps.size());
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    A(i, 0) = std::log(steps[i]);
+    A(i, 1) = 1;
+    b(i) = std::log(errors[i]);
+  }
+  return A.colPivHouseholderQr().solve(b)(0);
+}
+
+template <class F>
+double order_on(const F& field, const TransferFunction& tf, SegmentRule rule, const Ray& ray) {
+  const double reference = integrate_reference(field, kBox, tf, 0.0, ray, {1e-14}).value;
+  std::vector<double> steps, errors;
+  for (double h : {0.025, 0.0125, 0.00625, 0.003125}) {  // the asymptotic range
+    const DiscreteRaycaster raycaster(field, kBox, tf, 0.0, config(rule, Strategy::inviwo, h));
+    steps.push_back(h);
+    errors.push_back(std::abs(raycaster.cast(ray).value - reference));
+  }
+  return observed_order(steps, errors);
+}
+
+struct ExpectedOrder {
+  SegmentRule rule;
+  double order;
+};
+
+// Riemann's eq. (5) leaves each sample unattenuated by itself: first order.  The alpha rule
+// integrates a piecewise-constant medium exactly, so with midpoint samples it is second order;
+// trapezoid, exact_linear and Moreland's average opacity (whose zeta error is O(D^4) per
+// segment and whose Psi is exact for constant tau) are second order.
+const ExpectedOrder kOrders[] = {
+    {SegmentRule::riemann, 1},   {SegmentRule::alpha, 2},    {SegmentRule::trapezoid, 2},
+    {SegmentRule::exact_linear, 2}, {SegmentRule::moreland, 2},
+};
+
+TEST(DiscreteRaycast, ObservedOrdersOnSmoothRaysMatchTheExpectedOnes) {
+  const MarschnerLobb ml{2, 0.25};  // low frequency: the asymptotic range starts early
+  const Ray ray = make_ray(Vec3(-3, 0.13, 0.21), Vec3(1, 0.07, -0.05));
+  for (const auto& e : kOrders) {
+    const double order = order_on(ml, smooth_nonproportional_tf(), e.rule, ray);
+    EXPECT_NEAR(order, e.order, 0.25) << segment_rule_name(e.rule);
+  }
+}
+
+TEST(DiscreteRaycast, ExactLinearIsExactOnARampWithALinearTransferFunction) {
+  const LinearRamp ramp{Vec3(0.3, 0.2, -0.1), 0.5};
+  const TransferFunction tf = smooth_nonproportional_tf();
+  for (const Ray& ray : {make_ray(Vec3(-3, 0.1, 0.2), Vec3(1, 0.1, 0.05)),
+                         make_ray(Vec3(0.2, -3, 0.4), Vec3(-0.2, 1, 0.3))}) {
+    const double reference = integrate_reference(ramp, kBox, tf, 0.3, ray).value;
+    for (double h : {0.7, 0.13, 0.01}) {
+      const DiscreteRaycaster raycaster(ramp, kBox, tf, 0.3, config(SegmentRule::exact_linear, Strategy::step, h));
+      EXPECT_NEAR(raycaster.cast(ray).value, reference, 1e-14) << "h = " << h;
+    }
+  }
+}
+
+TEST(DiscreteRaycast, FrontToBackAndBackToFrontAgree) {
+  const MarschnerLobb ml;
+  const Ray ray = make_ray(Vec3(-3, 0.3, -0.2), Vec3(1, -0.1, 0.08));
+  for (const auto& e : kOrders) {
+    DiscreteConfig c = config(e.rule, Strategy::entry_exit_corner, 2);
+    const double ftb = DiscreteRaycaster(ml, kBox, linear_tf(), 0.4, c).cast(ray).value;
+    c.compositing = Compositing::back_to_front;
+    const double btf = DiscreteRaycaster(ml, kBox, linear_tf(), 0.4, c).cast(ray).value;
+    EXPECT_NEAR(ftb, btf, 1e-14 * std::abs(ftb)) << segment_rule_name(e.rule);
+  }
+}
+
+TEST(DiscreteRaycast, LacrouteOversamplingEqualsTheFinerAlphaRaycast) {
+  // With tau given, the unit opacity is 1 - exp(-tau dx); Lacroute's correction by N turns it
+  // into exactly the opacity of a step dx / N.
+  const MarschnerLobb ml;
+  const Ray ray = make_ray(Vec3(-3, 0.3, -0.2), Vec3(1, -0.1, 0.08));
+  for (int N : {1, 2, 5, 1024}) {
+    DiscreteConfig coarse = config(SegmentRule::alpha, Strategy::step, 0.1);
+    coarse.oversample = N;
+    coarse.correction = Correction::lacroute;
+    const DiscreteResult a = DiscreteRaycaster(ml, kBox, linear_tf(), 0, coarse).cast(ray);
+    DiscreteConfig fine = config(SegmentRule::alpha, Strategy::step, 0.1);
+    fine.oversample = N;  // same sample positions, no correction: over-composites
+    const DiscreteResult b = DiscreteRaycaster(ml, kBox, linear_tf(), 0, fine).cast(ray);
+    EXPECT_TRUE(std::isfinite(a.value));
+    EXPECT_EQ(a.samples, b.samples);
+    if (N > 1) EXPECT_GT(b.value, a.value);  // uncorrected oversampling is too opaque/bright here
+    const double reference = integrate_reference(ml, kBox, linear_tf(), 0, ray).value;
+    EXPECT_LT(std::abs(a.value - reference), 0.05) << N;
+  }
+}
+
+TEST(DiscreteRaycast, EntryExitDropsACornerRayAndCornerKeepsIt) {
+  const MarschnerLobb ml;
+  // Chord of length ~0.01 across the edge x = y = 1.
+  const Vec3 dir = Vec3(1, -1, 0).normalized();
+  const Ray ray = make_ray(Vec3(0.995, 1.0, 0.3) - 3 * dir, dir);
+  const auto drop = DiscreteRaycaster(ml, kBox, linear_tf(), 0, config(SegmentRule::riemann, Strategy::entry_exit, 1)).cast(ray);
+  const auto keep = DiscreteRaycaster(ml, kBox, linear_tf(), 0, config(SegmentRule::riemann, Strategy::entry_exit_corner, 1)).cast(ray);
+  EXPECT_EQ(drop.samples, 0);
+  EXPECT_EQ(drop.value, 0);
+  EXPECT_GE(keep.samples, 1);
+  const double reference = integrate_reference(ml, kBox, linear_tf(), 0, ray).value;
+  EXPECT_GT(reference, 0);
+  EXPECT_NEAR(keep.value, reference, 0.05 * reference);
+}
+
+TEST(DiscreteRaycast, PreAndPostClassificationAgreeForALinearTransferFunction) {
+  const GridField grid = make_grid(kBox, MarschnerLobb{}, {9, 9, 9}, GridLayout::node, Interpolation::trilinear);
+  const Ray ray = make_ray(Vec3(-3, 0.3, -0.2), Vec3(1, -0.1, 0.08));
+  DiscreteConfig c = config(SegmentRule::trapezoid, Strategy::entry_exit_corner, 2);
+  const double post = DiscreteRaycaster(grid, kBox, linear_tf(), 0, c).cast(ray).value;
+  c.classification = Classification::pre;
+  const double pre = DiscreteRaycaster(grid, kBox, linear_tf(), 0, c).cast(ray).value;
+  EXPECT_NEAR(pre, post, 1e-14);  // affine classification commutes with interpolation
+  const TransferFunction step = TransferFunction::emission_extinction(
+      PiecewiseLinear({{0, 0}, {0.5, 0}, {0.5, 1}, {1, 1}}), PiecewiseLinear({{0, 0.1}, {0.5, 0.1}, {0.5, 2}, {1, 2}}));
+  const double pre_step = DiscreteRaycaster(grid, kBox, step, 0, c).cast(ray).value;
+  c.classification = Classification::post;
+  const double post_step = DiscreteRaycaster(grid, kBox, step, 0, c).cast(ray).value;
+  EXPECT_GT(std::abs(pre_step - post_step), 1e-6);  // a step transfer function does not commute
+}
+
+TEST(DiscreteRaycast, EarlyTerminationSavesSamplesAndBoundsTheChange) {
+  const MarschnerLobb ml;
+  const TransferFunction dense = TransferFunction::emission_extinction(
+      PiecewiseLinear({{0, 0}, {1, 1}}), PiecewiseLinear({{0, 0}, {1, 8}}));
+  const Ray ray = make_ray(Vec3(-3, 0.3, -0.2), Vec3(1, -0.1, 0.08));
+  DiscreteConfig c = config(SegmentRule::alpha, Strategy::entry_exit_corner, 2);
+  const DiscreteResult full = DiscreteRaycaster(ml, kBox, dense, 0, c).cast(ray);
+  for (double threshold : {0.95, 0.99}) {
+    c.termination = threshold;
+    const DiscreteResult cut = DiscreteRaycaster(ml, kBox, dense, 0, c).cast(ray);
+    EXPECT_LT(cut.samples, full.samples);
+    // What is dropped is attenuated by at most 1 - threshold, times the largest colour (1/8).
+    EXPECT_LE(std::abs(cut.value - full.value), (1 - threshold) * 0.125 + 1e-15);
+  }
+}
+
+TEST(DiscreteRaycast, FloatRoundOffOvertakesTruncationAtTinySteps) {
+  const MarschnerLobb ml{2, 0.25};
+  const Ray ray = make_ray(Vec3(-3, 0.13, 0.21), Vec3(1, 0.07, -0.05));
+  const TransferFunction tf = smooth_nonproportional_tf();
+  const double reference = integrate_reference(ml, kBox, tf, 0, ray).value;
+  auto error = [&](Precision p, double h) {
+    DiscreteConfig c = config(SegmentRule::trapezoid, Strategy::step, h);
+    c.precision = p;
+    return std::abs(DiscreteRaycaster(ml, kBox, tf, 0, c).cast(ray).value - reference);
+  };
+  // At a coarse step both are truncation-dominated and agree; at a tiny step double keeps
+  // improving while float has hit its rounding floor.
+  EXPECT_NEAR(error(Precision::single_precision, 0.1), error(Precision::double_precision, 0.1),
+              0.01 * error(Precision::double_precision, 0.1) + 1e-6);
+  EXPECT_GT(error(Precision::single_precision, 1e-4), 10 * error(Precision::double_precision, 1e-4));
+  EXPECT_TRUE(std::isfinite(error(Precision::single_precision, 1e-5)));
+}
+
+TEST(DiscreteRaycast, RejectsMeaninglessCombinations) {
+  DiscreteConfig c;
+  c.correction = Correction::lacroute;  // with riemann
+  EXPECT_THROW(validate(c, false), std::invalid_argument);
+  c = DiscreteConfig{};
+  c.classification = Classification::pre;
+  EXPECT_THROW(validate(c, false), std::invalid_argument);
+  EXPECT_NO_THROW(validate(c, true));
+  c = DiscreteConfig{};
+  c.termination = 0.95;
+  c.compositing = Compositing::back_to_front;
+  EXPECT_THROW(validate(c, false), std::invalid_argument);
+  c = DiscreteConfig{};
+  c.oversample = 0;
+  EXPECT_THROW(validate(c, false), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace vrv
