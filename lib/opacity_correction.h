@@ -30,8 +30,8 @@ double schulze_color_scale(double alpha, int N);
 // Lee & Newman (eqs. 9-12): the p in [0, 1] with prod_k (1 - p alphas[k]) = 1 - alpha_unit, where
 // alphas are the N oversamples of one group (one voxel) and alpha_unit is the unit sample's
 // opacity (the paper's alpha_u1, which equals alphas[0]: the first oversample sits on the unit
-// sample).  Solved in log space, F(p) = sum log1p(-p alphas[k]) - log1p(-alpha_unit), by TOMS 748
-// on a bracket where F is finite, to full double precision; never through eq. 11's polynomial.
+// sample).  Solved in log space, F(p) = sum log1p(-p alphas[k]) - log1p(-alpha_unit) (decreasing,
+// concave), by TOMS 748 on [0, 1] to within ~2 ulps of the root; never through eq. 11's polynomial.
 // Conventions: p = 1 when the group is empty or all zero (any p solves it); p = 0 when
 // alpha_unit = 0 (and some alpha > 0); p = 1 when even p = 1 leaves the group more transparent
 // than the target (no root in [0, 1]: only when alpha_unit > 1 - prod(1 - alphas[k]), which

@@ -1,11 +1,13 @@
 #pragma once
 // A scene: the volume box, one scalar field, a transfer function and a background.
 #include <array>
+#include <optional>
 #include <string>
 #include <variant>
 
 #include "analytic/linear_ramp.h"
 #include "analytic/marschner_lobb.h"
+#include "lib/camera.h"
 #include "lib/geometry.h"
 #include "lib/grid_field.h"
 #include "lib/transfer_function.h"
@@ -22,6 +24,8 @@ struct Scene {
   Field field = MarschnerLobb{};
   TransferFunction transfer;
   double background = 0;
+  // The [camera] table, if the scene file has one (vrv render falls back to default_camera).
+  std::optional<Camera> camera;
 };
 
 // Calls f(field) with the concrete field type, so integrators are instantiated per type.

@@ -331,6 +331,58 @@ double read_background(const Reader& r, const toml::table* t) {
   return b;
 }
 
+// [camera]: only the keys the projection uses; `rays` is the fan's name for `width`.
+std::optional<Camera> read_camera(const Reader& r, const toml::table* t) {
+  if (!t) return std::nullopt;
+  Camera c;
+  c.projection = r.choice<Projection>(*t, "projection", "camera",
+                                      {{"perspective", Projection::perspective},
+                                       {"orthographic", Projection::orthographic},
+                                       {"fan", Projection::fan}});
+  std::vector<std::string_view> allowed{"projection", "eye"};
+  switch (c.projection) {
+    case Projection::perspective: allowed.insert(allowed.end(), {"target", "up", "fov", "width", "height"}); break;
+    case Projection::orthographic: allowed.insert(allowed.end(), {"target", "up", "extent", "width", "height"}); break;
+    case Projection::fan: allowed.insert(allowed.end(), {"angle", "fov", "rays", "width", "height"}); break;
+  }
+  constexpr std::string_view all[] = {"projection", "eye", "target", "up", "fov", "extent",
+                                      "width", "height", "angle", "rays"};
+  for (const auto& [key, value] : *t) {
+    if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
+    const bool known = std::find(std::begin(all), std::end(all), key.str()) != std::end(all);
+    r.fail(child("camera", key.str()),
+           fmt::format("{} (a {} camera takes: {})",
+                       known ? fmt::format("does not apply to a {} camera", to_string(c.projection))
+                             : std::string("unknown key"),
+                       to_string(c.projection), fmt::join(allowed, ", ")));
+  }
+  if (const toml::node* n = t->get("eye")) c.eye = r.vec3(*n, "camera.eye");
+  if (const toml::node* n = t->get("target")) c.target = r.vec3(*n, "camera.target");
+  if (const toml::node* n = t->get("up")) c.up = r.vec3(*n, "camera.up");
+  c.fov_degrees = r.number_or(*t, "fov", "camera", c.fov_degrees);
+  c.extent = r.number_or(*t, "extent", "camera", c.extent);
+  c.angle_degrees = r.number_or(*t, "angle", "camera", c.angle_degrees);
+  if (t->contains("rays") && t->contains("width"))
+    r.fail("camera.rays", "give rays or width, not both (rays is the fan's name for width)");
+  if (c.projection == Projection::fan) c.height = 1;
+  for (std::string_view key : {"width", "rays", "height"}) {
+    const toml::node* n = t->get(key);
+    if (!n) continue;
+    const std::string path = child("camera", key);
+    const int v = r.count(*n, path);
+    if (v > kMaxImageSide) r.fail(path, fmt::format("too large, got {} (at most {})", v, kMaxImageSide));
+    (key == "height" ? c.height : c.width) = v;
+  }
+  try {
+    validate(c);
+  } catch (const CameraError& e) {
+    // A fan's width may have been given as rays.
+    const std::string_view key = e.field() == "width" && t->contains("rays") ? "rays" : e.field();
+    r.fail(child("camera", key), e.reason());
+  }
+  return c;
+}
+
 // toml++ recurses once per key nesting level and overflows the stack on a dotted key of tens
 // of thousands of parts, so long dotted runs are rejected before parsing.  Dots in strings and
 // comments do not nest; ',', '=', brackets, braces and line ends end a run.  With inline
@@ -397,7 +449,7 @@ Scene parse_scene(std::string_view toml_text, std::string_view source_name) {
   const Reader r(source_name);
   const toml::table doc = parse_toml(r, toml_text, source_name);
   // Unknown keys first, so that a typo is reported as such and not as a missing key.
-  r.check_keys(doc, "", {"volume", "field", "transfer", "background"});
+  r.check_keys(doc, "", {"volume", "field", "transfer", "background", "camera"});
   const toml::table& volume = r.table(r.require(doc, "volume", ""), "volume");
   r.check_keys(volume, "volume", {"min", "max", "dims"});
 
@@ -410,6 +462,7 @@ Scene parse_scene(std::string_view toml_text, std::string_view source_name) {
     scene.dims = grid->resolution();
   scene.transfer = read_transfer(r, r.table(r.require(doc, "transfer", ""), "transfer"));
   scene.background = read_background(r, r.optional_table(doc, "background", ""));
+  scene.camera = read_camera(r, r.optional_table(doc, "camera", ""));
   return scene;
 }
 
