@@ -11,10 +11,11 @@
 
 namespace vrv {
 
-ChebyshevRule::ChebyshevRule(int n) : n_(n), nodes_(n), to_coefficients_(n, n) {
+ChebyshevRule::ChebyshevRule(int n) : n_(n), nodes_(n), to_coefficients_(n, n), cumulative_(n, n) {
   if (n == 1) {
     nodes_[0] = 0;
     to_coefficients_(0, 0) = 1;
+    cumulative_(0, 0) = 1;  // int_{-1}^{0} of a constant, as the midpoint rule sees it
     return;
   }
   const double pi = std::numbers::pi;
@@ -31,6 +32,13 @@ ChebyshevRule::ChebyshevRule(int n) : n_(n), nodes_(n), to_coefficients_(n, n) {
       if (k == 0 || k == m) w *= 0.5;
       to_coefficients_(k, j) = w;
     }
+  // Column j: the cumulative integral of the interpolant of the j-th unit vector.
+  std::vector<double> c(n), anti(n + 1);
+  for (int j = 0; j < n; ++j) {
+    for (int k = 0; k < n; ++k) c[k] = to_coefficients_(k, j);
+    chebyshev_antiderivative(c, anti);
+    for (int i = 0; i < n; ++i) cumulative_(i, j) = chebyshev_evaluate(anti, nodes_[i]);
+  }
 }
 
 const ChebyshevRule& ChebyshevRule::get(int n) {
@@ -46,6 +54,12 @@ void ChebyshevRule::coefficients(std::span<const double> values, std::span<doubl
   Eigen::Map<const Eigen::VectorXd> v(values.data(), n_);
   Eigen::Map<Eigen::VectorXd> out(c.data(), n_);
   out.noalias() = to_coefficients_ * v;
+}
+
+void ChebyshevRule::cumulative_integral(std::span<const double> values, std::span<double> out) const {
+  Eigen::Map<const Eigen::VectorXd> v(values.data(), n_);
+  Eigen::Map<Eigen::VectorXd> o(out.data(), n_);
+  o.noalias() = cumulative_ * v;
 }
 
 double chebyshev_evaluate(std::span<const double> c, double x) {

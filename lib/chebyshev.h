@@ -19,12 +19,16 @@ class ChebyshevRule {
   double node(int j) const { return nodes_[j]; }  // from +1 down to -1
   // Coefficients c_0..c_{n-1} of the interpolant through values[j] at node(j).
   void coefficients(std::span<const double> values, std::span<double> c) const;
+  // int_{-1}^{x_j} p(x) dx at every node, from the values (one matrix product: the spectral
+  // integration matrix, built once per rule).
+  void cumulative_integral(std::span<const double> values, std::span<double> out) const;
 
  private:
   explicit ChebyshevRule(int n);
   int n_;
   std::vector<double> nodes_;
-  Eigen::MatrixXd to_coefficients_;  // row-major use: c = M * values
+  Eigen::MatrixXd to_coefficients_;  // c = M * values
+  Eigen::MatrixXd cumulative_;       // cumulative integral at the nodes = Q * values
 };
 
 // p(x) by Clenshaw's recurrence.

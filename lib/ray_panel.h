@@ -13,6 +13,7 @@ struct RayPanel {
   double a = 0;
   double b = 0;
   std::vector<double> coefficients;  // of f on [a, b] mapped to [-1, 1]
+  std::vector<double> values;        // f at the panel's own Chebyshev nodes (from +1 to -1)
   double error = 0;                  // estimated max |f - p| on [a, b]
   bool resolved = true;
 

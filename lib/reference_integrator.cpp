@@ -106,11 +106,13 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   const int n = depth_only && tf_.affine() ? panel.size() : kSpectralPoints;
   const ChebyshevRule& rule = ChebyshevRule::get(n);
   const auto count = static_cast<std::size_t>(n);
-  double tau[129], g[129], tau_c[129], anti[130], h[129], h_c[129];
+  double tau[129], g[129], tau_c[129], phi[129], h[129], h_c[129];
   const double half = 0.5 * (d - c), mid = 0.5 * (c + d);
+  // The whole panel at its own nodes: the sampled values themselves, no interpolation.
+  const bool own_nodes = c == panel.a && d == panel.b && n == panel.size();
   double v_max = 1, tau_max = 0, g_max = 0;
   for (int j = 0; j < n; ++j) {
-    const double v = panel(mid + half * rule.node(j));
+    const double v = own_nodes ? panel.values[j] : panel(mid + half * rule.node(j));
     v_max = std::max(v_max, std::abs(v));
     tau[j] = seg.tau(v);
     tau_max = std::max(tau_max, tau[j]);
@@ -129,9 +131,8 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   bool converged = tau_acc.resolved, at_rounding = tau_acc.at_rounding;
   double emission = 0;
   if (!depth_only) {
-    chebyshev_antiderivative({tau_c, count}, {anti, count + 1});
-    for (int j = 0; j < n; ++j)
-      h[j] = g[j] * std::exp(-(phi_ + half * chebyshev_evaluate({anti, count + 1}, rule.node(j))));
+    rule.cumulative_integral({tau, count}, {phi, count});
+    for (int j = 0; j < n; ++j) h[j] = g[j] * std::exp(-(phi_ + half * phi[j]));
     rule.coefficients({h, count}, {h_c, count});
     const double h_noise =
         8 * eps * (slopes.emission * v_max + g_max) * std::exp(-phi_) * (1 + phi_ + dphi);

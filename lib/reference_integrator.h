@@ -82,11 +82,10 @@ class RayAccumulator {
 template <ScalarField F>
 RayPanel fit_panel(const F& field, const Ray& ray, double a, double b, int n, long& evaluations) {
   const ChebyshevRule& rule = ChebyshevRule::get(n);
-  RayPanel panel{a, b, std::vector<double>(n), 0, true};
-  double values[129];
-  for (int j = 0; j < n; ++j) values[j] = field.value(ray.at(panel.t_of(rule.node(j))));
+  RayPanel panel{a, b, std::vector<double>(n), std::vector<double>(n), 0, true};
+  for (int j = 0; j < n; ++j) panel.values[j] = field.value(ray.at(panel.t_of(rule.node(j))));
   evaluations += n;
-  rule.coefficients({values, static_cast<std::size_t>(n)}, panel.coefficients);
+  rule.coefficients(panel.values, panel.coefficients);
   const ChebyshevAccuracy acc = chebyshev_accuracy(panel.coefficients);
   panel.error = acc.error;
   panel.resolved = acc.resolved;

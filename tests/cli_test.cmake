@@ -70,3 +70,94 @@ file(WRITE ${OUT}/bad.toml "[volume]\nmin = [1, -1, -1]\nmax = [1, 1, 1]\n[field
 expect_failure(bad_box "bad.toml.*volume" ray --scene ${OUT}/bad.toml --origin 0,0,0 --direction 1,0,0)
 file(WRITE ${OUT}/bad_rays.jsonl "{\"origin\": [0, 0], \"direction\": [1, 0, 0]}\n")
 expect_failure(bad_rays "bad_rays.jsonl:1: origin" ray --rays ${OUT}/bad_rays.jsonl)
+
+# vrv render: a tiny image of the default scene by the reference and by a discrete raycast,
+# then the error of one against the other.  stdout is exactly one JSON line.
+function(expect_json_line name)
+  string(REGEX MATCHALL "\n" lines "${LAST_OUT}")
+  list(LENGTH lines n)
+  if(NOT n EQUAL 1)
+    message(FATAL_ERROR "${name}: stdout should be one JSON line:\n${LAST_OUT}")
+  endif()
+endfunction()
+function(expect_files name)
+  foreach(f ${ARGN})
+    if(NOT EXISTS ${OUT}/${f})
+      message(FATAL_ERROR "${name}: ${OUT}/${f} was not written")
+    endif()
+    if(EXISTS ${OUT}/${f}.tmp)
+      message(FATAL_ERROR "${name}: ${OUT}/${f}.tmp left behind")
+    endif()
+  endforeach()
+endfunction()
+
+file(REMOVE ${OUT}/render_ref.exr ${OUT}/render_ref.png ${OUT}/render_riemann.exr
+  ${OUT}/render_riemann.png ${OUT}/render_riemann_error.exr ${OUT}/render_riemann_error.png
+  ${OUT}/render_never.exr)
+expect_success(render_reference render --reference --width 8 --height 8 -o ${OUT}/render_ref.exr)
+expect_json_line(render_reference)
+expect_files(render_reference render_ref.exr render_ref.png)
+string(JSON w GET "${LAST_OUT}" width)
+string(JSON h GET "${LAST_OUT}" height)
+string(JSON output GET "${LAST_OUT}" output)
+if(NOT w EQUAL 8 OR NOT h EQUAL 8 OR NOT output STREQUAL "${OUT}/render_ref.exr")
+  message(FATAL_ERROR "render_reference: JSON line: ${LAST_OUT}")
+endif()
+
+expect_success(render_riemann render --method riemann --width 8 --height 8
+  -o ${OUT}/render_riemann.exr --error-against ${OUT}/render_ref.exr)
+expect_json_line(render_riemann)
+expect_files(render_riemann render_riemann.exr render_riemann.png render_riemann_error.exr
+  render_riemann_error.png)
+foreach(key output width height max_abs_error mean_abs_error rms_error)
+  string(JSON value ERROR_VARIABLE missing GET "${LAST_OUT}" ${key})
+  if(missing)
+    message(FATAL_ERROR "render_riemann: JSON line lacks ${key}: ${LAST_OUT}")
+  endif()
+endforeach()
+string(JSON max_abs GET "${LAST_OUT}" max_abs_error)
+if(NOT max_abs GREATER 0 OR NOT max_abs LESS 0.5)
+  message(FATAL_ERROR "render_riemann: implausible max_abs_error ${max_abs}")
+endif()
+
+# The reference is deterministic: against itself the error is exactly zero.
+expect_success(render_self render --reference --width 8 --height 8 -o ${OUT}/render_self.exr
+  --error-against ${OUT}/render_ref.exr)
+string(JSON max_abs GET "${LAST_OUT}" max_abs_error)
+if(NOT max_abs EQUAL 0)
+  message(FATAL_ERROR "render_self: max_abs_error should be 0, got ${max_abs}")
+endif()
+
+# A fan camera from the scene file: the sampling paper's 120 rays over 30 degrees.
+file(WRITE ${OUT}/fan.toml "[volume]\nmin = [-1.5, -1.5, -1.5]\nmax = [1.5, 1.5, 1.5]\n[field]\nkind = \"linear_ramp\"\ngradient = [0.2, 0.1, 0]\noffset = 0.5\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[camera]\nprojection = \"fan\"\neye = [-9, 0, 0]\nangle = 0\nfov = 30\nrays = 120\n")
+expect_success(render_fan render --scene ${OUT}/fan.toml --method trapezoid -o ${OUT}/render_fan.exr)
+string(JSON w GET "${LAST_OUT}" width)
+string(JSON h GET "${LAST_OUT}" height)
+if(NOT w EQUAL 120 OR NOT h EQUAL 1)
+  message(FATAL_ERROR "render_fan: expected 120 x 1: ${LAST_OUT}")
+endif()
+
+expect_success(help_render render --help)
+if(NOT LAST_OUT MATCHES "2.5 box diagonals")
+  message(FATAL_ERROR "render --help does not document the default camera:\n${LAST_OUT}")
+endif()
+
+expect_failure(render_bad_error_against "^vrv: error: --error-against: .*nope.exr" render --reference
+  --width 8 --height 8 -o ${OUT}/render_never.exr --error-against ${OUT}/nope.exr)
+if(EXISTS ${OUT}/render_never.exr)
+  message(FATAL_ERROR "render_bad_error_against: rendered although the reference is missing")
+endif()
+expect_failure(render_size_mismatch "render_ref.exr: size 8 x 8 differs" render --reference
+  --width 4 --height 8 -o ${OUT}/render_never.exr --error-against ${OUT}/render_ref.exr)
+expect_failure(render_no_output "-o: an output file" render --reference --width 8 --height 8)
+expect_failure(render_not_exr "-o: .*must name an .exr" render --reference -o ${OUT}/x.png)
+expect_failure(render_missing_dir "-o: .*does not exist" render --reference -o ${OUT}/no_dir/x.exr)
+expect_failure(render_no_method "--reference or --method" render -o ${OUT}/render_never.exr)
+expect_failure(render_both "--reference" render --reference --method riemann -o ${OUT}/render_never.exr)
+expect_failure(render_tol_discrete "--tol" render --method riemann --tol 1e-6 -o ${OUT}/render_never.exr)
+expect_failure(render_bad_width "--width" render --reference --width 0 -o ${OUT}/render_never.exr)
+expect_failure(render_fan_height "--height.*must be 1" render --scene ${OUT}/fan.toml --reference
+  --height 2 -o ${OUT}/render_never.exr)
+file(WRITE ${OUT}/bad_camera.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[camera]\nprojection = \"perspective\"\nrays = 4\n")
+expect_failure(render_bad_camera "bad_camera.toml: camera.rays: does not apply" render
+  --scene ${OUT}/bad_camera.toml --reference -o ${OUT}/render_never.exr)

@@ -134,6 +134,67 @@ TEST(SceneFile, IntegersAcceptedAsFloats) {
   EXPECT_EQ(s.background, 1);
 }
 
+std::string with_camera(const std::string& camera) { return kVolume + kField + kTransfer + camera; }
+
+TEST(SceneFile, NoCameraByDefault) {
+  EXPECT_FALSE(default_scene().camera.has_value());
+  EXPECT_FALSE(parse_scene(kVolume + kField + kTransfer, "s.toml").camera.has_value());
+}
+
+TEST(SceneFile, PerspectiveCamera) {
+  const Scene s = parse_scene(with_camera("[camera]\nprojection = \"perspective\"\n"
+                                          "eye = [1, 2, -6]\ntarget = [0, 0.5, 0]\nup = [0, 0, 1]\n"
+                                          "fov = 25.5\nwidth = 320\nheight = 200\n"),
+                              "cam.toml");
+  ASSERT_TRUE(s.camera.has_value());
+  const Camera& c = *s.camera;
+  EXPECT_EQ(c.projection, Projection::perspective);
+  EXPECT_EQ(c.eye, Vec3(1, 2, -6));
+  EXPECT_EQ(c.target, Vec3(0, 0.5, 0));
+  EXPECT_EQ(c.up, Vec3(0, 0, 1));
+  EXPECT_EQ(c.fov_degrees, 25.5);
+  EXPECT_EQ(c.width, 320);
+  EXPECT_EQ(c.height, 200);
+}
+
+TEST(SceneFile, CameraDefaultsToPerspective) {
+  const Scene s = parse_scene(with_camera("[camera]\n"), "cam.toml");
+  ASSERT_TRUE(s.camera.has_value());
+  EXPECT_EQ(s.camera->projection, Projection::perspective);
+  EXPECT_EQ(s.camera->eye, Camera{}.eye);
+  EXPECT_EQ(s.camera->width, 256);
+}
+
+TEST(SceneFile, OrthographicCamera) {
+  const Scene s = parse_scene(
+      with_camera("[camera]\nprojection = \"orthographic\"\neye = [0, -5, 0]\nup = [0, 0, 1]\n"
+                  "extent = 3\nwidth = 8\nheight = 4\n"),
+      "cam.toml");
+  ASSERT_TRUE(s.camera.has_value());
+  EXPECT_EQ(s.camera->projection, Projection::orthographic);
+  EXPECT_EQ(s.camera->extent, 3);
+  EXPECT_EQ(s.camera->height, 4);
+}
+
+TEST(SceneFile, FanCameraOfTheSamplingPaper) {
+  const Scene s = parse_scene(with_camera("[camera]\nprojection = \"fan\"\neye = [-9, 0, 0]\n"
+                                          "angle = 0\nfov = 30\nrays = 120\n"),
+                              "fan.toml");
+  ASSERT_TRUE(s.camera.has_value());
+  const Camera& c = *s.camera;
+  EXPECT_EQ(c.projection, Projection::fan);
+  EXPECT_EQ(c.eye, Vec3(-9, 0, 0));
+  EXPECT_EQ(c.fov_degrees, 30);
+  EXPECT_EQ(c.angle_degrees, 0);
+  EXPECT_EQ(c.width, 120);
+  EXPECT_EQ(c.height, 1);  // a fan is one row
+  // width is the same as rays; height = 1 may be spelled out.
+  const Scene w = parse_scene(
+      with_camera("[camera]\nprojection = \"fan\"\nwidth = 7\nheight = 1\nangle = -45.5\n"), "fan.toml");
+  EXPECT_EQ(w.camera->width, 7);
+  EXPECT_EQ(w.camera->angle_degrees, -45.5);
+}
+
 struct BadCase {
   std::string text;
   std::string key;     // dotted path expected in the message
@@ -234,6 +295,38 @@ std::vector<BadCase> bad_cases() {
       {kVolume + kField + kTransfer + "[background]\nintensty = 1\n", "background.intensty",
        "unknown"},
       {"background = 0.5\n" + kVolume + kField + kTransfer, "background", "table"},
+      {"camera = 3\n" + kVolume + kField + kTransfer, "camera", "table"},
+      {with_camera("[camera]\nprojection = \"pinhole\"\n"), "camera.projection", "unknown"},
+      {with_camera("[camera]\nprojection = 1\n"), "camera.projection", "string"},
+      {with_camera("[camera]\nfoo = 1\n"), "camera.foo", "unknown"},
+      {with_camera("[camera]\nextent = 2\n"), "camera.extent", "does not apply"},
+      {with_camera("[camera]\nrays = 12\n"), "camera.rays", "does not apply"},
+      {with_camera("[camera]\nangle = 12\n"), "camera.angle", "does not apply"},
+      {with_camera("[camera]\nprojection = \"orthographic\"\nfov = 30\n"), "camera.fov",
+       "does not apply"},
+      {with_camera("[camera]\nprojection = \"fan\"\nup = [0, 1, 0]\n"), "camera.up",
+       "does not apply"},
+      {with_camera("[camera]\nprojection = \"fan\"\ntarget = [0, 1, 0]\n"), "camera.target",
+       "does not apply"},
+      {with_camera("[camera]\neye = [0, 0]\n"), "camera.eye", "3 elements"},
+      {with_camera("[camera]\neye = [0, nan, 0]\n"), "camera.eye[1]", "finite"},
+      {with_camera("[camera]\neye = [0, 0, 0]\ntarget = [0, 0, 0]\n"), "camera.target", "equals"},
+      {with_camera("[camera]\nup = [0, 0, 1]\n"), "camera.up", "parallel"},
+      {with_camera("[camera]\nup = [0, 0, 0]\n"), "camera.up", "zero"},
+      {with_camera("[camera]\nfov = 180\n"), "camera.fov", "(0, 180)"},
+      {with_camera("[camera]\nfov = -5\n"), "camera.fov", "(0, 180)"},
+      {with_camera("[camera]\nfov = \"wide\"\n"), "camera.fov", "number"},
+      {with_camera("[camera]\nwidth = 0\n"), "camera.width", "positive"},
+      {with_camera("[camera]\nheight = 20000\n"), "camera.height", "too large"},
+      {with_camera("[camera]\nwidth = 2.5\n"), "camera.width", "integer"},
+      {with_camera("[camera]\nprojection = \"orthographic\"\nextent = 0\n"), "camera.extent",
+       "positive"},
+      {with_camera("[camera]\nprojection = \"fan\"\nrays = 10\nwidth = 10\n"), "camera.rays",
+       "not both"},
+      {with_camera("[camera]\nprojection = \"fan\"\nrays = 0\n"), "camera.rays", "positive"},
+      {with_camera("[camera]\nprojection = \"fan\"\nheight = 2\n"), "camera.height", "must be 1"},
+      {with_camera("[camera]\nprojection = \"fan\"\nfov = 400\n"), "camera.fov", "360"},
+      {with_camera("[camera]\nprojection = \"fan\"\nangle = inf\n"), "camera.angle", "finite"},
   };
 }
 
