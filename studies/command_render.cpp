@@ -20,6 +20,8 @@
 #include "lib/camera.h"
 #include "lib/discrete_raycast.h"
 #include "lib/image_io.h"
+#include "lib/parallel.h"
+#include "lib/progress.h"
 #include "lib/reference_integrator.h"
 #include "studies/cli_support.h"
 #include "studies/commands.h"
@@ -38,6 +40,8 @@ struct RenderOptions {
   std::string output;
   std::string error_against;
   std::optional<int> width, height;
+  int threads = 0;
+  bool quiet = false;
   CLI::Option* tol_option = nullptr;
 };
 
@@ -108,34 +112,57 @@ struct Rendered {
   double max_error_estimate = 0;  // reference only
 };
 
-Rendered render_reference(const Scene& scene, const Camera& camera, double tol) {
+// Every pixel on TBB's threads, each writing its own slots; the sums run afterwards in pixel
+// order, so the output is the same for any thread count.
+template <class PerPixel>
+Rendered render_pixels(const Camera& camera, bool quiet, PerPixel&& per_pixel) {
   Rendered r{Image(camera.width, camera.height)};
-  visit_field(scene, [&](const auto& field) {
-    for (int y = 0; y < camera.height; ++y)
-      for (int x = 0; x < camera.width; ++x) {
-        const ReferenceResult v = integrate_reference(field, scene.box, scene.transfer,
-                                                      scene.background, camera.ray(x, y), {tol});
-        r.image.at(x, y) = static_cast<float>(v.value);
-        r.work += v.evaluations;
-        r.max_error_estimate = std::max(r.max_error_estimate, v.error_estimate);
-      }
+  const long pixels = static_cast<long>(camera.width) * camera.height;
+  std::vector<long> work(pixels);
+  std::vector<double> estimate(pixels);
+  Progress progress("render", pixels, !quiet);
+  parallel_for_index(pixels, [&](long i) {
+    const int x = static_cast<int>(i % camera.width), y = static_cast<int>(i / camera.width);
+    const auto [value, w, e] = per_pixel(camera.ray(x, y));
+    r.image.at(x, y) = static_cast<float>(value);
+    work[i] = w;
+    estimate[i] = e;
+    progress.advance();
   });
+  progress.finish();
+  for (long i = 0; i < pixels; ++i) {
+    r.work += work[i];
+    r.max_error_estimate = std::max(r.max_error_estimate, estimate[i]);
+  }
   return r;
 }
 
-Rendered render_discrete(const Scene& scene, const Camera& camera, const DiscreteConfig& config) {
-  Rendered r{Image(camera.width, camera.height)};
-  visit_field(scene, [&](const auto& field) {
+struct PixelResult {
+  double value;
+  long work;
+  double estimate;
+};
+
+Rendered render_reference(const Scene& scene, const Camera& camera, double tol, bool quiet) {
+  return visit_field(scene, [&](const auto& field) {
+    return render_pixels(camera, quiet, [&](const Ray& ray) {
+      const ReferenceResult v =
+          integrate_reference(field, scene.box, scene.transfer, scene.background, ray, {tol});
+      return PixelResult{v.value, v.evaluations, v.error_estimate};
+    });
+  });
+}
+
+Rendered render_discrete(const Scene& scene, const Camera& camera, const DiscreteConfig& config,
+                         bool quiet) {
+  return visit_field(scene, [&](const auto& field) {
     using F = std::decay_t<decltype(field)>;
     const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config);
-    for (int y = 0; y < camera.height; ++y)
-      for (int x = 0; x < camera.width; ++x) {
-        const DiscreteResult v = caster.cast(camera.ray(x, y));
-        r.image.at(x, y) = static_cast<float>(v.value);
-        r.work += v.samples;
-      }
+    return render_pixels(camera, quiet, [&](const Ray& ray) {
+      const DiscreteResult v = caster.cast(ray);
+      return PixelResult{v.value, v.samples, 0.0};
+    });
   });
-  return r;
 }
 
 Image read_reference_image(const std::string& path, const Camera& camera) {
@@ -204,8 +231,9 @@ void run_render(const RenderOptions& opt) {
         camera.fov_degrees, camera.eye[0], camera.eye[1], camera.eye[2]);
   const long pixels = static_cast<long>(camera.width) * camera.height;
   const auto start = std::chrono::steady_clock::now();
-  const Rendered r = discrete ? render_discrete(scene, camera, *discrete)
-                              : render_reference(scene, camera, opt.tol);
+  const ThreadLimit threads(opt.threads);
+  const Rendered r = discrete ? render_discrete(scene, camera, *discrete, opt.quiet)
+                              : render_reference(scene, camera, opt.tol, opt.quiet);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cerr << fmt::format("vrv render: {} pixels ({} x {}, {} camera, {}) in {:.3f} s\n", pixels,
@@ -272,6 +300,8 @@ void add_render_command(CLI::App& app) {
                   "Reference EXR of the same size: also write OUT_error.exr/.png and print error statistics");
   cmd->add_option("--width", opt->width, "Override the camera's width (pixels; rays of a fan)");
   cmd->add_option("--height", opt->height, "Override the camera's height (pixels; 1 for a fan)");
+  cmd->add_option("--threads", opt->threads, "Threads (default: all cores); results do not depend on it");
+  cmd->add_flag("--quiet", opt->quiet, "No progress bar on stderr");
   cmd->callback([opt] { run_render(*opt); });
 }
 

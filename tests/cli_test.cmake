@@ -161,3 +161,25 @@ expect_failure(render_fan_height "--height.*must be 1" render --scene ${OUT}/fan
 file(WRITE ${OUT}/bad_camera.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[camera]\nprojection = \"perspective\"\nrays = 4\n")
 expect_failure(render_bad_camera "bad_camera.toml: camera.rays: does not apply" render
   --scene ${OUT}/bad_camera.toml --reference -o ${OUT}/render_never.exr)
+
+# Discrete raycasts from the command line: value and samples, every method.
+foreach(method riemann alpha trapezoid exact_linear moreland)
+  expect_success(discrete_${method} ray --origin -3,0.5,0 --direction 1,0.1,0 --method ${method} --rate 2 --json)
+  if(NOT LAST_OUT MATCHES "^\\{\"value\":[-0-9.e]+,\"samples\":[0-9]+\\}")
+    message(FATAL_ERROR "discrete ${method}: ${LAST_OUT}")
+  endif()
+endforeach()
+expect_success(discrete_options ray --origin -3,0.5,0 --direction 1,0.1,0 --method alpha --strategy eye --rate 1.5
+  --oversample 5 --correction lee_newman --termination 0.95 --skip 0.01 --precision float --json)
+expect_success(discrete_step ray --origin -3,0.5,0 --direction 1,0.1,0 --method trapezoid --step 0.01 --compositing back_to_front)
+expect_failure(correction_needs_alpha "--correction" ray --origin 0,0,0 --direction 1,0,0 --method riemann --correction lacroute)
+expect_failure(unknown_method "--method" ray --origin 0,0,0 --direction 1,0,0 --method simpson)
+expect_failure(vtk_needs_step "--step" ray --origin 0,0,0 --direction 1,0,0 --method riemann --strategy vtk)
+expect_failure(pre_needs_grid "--classification" ray --origin 0,0,0 --direction 1,0,0 --method riemann --classification pre)
+
+# Renders do not depend on the thread count.
+expect_success(render_one_thread render --reference --width 16 --height 16 --threads 1 --quiet -o ${OUT}/t1.exr)
+expect_success(render_two_threads render --reference --width 16 --height 16 --threads 2 --quiet -o ${OUT}/t2.exr --error-against ${OUT}/t1.exr)
+if(NOT LAST_OUT MATCHES "\"max_abs_error\":0(\\.0)?,")
+  message(FATAL_ERROR "1 and 2 threads differ: ${LAST_OUT}")
+endif()
