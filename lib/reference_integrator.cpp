@@ -16,6 +16,14 @@ constexpr int kSpectralPoints = 33;
 // estimates reported, so a pathological input costs bounded time instead of hanging.
 constexpr long kMaxSpectralPieces = 20000;
 
+// A piece that is a small part of a resolved panel needs a lower degree than the panel (its
+// polynomial content shrinks with the length ratio); the accuracy check still splits any piece
+// that this underserves.
+int spectral_points(const RayPanel& panel, double c, double d) {
+  const double share = (d - c) / (panel.b - panel.a);
+  return share > 0.5 ? kSpectralPoints : share > 0.2 ? 17 : 9;
+}
+
 }  // namespace
 
 RayAccumulator::RayAccumulator(const TransferFunction& tf, double background, double tol,
@@ -103,7 +111,7 @@ void RayAccumulator::integrate_piece(const RayPanel& panel, double c, double d,
 void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double d,
                                         const TransferSegment& seg, bool depth_only, int level) {
   // tau(f(t)) is a polynomial of the proxy's degree when tau is affine in v.
-  const int n = depth_only && tf_.affine() ? panel.size() : kSpectralPoints;
+  const int n = depth_only && tf_.affine() ? panel.size() : spectral_points(panel, c, d);
   const ChebyshevRule& rule = ChebyshevRule::get(n);
   const auto count = static_cast<std::size_t>(n);
   double tau[129], g[129], tau_c[129], phi[129], h[129], h_c[129];
