@@ -21,7 +21,7 @@ constexpr long kMaxSpectralPieces = 20000;
 // that this underserves.
 int spectral_points(const RayPanel& panel, double c, double d) {
   const double share = (d - c) / (panel.b - panel.a);
-  return share > 0.5 ? kSpectralPoints : share > 0.2 ? 17 : 9;
+  return share > 0.25 ? kSpectralPoints : share > 0.06 ? 17 : 9;
 }
 
 }  // namespace
