@@ -51,21 +51,27 @@ struct Classified {
   Real g = 0, tau = 0, alpha_unit = 0, color = 0;
 };
 
-// Classification of one field value (post) or of interpolated node classes (pre).
+// Classification of one field value (post) or of interpolated node classes (pre).  The
+// renderer's colour and unit opacity are computed only for the rules that use them.
 class Classifier {
  public:
-  Classifier(const TransferFunction& tf, double unit_step) : tf_(tf), unit_step_(unit_step) {}
+  Classifier(const TransferFunction& tf, double unit_step, bool with_color = true)
+      : tf_(tf), unit_step_(unit_step), with_color_(with_color) {}
   template <class Real>
   Classified<Real> from_value(double v) const {
     if (tf_.convention() == Convention::opacity_color)
       return from_opacity_color<Real>(tf_.first()(v), tf_.second()(v));
-    return from_emission_extinction<Real>(tf_.emission(v), tf_.extinction(v));
+    // Consecutive samples mostly stay on one branch: look it up only when v leaves it.
+    if (!(v >= lo_ && v < hi_)) segment_ = tf_.segment(v, lo_, hi_);
+    return from_emission_extinction<Real>(segment_.g(v), segment_.tau(v));
   }
   template <class Real>
   Classified<Real> from_emission_extinction(double g, double tau) const {
     Classified<Real> c{Real(g), Real(tau), 0, 0};
-    c.alpha_unit = Real(-std::expm1(-tau * unit_step_));
-    c.color = tau > 0 ? Real(g / tau) : Real(0);  // colour is g / tau; undefined (0) where tau = 0
+    if (with_color_) {
+      c.alpha_unit = Real(-std::expm1(-tau * unit_step_));
+      c.color = tau > 0 ? Real(g / tau) : Real(0);  // colour is g / tau; undefined (0) where tau = 0
+    }
     return c;
   }
   template <class Real>
@@ -77,6 +83,9 @@ class Classifier {
  private:
   const TransferFunction& tf_;
   double unit_step_;
+  bool with_color_;
+  mutable TransferSegment segment_;  // the branch for values in [lo_, hi_)
+  mutable double lo_ = 1, hi_ = 0;   // empty until the first lookup
 };
 
 }  // namespace detail
@@ -94,7 +103,7 @@ class DiscreteRaycaster {
   template <class Real>
   DiscreteResult cast_in(const Ray& ray, Interval iv) const;
   template <class Real>
-  detail::Classified<Real> classify(const Ray& ray, Real t, double unit_step) const;
+  detail::Classified<Real> classify(const Ray& ray, Real t, const detail::Classifier& classes) const;
 
   const F& field_;
   Box box_;

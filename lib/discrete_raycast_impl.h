@@ -80,7 +80,8 @@ DiscreteRaycaster<F>::DiscreteRaycaster(const F& field, const Box& box, const Tr
 
 template <ScalarField F>
 template <class Real>
-detail::Classified<Real> DiscreteRaycaster<F>::classify(const Ray& ray, Real t, double unit_step) const {
+detail::Classified<Real> DiscreteRaycaster<F>::classify(const Ray& ray, Real t,
+                                                        const detail::Classifier& classes) const {
   Vec3 p;
   if constexpr (std::is_same_v<Real, float>) {
     // A GPU forms the position in single precision.
@@ -89,7 +90,6 @@ detail::Classified<Real> DiscreteRaycaster<F>::classify(const Ray& ray, Real t, 
   } else {
     p = ray.at(t);
   }
-  const detail::Classifier classes(tf_, unit_step);
   if (pre_first_) {
     const double a = pre_first_->value(p), b = pre_second_->value(p);
     return tf_.convention() == Convention::opacity_color ? classes.from_opacity_color<Real>(a, b)
@@ -116,10 +116,12 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
   const Real dx = Real(fine.dt);
   auto t_of = [&](long m) { return Real(fine.t_first) + Real(m) * dx; };
   detail::Compositor<Real> out(config_);
+  const bool with_color = config_.rule == SegmentRule::alpha || config_.rule == SegmentRule::moreland;
+  const detail::Classifier classes(tf_, unit_step, with_color);
   long samples = 0;
   auto sample = [&](Real t) {
     ++samples;
-    return classify<Real>(ray, t, unit_step);
+    return classify<Real>(ray, t, classes);
   };
 
   switch (config_.rule) {

@@ -117,6 +117,14 @@ TransferFunction::Slopes TransferFunction::jump_at(double v) const {
   return jumps_[it - breakpoints_.begin()];
 }
 
+TransferSegment TransferFunction::segment(double v, double& lo, double& hi) const {
+  const auto& b = breakpoints_;
+  const auto k = std::upper_bound(b.begin(), b.end(), v) - b.begin();
+  lo = k == 0 ? -std::numeric_limits<double>::infinity() : b[k - 1];
+  hi = k == static_cast<long>(b.size()) ? std::numeric_limits<double>::infinity() : b[k];
+  return segment(v);
+}
+
 double TransferFunction::emission(double v) const { return segment(v).g(v); }
 double TransferFunction::extinction(double v) const { return segment(v).tau(v); }
 

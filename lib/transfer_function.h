@@ -76,6 +76,8 @@ class TransferFunction {
   const std::vector<double>& breakpoints() const { return breakpoints_; }
   // The branch valid around v_inside; use a value strictly inside a segment.
   TransferSegment segment(double v_inside) const;
+  // The branch right-continuous at v, and the range [lo, hi) of values it holds for.
+  TransferSegment segment(double v, double& lo, double& hi) const;
   double emission(double v) const;    // right-continuous
   double extinction(double v) const;  // right-continuous
 
