@@ -39,6 +39,7 @@ class Compositor {
 
 // Samples every dt / N from the same first sample, while below the same end.
 inline SamplePlan oversampled(const SamplePlan& plan, int N) {
+  if (N == 1) return plan;
   SamplePlan fine = plan;
   fine.dt = plan.dt / N;
   fine.count = 0;
