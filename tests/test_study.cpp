@@ -1,0 +1,99 @@
+// vrv study: the convergence study passes in quick mode, does not depend on the thread count,
+// and rejects bad study files with one line naming the file and key.
+#include "lib/study.h"
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "lib/parallel.h"
+
+namespace vrv {
+namespace {
+
+const std::filesystem::path kConvergence =
+    std::filesystem::path(VRV_SOURCE_DIR) / "studies" / "convergence.toml";
+
+TEST(Study, ConvergenceQuickPassesWithObservedOrdersWithinTolerance) {
+  const ConvergenceStudy study = load_study(kConvergence);
+  EXPECT_EQ(study.name, "convergence");
+  const StudyResult r = run_convergence(study, /*quick=*/true, /*progress=*/false);
+  EXPECT_EQ(r.rays, study.quick_count);
+  ASSERT_EQ(r.orders.size(), 5u);
+  ASSERT_EQ(r.errors.size(), 5u * study.steps.size());
+  for (const OrderRow& o : r.orders) {
+    EXPECT_NEAR(o.observed, o.expected, study.tolerance) << segment_rule_name(o.rule);
+    EXPECT_TRUE(o.pass) << segment_rule_name(o.rule);
+  }
+  EXPECT_TRUE(r.pass);
+}
+
+TEST(Study, ErrorsAreBitwiseIdenticalForOneAndTwoThreads) {
+  const ConvergenceStudy study = load_study(kConvergence);
+  std::string one, two;
+  {
+    const ThreadLimit limit(1);
+    one = study_tables(study, run_convergence(study, true, false)).errors_csv;
+  }
+  {
+    const ThreadLimit limit(2);
+    two = study_tables(study, run_convergence(study, true, false)).errors_csv;
+  }
+  EXPECT_FALSE(one.empty());
+  EXPECT_EQ(one, two);
+}
+
+TEST(Study, ObservedOrderIsTheLeastSquaresSlope) {
+  EXPECT_NEAR(observed_order({0.1, 0.05, 0.025}, {3e-2, 7.5e-3, 1.875e-3}), 2, 1e-12);
+  EXPECT_TRUE(std::isnan(observed_order({0.1, 0.05}, {1e-3, 0})));
+}
+
+std::string valid_study() {
+  return "kind = \"convergence\"\n"
+         "[scene.volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n"
+         "[scene.field]\nkind = \"marschner_lobb\"\nfM = 2.0\n"
+         "[scene.transfer]\nemission = [[-1, 1.5], [2, 0]]\nextinction = [[-1, 0.1], [2, 2.5]]\n"
+         "[[method]]\nrule = \"riemann\"\nexpected_order = 1\n"
+         "[sampling]\nstrategy = \"inviwo\"\nsteps = [0.1, 0.05]\n"
+         "[rays]\ncount = 2\n";
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_study(text, "bad.toml", "bad");
+  } catch (const StudyFileError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(Study, BadStudyFilesGiveOneLineNamingFileAndKey) {
+  EXPECT_EQ(error_of(valid_study()), "(no error)");
+  auto replace = [](std::string s, const std::string& from, const std::string& to) {
+    const auto at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return s.replace(at, from.size(), to);
+  };
+  const struct {
+    std::string text, prefix;
+  } cases[] = {
+      {replace(valid_study(), "\"convergence\"", "\"speed\""), "bad.toml: kind: unknown kind 'speed'"},
+      {replace(valid_study(), "\"riemann\"", "\"simpson\""), "bad.toml: method[0].rule: unknown method 'simpson'"},
+      {replace(valid_study(), "[0.1, 0.05]", "[]"), "bad.toml: sampling.steps: empty"},
+      {replace(valid_study(), "[0.1, 0.05]", "[0.1, -0.05]"), "bad.toml: sampling.steps[1]: must be positive"},
+      {replace(valid_study(), "[rays]\ncount = 2\n", ""), "bad.toml: rays: missing"},
+      {replace(valid_study(), "count = 2", "count = 2\ncolour = 1"), "bad.toml: rays.colour: unknown key"},
+      {replace(valid_study(), "fM = 2.0", "fM = -2.0"), "bad.toml: scene.field.fM"},
+      {"kind = \"convergence\"\n", "bad.toml: scene: missing"},
+  };
+  for (const auto& c : cases) {
+    const std::string e = error_of(c.text);
+    EXPECT_TRUE(e.starts_with(c.prefix)) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+}
+
+}  // namespace
+}  // namespace vrv
