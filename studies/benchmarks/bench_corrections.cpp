@@ -39,6 +39,7 @@
 #include <benchmark/benchmark.h>
 
 #include "studies/benchmarks/flat_grid.h"
+#include "studies/benchmarks/bench_rays.h"
 #include "lib/discrete_raycast.h"
 #include "lib/opacity_correction.h"
 #include "lib/scene.h"
@@ -179,18 +180,7 @@ void BM_Correct(benchmark::State& state, Variant v) {
 
 // ---- Whole raycast --------------------------------------------------------------------------
 
-std::vector<Ray> random_rays(int count) {
-  std::mt19937_64 rng(11);
-  std::normal_distribution<double> normal;
-  std::uniform_real_distribution<double> box(-1, 1);
-  std::vector<Ray> rays;
-  for (int i = 0; i < count; ++i) {
-    Vec3 o(normal(rng), normal(rng), normal(rng));
-    o = 3 * o.normalized();
-    rays.push_back(make_ray(o, Vec3(box(rng), box(rng), box(rng)) - o));
-  }
-  return rays;
-}
+std::vector<Ray> random_rays(int count) { return bench::random_rays(count, 11); }
 
 const TransferFunction& tf() {
   static const TransferFunction t = TransferFunction::emission_extinction(

@@ -7,6 +7,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "studies/benchmarks/bench_rays.h"
 #include "lib/discrete_raycast.h"
 #include "lib/scene.h"
 
@@ -14,18 +15,7 @@ namespace {
 
 using namespace vrv;
 
-std::vector<Ray> random_rays(int count) {
-  std::mt19937_64 rng(11);
-  std::normal_distribution<double> normal;
-  std::uniform_real_distribution<double> box(-1, 1);
-  std::vector<Ray> rays;
-  for (int i = 0; i < count; ++i) {
-    Vec3 o(normal(rng), normal(rng), normal(rng));
-    o = 3 * o.normalized();
-    rays.push_back(make_ray(o, Vec3(box(rng), box(rng), box(rng)) - o));
-  }
-  return rays;
-}
+std::vector<Ray> random_rays(int count) { return bench::random_rays(count, 11); }
 
 const TransferFunction& tf() {
   static const TransferFunction t = TransferFunction::emission_extinction(

@@ -32,6 +32,7 @@
 #include <boost/numeric/odeint.hpp>
 
 #include "analytic/marschner_lobb.h"
+#include "studies/benchmarks/bench_rays.h"
 #include "lib/geometry.h"
 #include "lib/reference_integrator.h"
 #include "lib/transfer_function.h"
@@ -45,29 +46,9 @@ constexpr int kRays = 64;
 constexpr double kTruthTol = 1e-14;
 constexpr double kTarget = 1e-10;  // the matched accuracy: max achieved error over the rays
 
-// Copied from bench_reference.cpp: emission not proportional to extinction, with kinks at six
-// control values, so the general (nested) route is taken.
-TransferFunction nonproportional_tf() {
-  return TransferFunction::emission_extinction(
-      PiecewiseLinear({{0, 0}, {0.3, 0.1}, {0.5, 1.0}, {0.7, 0.2}, {1, 0.5}}),
-      PiecewiseLinear({{0, 0}, {0.4, 0.8}, {1, 0.3}}));
-}
+using bench::nonproportional_tf;
 
-// Copied from bench_reference.cpp: origins on a sphere of radius 3 aimed at uniform points in
-// [-1, 1]^3; fixed seed.
-std::vector<Ray> random_rays(int count) {
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> normal;
-  std::uniform_real_distribution<double> box(-1, 1);
-  std::vector<Ray> rays;
-  while (static_cast<int>(rays.size()) < count) {
-    Vec3 o(normal(rng), normal(rng), normal(rng));
-    o = 3 * o.normalized();
-    const Vec3 target(box(rng), box(rng), box(rng));
-    rays.push_back(make_ray(o, target - o));
-  }
-  return rays;
-}
+std::vector<Ray> random_rays(int count) { return bench::random_rays(count, 7); }
 
 struct BenchScene {
   MarschnerLobb field{6, 0.25};

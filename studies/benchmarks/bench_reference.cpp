@@ -6,6 +6,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "studies/benchmarks/bench_rays.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
 
@@ -13,33 +14,14 @@ namespace {
 
 using namespace vrv;
 
-// Emission not proportional to extinction, with kinks at six control values, so the general
-// (nested) route is taken.
-TransferFunction nonproportional_tf() {
-  return TransferFunction::emission_extinction(
-      PiecewiseLinear({{0, 0}, {0.3, 0.1}, {0.5, 1.0}, {0.7, 0.2}, {1, 0.5}}),
-      PiecewiseLinear({{0, 0}, {0.4, 0.8}, {1, 0.3}}));
-}
+using bench::nonproportional_tf;
 
 TransferFunction proportional_tf() {
   return TransferFunction::emission_extinction(PiecewiseLinear({{0, 0}, {1, 1}}),
                                                PiecewiseLinear({{0, 0}, {1, 0.5}}));
 }
 
-// Origins on a sphere of radius 3 aimed at uniform points in [-1, 1]^3; fixed seed.
-std::vector<Ray> random_rays(int count) {
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> normal;
-  std::uniform_real_distribution<double> box(-1, 1);
-  std::vector<Ray> rays;
-  while (static_cast<int>(rays.size()) < count) {
-    Vec3 o(normal(rng), normal(rng), normal(rng));
-    o = 3 * o.normalized();
-    const Vec3 target(box(rng), box(rng), box(rng));
-    rays.push_back(make_ray(o, target - o));
-  }
-  return rays;
-}
+std::vector<Ray> random_rays(int count) { return bench::random_rays(count, 7); }
 
 template <class F>
 void run(benchmark::State& state, const F& field, const TransferFunction& tf, double tol) {
