@@ -40,6 +40,7 @@
 
 #include "studies/benchmarks/flat_grid.h"
 #include "studies/benchmarks/bench_rays.h"
+#include "studies/benchmarks/counter_recorder.h"
 #include "lib/discrete_raycast.h"
 #include "lib/opacity_correction.h"
 #include "lib/scene.h"
@@ -357,47 +358,6 @@ void BM_BareRaycast(benchmark::State& state, BareCorrection bc) {
   state.counters["samples_per_iter"] = static_cast<double>(samples) / static_cast<double>(state.iterations());
 }
 
-// Keeps each benchmark's ns_per_sample over the repetitions (or its min/median aggregates when
-// only those are displayed).  On a shared machine other jobs only ever slow a run down, so the
-// ratios use the best repetition (the lowest time); the median ratios are printed as a check.
-class Recorder : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const Run& r : runs) {
-      if (r.error_occurred) continue;
-      const auto it = r.counters.find("ns_per_sample");
-      if (it == r.counters.end()) continue;
-      const std::string key = r.run_name.function_name + "/" + r.run_name.args;
-      if (r.run_type == Run::RT_Iteration) values_[key].push_back(it->second.value);
-      else aggregates_[key][r.aggregate_name] = it->second.value;
-    }
-  }
-  double best(const std::string& key) const {
-    if (const auto it = values_.find(key); it != values_.end())
-      return *std::min_element(it->second.begin(), it->second.end());
-    return aggregate(key, "min");
-  }
-  double median(const std::string& key) const {
-    if (const auto it = values_.find(key); it != values_.end()) {
-      std::vector<double> v = it->second;
-      std::sort(v.begin(), v.end());
-      const std::size_t m = v.size() / 2;
-      return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-    }
-    return aggregate(key, "median");
-  }
-
- private:
-  double aggregate(const std::string& key, const std::string& name) const {
-    const auto it = aggregates_.find(key);
-    if (it == aggregates_.end()) return NAN;
-    const auto a = it->second.find(name);
-    return a == it->second.end() ? NAN : a->second;
-  }
-  std::map<std::string, std::vector<double>> values_;
-  std::map<std::string, std::map<std::string, double>> aggregates_;
-};
 
 benchmark::internal::Benchmark* with_min(benchmark::internal::Benchmark* b) {
   return b->ComputeStatistics("min", [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); });
@@ -462,7 +422,7 @@ int main(int argc, char** argv) {
     with_min(benchmark::RegisterBenchmark((std::string("BM_BareRaycast/") + name).c_str(), BM_BareRaycast, c))
         ->Arg(5)->Arg(2)->Unit(benchmark::kMicrosecond);
 
-  Recorder rec;
+  bench::CounterRecorder rec("ns_per_sample", bench::CounterRecorder::Better::lower, true);
   benchmark::RunSpecifiedBenchmarks(&rec);
 
   for (const int N : {5, 2}) {

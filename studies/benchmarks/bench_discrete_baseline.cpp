@@ -36,6 +36,7 @@
 
 #include "studies/benchmarks/flat_grid.h"
 #include "studies/benchmarks/bench_rays.h"
+#include "studies/benchmarks/counter_recorder.h"
 #include "lib/discrete_raycast.h"
 #include "lib/parallel.h"
 #include "lib/sampling.h"
@@ -272,49 +273,6 @@ void run(benchmark::State& state, const F& field, const Fetch& fetch, int dims, 
   state.counters["samples_per_iter"] = static_cast<double>(samples) / static_cast<double>(state.iterations());
 }
 
-// Keeps each benchmark's samples_per_s over the repetitions (or its min/max/median aggregates
-// when only those are displayed) for the summary at the end.  On a shared machine other jobs only
-// ever slow a run down, so the summary leads with the best repetition (the highest rate) and
-// gives the median beside it.
-class Recorder : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const Run& r : runs) {
-      if (r.error_occurred) continue;
-      const auto it = r.counters.find("samples_per_s");
-      if (it == r.counters.end()) continue;
-      const std::string key = r.run_name.function_name;
-      if (r.run_type == Run::RT_Iteration) values_[key].push_back(it->second.value);
-      else aggregates_[key][r.aggregate_name] = it->second.value;
-    }
-  }
-  bool has(const std::string& key) const { return values_.count(key) || aggregates_.count(key); }
-  double best(const std::string& key) const {
-    if (const auto it = values_.find(key); it != values_.end())
-      return *std::max_element(it->second.begin(), it->second.end());
-    return aggregate(key, "max");
-  }
-  double median(const std::string& key) const {
-    if (const auto it = values_.find(key); it != values_.end()) {
-      std::vector<double> v = it->second;
-      std::sort(v.begin(), v.end());
-      const std::size_t m = v.size() / 2;
-      return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-    }
-    return aggregate(key, "median");
-  }
-
- private:
-  double aggregate(const std::string& key, const std::string& name) const {
-    const auto it = aggregates_.find(key);
-    if (it == aggregates_.end()) return NAN;
-    const auto a = it->second.find(name);
-    return a == it->second.end() ? NAN : a->second;
-  }
-  std::map<std::string, std::vector<double>> values_;
-  std::map<std::string, std::map<std::string, double>> aggregates_;
-};
 
 }  // namespace
 
@@ -360,7 +318,7 @@ int main(int argc, char** argv) {
     }
   }
 
-  Recorder recorder;
+  bench::CounterRecorder recorder("samples_per_s", bench::CounterRecorder::Better::higher, false);
   benchmark::RunSpecifiedBenchmarks(&recorder);
 
   std::printf("\nthreads: TBB default = %u hardware threads; best = highest rate over the repetitions\n",
