@@ -123,7 +123,9 @@ TEST(DiscreteRaycast, LacrouteOversamplingEqualsTheFinerAlphaRaycast) {
     const DiscreteResult b = DiscreteRaycaster(ml, kBox, linear_tf(), 0, fine).cast(ray);
     EXPECT_TRUE(std::isfinite(a.value));
     EXPECT_EQ(a.samples, b.samples);
-    if (N > 1) EXPECT_GT(b.value, a.value);  // uncorrected oversampling is too opaque/bright here
+    if (N > 1) {
+      EXPECT_GT(b.value, a.value);  // uncorrected oversampling is too opaque/bright here
+    }
     const double reference = integrate_reference(ml, kBox, linear_tf(), 0, ray).value;
     EXPECT_LT(std::abs(a.value - reference), 0.05) << N;
   }
