@@ -8,6 +8,8 @@
 #include <random>
 #include <sstream>
 #include <type_traits>
+#include <utility>
+#include <variant>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -88,6 +90,176 @@ std::string scene_to_toml(const toml::table& scene) {
   return out.str();
 }
 
+// The [scene] table under `parent` (at `path`): the usual scene tables, parsed by parse_scene, its
+// keys reported as <path>.scene.<key>; its TOML text goes to `toml_text`.  Shared by both kinds.
+Scene read_scene(const Reader& r, std::string_view source_name, const toml::table& parent,
+                 std::string_view path, std::string& toml_text) {
+  const std::string at = Reader::child(path, "scene");
+  const toml::table& scene = r.table(r.require(parent, "scene", path), at);
+  toml_text = scene_to_toml(scene);
+  constexpr std::string_view marker = "\x01scene\x01";
+  try {
+    return parse_scene(toml_text, marker);
+  } catch (const SceneFileError& e) {
+    std::string msg = e.what();
+    const std::string prefix = std::string(marker) + ": ";
+    if (msg.starts_with(prefix)) msg = msg.substr(prefix.size());
+    throw StudyFileError(one_line(fmt::format("{}: {}.{}", source_name, at, msg)));
+  }
+}
+
+// ---- kind = "hard_cases" --------------------------------------------------------------------
+
+constexpr std::size_t kMaxCases = 256;
+constexpr std::size_t kMaxCaseMethods = 32;
+constexpr double kMaxCaseSamples = 1e8;  // per discrete row, a cap on run time
+
+bool step_based(Strategy st) {
+  return st == Strategy::step || st == Strategy::vtk || st == Strategy::inviwo;
+}
+
+std::string method_label(const HardCaseMethod& m) {
+  if (m.reference) return fmt::format("reference tol={:g}", m.tol);
+  const DiscreteConfig& c = m.config;
+  std::string label = fmt::format("{} {} {}={:g}", segment_rule_name(c.rule),
+                                  strategy_name(c.sampling.strategy),
+                                  step_based(c.sampling.strategy) ? "h" : "rate",
+                                  step_based(c.sampling.strategy) ? c.sampling.step : c.sampling.rate);
+  if (c.oversample != 1) label += fmt::format(" N={}", c.oversample);
+  if (c.correction != Correction::none) label += fmt::format(" {}", correction_name(c.correction));
+  label += c.precision == Precision::single_precision ? " float" : " double";
+  return label;
+}
+
+Vec3 read_vec3(const Reader& r, const toml::table& t, std::string_view key, std::string_view path) {
+  const std::string at = Reader::child(path, key);
+  const toml::array* a = r.require(t, key, path).as_array();
+  if (!a || a->size() != 3) r.fail(at, "expected an array of three numbers");
+  Vec3 v;
+  for (std::size_t k = 0; k < 3; ++k) v[static_cast<int>(k)] = r.number(*a->get(k), fmt::format("{}[{}]", at, k));
+  return v;
+}
+
+HardCaseMethod read_case_method(const Reader& r, const toml::table& m, const std::string& path,
+                                const Scene& scene) {
+  r.check_keys(m, path, {"method", "label", "tol", "strategy", "rate", "step", "oversample",
+                         "correction", "precision", "max_error"});
+  HardCaseMethod out;
+  const std::string name = r.string(r.require(m, "method", path), path + ".method");
+  auto only_for_discrete = [&](std::initializer_list<std::string_view> keys) {
+    for (std::string_view k : keys)
+      if (m.contains(k)) r.fail(Reader::child(path, k), "not used by the reference method");
+  };
+  if (name == "reference") {
+    only_for_discrete({"strategy", "rate", "step", "oversample", "correction", "precision", "max_error"});
+    out.reference = true;
+    out.tol = r.number(r.require(m, "tol", path), path + ".tol");
+    if (!(out.tol >= 1e-15 && out.tol <= 1))
+      r.fail(path + ".tol", fmt::format("must be in [1e-15, 1], got {}", out.tol));
+  } else {
+    const auto rule = parse_segment_rule(name);
+    if (!rule)
+      r.fail(path + ".method", fmt::format("unknown method '{}' (one of reference, riemann, alpha, "
+                                           "trapezoid, exact_linear, moreland)", name));
+    if (m.contains("tol")) r.fail(path + ".tol", "only the reference method takes tol");
+    DiscreteConfig& c = out.config;
+    c.rule = *rule;
+    const std::string strategy =
+        r.string(r.require(m, "strategy", path), path + ".strategy");
+    const auto st = parse_strategy(strategy);
+    if (!st)
+      r.fail(path + ".strategy", fmt::format("unknown strategy '{}' (one of eye, entry, entry_exit, "
+                                             "entry_exit_corner, step, vtk, inviwo)", strategy));
+    c.sampling.strategy = *st;
+    c.sampling.dims = scene.dims;
+    double samples;  // a bound on the samples per ray
+    const double diagonal = scene.box.extent().norm();
+    if (step_based(*st)) {
+      if (m.contains("rate")) r.fail(path + ".rate", fmt::format("strategy {} takes step, not rate", strategy));
+      c.sampling.step = r.number(r.require(m, "step", path), path + ".step");
+      if (!(c.sampling.step > 0)) r.fail(path + ".step", fmt::format("must be positive, got {}", c.sampling.step));
+      samples = diagonal / c.sampling.step;
+    } else {
+      if (m.contains("step")) r.fail(path + ".step", fmt::format("strategy {} takes rate, not step", strategy));
+      c.sampling.rate = r.number(r.require(m, "rate", path), path + ".rate");
+      if (!(c.sampling.rate > 0)) r.fail(path + ".rate", fmt::format("must be positive, got {}", c.sampling.rate));
+      samples = c.sampling.rate * std::sqrt(3.0) *
+                *std::max_element(scene.dims.begin(), scene.dims.end());
+    }
+    if (m.contains("oversample"))
+      c.oversample = static_cast<int>(r.integer(*m.get("oversample"), path + ".oversample", 1, 65536));
+    if (samples * c.oversample > kMaxCaseSamples)
+      r.fail(path, fmt::format("about {:.3g} samples per ray (more than {:g})", samples * c.oversample,
+                               kMaxCaseSamples));
+    if (m.contains("correction")) {
+      const std::string corr = r.string(*m.get("correction"), path + ".correction");
+      const auto cc = parse_correction(corr);
+      if (!cc)
+        r.fail(path + ".correction", fmt::format("unknown correction '{}' (one of none, lacroute, "
+                                                 "schulze, lee_newman, lee_newman_quadratic)", corr));
+      c.correction = *cc;
+    }
+    if (m.contains("precision")) {
+      const std::string prec = r.string(*m.get("precision"), path + ".precision");
+      if (prec == "double") c.precision = Precision::double_precision;
+      else if (prec == "float") c.precision = Precision::single_precision;
+      else r.fail(path + ".precision", fmt::format("unknown precision '{}' (double or float)", prec));
+    }
+    if (m.contains("max_error")) {
+      out.max_error = r.number(*m.get("max_error"), path + ".max_error");
+      if (!(*out.max_error >= 0))
+        r.fail(path + ".max_error", fmt::format("must not be negative, got {}", *out.max_error));
+    }
+    try {
+      validate(c, std::holds_alternative<GridField>(scene.field));
+    } catch (const std::invalid_argument& e) {
+      std::string msg = e.what();  // "--option: reason"
+      if (msg.starts_with("--")) msg = msg.substr(2);
+      r.fail(path, msg);
+    }
+  }
+  out.label = m.contains("label") ? r.string(*m.get("label"), path + ".label") : method_label(out);
+  if (out.label.empty()) r.fail(path + ".label", "empty");
+  return out;
+}
+
+void parse_hard_cases(const Reader& r, std::string_view source_name, const toml::table& doc,
+                      ConvergenceStudy& s) {
+  const toml::array* arr = r.require(doc, "case", "").as_array();
+  if (!arr) r.fail("case", "expected an array of tables ([[case]])");
+  if (arr->empty()) r.fail("case", "no cases");
+  if (arr->size() > kMaxCases) r.fail("case", fmt::format("more than {} cases", kMaxCases));
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    const std::string path = fmt::format("case[{}]", i);
+    const toml::table& t = r.table(*arr->get(i), path);
+    r.check_keys(t, path, {"name", "description", "scene", "origin", "direction", "method"});
+    HardCase c;
+    c.name = r.string(r.require(t, "name", path), path + ".name");
+    if (c.name.empty()) r.fail(path + ".name", "empty");
+    for (const HardCase& earlier : s.cases)
+      if (earlier.name == c.name) r.fail(path + ".name", fmt::format("'{}' is listed twice", c.name));
+    if (t.contains("description")) c.description = r.string(*t.get("description"), path + ".description");
+    c.scene = read_scene(r, source_name, t, path, c.scene_toml);
+    c.origin = read_vec3(r, t, "origin", path);
+    c.direction = read_vec3(r, t, "direction", path);
+    if (!(c.direction.cwiseAbs().maxCoeff() > 0)) r.fail(path + ".direction", "must not be zero");
+    const toml::array* ma = r.require(t, "method", path).as_array();
+    if (!ma) r.fail(path + ".method", "expected an array of tables ([[case.method]])");
+    if (ma->empty()) r.fail(path + ".method", "no methods");
+    if (ma->size() > kMaxCaseMethods)
+      r.fail(path + ".method", fmt::format("more than {} methods", kMaxCaseMethods));
+    for (std::size_t j = 0; j < ma->size(); ++j) {
+      const std::string mpath = fmt::format("{}.method[{}]", path, j);
+      HardCaseMethod m = read_case_method(r, r.table(*ma->get(j), mpath), mpath, c.scene);
+      for (const HardCaseMethod& earlier : c.methods)
+        if (earlier.label == m.label)
+          r.fail(mpath, fmt::format("'{}' is listed twice (give a distinct label)", m.label));
+      c.methods.push_back(std::move(m));
+    }
+    s.cases.push_back(std::move(c));
+  }
+}
+
 // Uniform in [0, 1) from the top 53 bits: the same on every platform.
 double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
@@ -103,13 +275,17 @@ ConvergenceStudy parse_study(std::string_view text, std::string_view source_name
     const auto& at = e.source().begin;
     r.fail("(syntax)", fmt::format("line {}, column {}: {}", at.line, at.column, e.description()));
   }
-  r.check_keys(doc, "", {"name", "kind", "description", "tolerance", "scene", "method", "sampling",
-                         "rays", "reference_tol"});
   ConvergenceStudy s;
   s.source = std::string(source_name);
   const std::string kind = r.string(r.require(doc, "kind", ""), "kind");
-  if (kind != "convergence")
-    r.fail("kind", fmt::format("unknown kind '{}' (known: convergence)", kind));
+  if (kind != "convergence" && kind != "hard_cases")
+    r.fail("kind", fmt::format("unknown kind '{}' (known: convergence, hard_cases)", kind));
+  s.kind = kind;
+  if (kind == "hard_cases")
+    r.check_keys(doc, "", {"name", "kind", "description", "reference_tol", "case"});
+  else
+    r.check_keys(doc, "", {"name", "kind", "description", "tolerance", "scene", "method", "sampling",
+                           "rays", "reference_tol"});
   s.name = doc.contains("name") ? r.string(*doc.get("name"), "name") : std::string(default_name);
   if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos || s.name == "." ||
       s.name == "..")
@@ -124,19 +300,13 @@ ConvergenceStudy parse_study(std::string_view text, std::string_view source_name
     if (!(s.reference_tol > 0))
       r.fail("reference_tol", fmt::format("must be positive, got {}", s.reference_tol));
   }
+  if (kind == "hard_cases") {
+    parse_hard_cases(r, source_name, doc, s);
+    return s;
+  }
 
   // [scene]: the usual scene tables, parsed by parse_scene; its keys reported as scene.<key>.
-  const toml::table& scene = r.table(r.require(doc, "scene", ""), "scene");
-  s.scene_toml = scene_to_toml(scene);
-  constexpr std::string_view marker = "\x01scene\x01";
-  try {
-    s.scene = parse_scene(s.scene_toml, marker);
-  } catch (const SceneFileError& e) {
-    std::string msg = e.what();
-    const std::string prefix = std::string(marker) + ": ";
-    if (msg.starts_with(prefix)) msg = msg.substr(prefix.size());
-    throw StudyFileError(one_line(fmt::format("{}: scene.{}", source_name, msg)));
-  }
+  s.scene = read_scene(r, source_name, doc, "", s.scene_toml);
 
   // [[method]]: rule and expected_order.
   const toml::node& methods = r.require(doc, "method", "");
@@ -242,6 +412,7 @@ double observed_order(const std::vector<double>& steps, const std::vector<double
 }
 
 StudyResult run_convergence(const ConvergenceStudy& study, bool quick, bool progress) {
+  if (study.kind == "hard_cases") return run_hard_cases(study, progress);
   const long n = quick ? study.quick_count : study.count;
   const std::vector<Ray> rays = study_rays(study.scene.box, n, study.seed);
   const std::size_t M = study.methods.size(), S = study.steps.size();
@@ -306,6 +477,76 @@ StudyResult run_convergence(const ConvergenceStudy& study, bool quick, bool prog
   return result;
 }
 
+StudyResult run_hard_cases(const ConvergenceStudy& study, bool progress) {
+  const std::size_t C = study.cases.size();
+  std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (case, method)
+  for (std::size_t c = 0; c < C; ++c)
+    for (std::size_t m = 0; m < study.cases[c].methods.size(); ++m) jobs.emplace_back(c, m);
+  std::vector<ReferenceResult> truth(C);
+  std::vector<CaseRow> rows(jobs.size());
+  Progress bar("study " + study.name, static_cast<long>(C + jobs.size()), progress);
+  parallel_for_index(static_cast<long>(C), [&](long i) {
+    const HardCase& hc = study.cases[static_cast<std::size_t>(i)];
+    truth[static_cast<std::size_t>(i)] =
+        integrate_reference(hc.scene, make_ray(hc.origin, hc.direction), {study.reference_tol});
+    bar.advance();
+  });
+  parallel_for_index(static_cast<long>(jobs.size()), [&](long j) {
+    const auto [c, m] = jobs[static_cast<std::size_t>(j)];
+    const HardCase& hc = study.cases[c];
+    const HardCaseMethod& method = hc.methods[m];
+    const Ray ray = make_ray(hc.origin, hc.direction);
+    CaseRow& row = rows[static_cast<std::size_t>(j)];
+    row.case_name = hc.name;
+    row.method = method.label;
+    row.reference = method.reference;
+    if (method.reference) {
+      const ReferenceResult r = integrate_reference(hc.scene, ray, {method.tol});
+      row.value = r.value;
+      row.bound = r.error_estimate;
+      row.samples = r.evaluations;
+    } else {
+      const DiscreteResult d = discrete_raycast(hc.scene, ray, method.config);
+      row.value = d.value;
+      row.bound = method.max_error.value_or(std::numeric_limits<double>::quiet_NaN());
+      row.samples = d.samples;
+    }
+    bar.advance();
+  });
+  bar.finish();
+
+  // Errors and verdicts in file order: the same bits for any thread count.
+  StudyResult result;
+  result.rays = static_cast<long>(C);
+  std::size_t j = 0;
+  for (std::size_t c = 0; c < C; ++c) {
+    const ReferenceResult& t = truth[c];
+    CaseSummary sum{study.cases[c].name, t.value, t.error_estimate, 0, true};
+    const bool truth_ok = std::isfinite(t.value) && std::isfinite(t.error_estimate) &&
+                          t.error_estimate <= study.reference_tol;
+    if (!std::isfinite(t.value)) ++sum.nan_count;
+    for (std::size_t m = 0; m < study.cases[c].methods.size(); ++m, ++j) {
+      CaseRow& row = rows[j];
+      const HardCaseMethod& method = study.cases[c].methods[m];
+      row.finite = std::isfinite(row.value);
+      row.error = std::abs(row.value - t.value);  // NaN if either is
+      if (!row.finite) ++sum.nan_count;
+      if (method.reference)
+        // The truth is itself only within its estimate: error <= estimate + that, estimate <= tol.
+        row.pass = row.finite && truth_ok && std::isfinite(row.bound) &&
+                   row.error <= row.bound + t.error_estimate && row.bound <= method.tol;
+      else
+        row.pass = row.finite && truth_ok && (!method.max_error || row.error <= *method.max_error);
+      sum.pass = sum.pass && row.pass;
+      result.cases.push_back(row);
+    }
+    sum.pass = sum.pass && truth_ok;
+    result.pass = result.pass && sum.pass;
+    result.case_summary.push_back(sum);
+  }
+  return result;
+}
+
 StudyFiles study_tables(const ConvergenceStudy& study, const StudyResult& result) {
   Table errors({"method", "step", "max_error", "mean_error", "samples_per_ray"});
   errors.set_format("max_error", "{:.3e}");
@@ -327,12 +568,69 @@ StudyFiles study_tables(const ConvergenceStudy& study, const StudyResult& result
   return {errors.to_csv(), orders.to_csv(), orders.to_markdown(), orders.to_latex(style)};
 }
 
+HardCaseFiles hard_case_tables(const ConvergenceStudy& study, const StudyResult& result) {
+  Table t({"case", "method", "value", "error", "bound", "finite", "samples", "pass"});
+  for (const char* c : {"value", "error", "bound"}) t.allow_missing(c);
+  t.set_format("value", "{:.12g}");
+  t.set_format("error", "{:.2e}");
+  t.set_format("bound", "{:.2e}");
+  for (const CaseRow& r : result.cases)
+    t.add_row({r.case_name, r.method, r.value, r.error, r.bound,
+               std::string(r.finite ? "true" : "false"), r.samples,
+               std::string(r.pass ? "true" : "false")});
+  long nans = 0;
+  for (const CaseSummary& c : result.case_summary) nans += c.nan_count;
+  LatexStyle style;
+  style.caption = fmt::format(
+      "Hard cases: error against the reference at tolerance {:g}; bound: the reference's own "
+      "error estimate, or a stated maximum error ({} cases, {} non-finite values).",
+      study.reference_tol, result.case_summary.size(), nans);
+  style.label = "tab:" + study.name;
+  return {t.to_csv(), t.to_markdown(), t.to_latex(style)};
+}
+
 nlohmann::json study_parameters(const ConvergenceStudy& study, bool quick, int threads) {
   nlohmann::ordered_json p;
   p["study"] = study.name;
   p["file"] = study.source;
-  p["kind"] = "convergence";
+  p["kind"] = study.kind;
   p["description"] = study.description;
+  if (study.kind == "hard_cases") {
+    nlohmann::ordered_json cases = nlohmann::ordered_json::array();
+    for (const HardCase& c : study.cases) {
+      nlohmann::ordered_json methods = nlohmann::ordered_json::array();
+      for (const HardCaseMethod& m : c.methods) {
+        nlohmann::ordered_json j;
+        j["label"] = m.label;
+        if (m.reference) {
+          j["method"] = "reference";
+          j["tol"] = m.tol;
+        } else {
+          const DiscreteConfig& d = m.config;
+          j["method"] = std::string(segment_rule_name(d.rule));
+          j["strategy"] = std::string(strategy_name(d.sampling.strategy));
+          if (step_based(d.sampling.strategy)) j["step"] = d.sampling.step;
+          else j["rate"] = d.sampling.rate;
+          j["oversample"] = d.oversample;
+          j["correction"] = std::string(correction_name(d.correction));
+          j["precision"] = d.precision == Precision::single_precision ? "float" : "double";
+          if (m.max_error) j["max_error"] = *m.max_error;
+        }
+        methods.push_back(j);
+      }
+      cases.push_back({{"name", c.name},
+                       {"description", c.description},
+                       {"scene", c.scene_toml},
+                       {"origin", {c.origin[0], c.origin[1], c.origin[2]}},
+                       {"direction", {c.direction[0], c.direction[1], c.direction[2]}},
+                       {"methods", methods}});
+    }
+    p["cases"] = cases;
+    p["reference_tol"] = study.reference_tol;
+    p["quick"] = quick;  // recorded only; quick runs the same cases
+    p["threads"] = threads;
+    return nlohmann::json::parse(p.dump());
+  }
   p["scene"] = study.scene_toml;
   nlohmann::ordered_json methods = nlohmann::ordered_json::array();
   for (const StudyMethod& m : study.methods)
@@ -357,6 +655,26 @@ void write_study(const std::filesystem::path& dir, const ConvergenceStudy& study
   if (ec || !std::filesystem::is_directory(dir))
     throw std::runtime_error(one_line(fmt::format("{}: cannot create the directory{}", dir.string(),
                                                   ec ? ": " + ec.message() : std::string())));
+  if (study.kind == "hard_cases") {
+    const HardCaseFiles h = hard_case_tables(study, result);
+    write_file_atomically(dir / "cases.csv", h.cases_csv);
+    write_file_atomically(dir / "cases.md", h.cases_md);
+    write_file_atomically(dir / "cases.tex", h.cases_tex);
+    nlohmann::json meta = run_metadata(parameters, seconds);
+    meta["pass"] = result.pass;
+    nlohmann::json summary = nlohmann::json::array();
+    for (const CaseSummary& c : result.case_summary)
+      summary.push_back({{"name", c.name},
+                         {"reference", std::isfinite(c.truth) ? nlohmann::json(c.truth) : nlohmann::json()},
+                         {"reference_estimate", std::isfinite(c.truth_estimate)
+                                                    ? nlohmann::json(c.truth_estimate)
+                                                    : nlohmann::json()},
+                         {"nan_count", c.nan_count},
+                         {"pass", c.pass}});
+    meta["cases"] = summary;
+    write_file_atomically(dir / "meta.json", meta.dump(2) + "\n");
+    return;
+  }
   const StudyFiles f = study_tables(study, result);
   write_file_atomically(dir / "errors.csv", f.errors_csv);
   write_file_atomically(dir / "orders.csv", f.orders_csv);

@@ -1,11 +1,15 @@
 #pragma once
 // Studies as data: a TOML file names a kind of experiment, its scene and its parameters; the
 // engine runs it deterministically (any thread count gives the same bits) and writes tidy tables.
-// One kind so far, "convergence": the verification method of Etiene et al. (TVCG 2014) —
-// the observed order of each discrete method, the least-squares slope of log(mean error) against
-// log(step), must match the expected order within a tolerance.  See docs/studies.md.
+// Two kinds: "convergence", the verification method of Etiene et al. (TVCG 2014) — the observed
+// order of each discrete method, the least-squares slope of log(mean error) against log(step),
+// must match the expected order within a tolerance; and "hard_cases", the stability cases (extreme
+// optical depth, near-zero extinction, grazing and corner rays, N = 1024, float at tiny steps,
+// steps and peaks in the transfer function), each a scene, a ray and a list of methods whose
+// value, error, bound and finiteness are recorded and gated.  See docs/studies.md.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -29,7 +33,26 @@ struct StudyMethod {
   double expected_order = 1;
 };
 
+// One method run on a hard case: the reference integrator at `tol`, or a discrete raycast.
+struct HardCaseMethod {
+  std::string label;              // `label` key, else built from the configuration
+  bool reference = false;
+  double tol = 1e-13;             // reference rows
+  DiscreteConfig config;          // discrete rows
+  std::optional<double> max_error;  // discrete rows: pass needs error <= max_error (the bound)
+};
+
+struct HardCase {
+  std::string name;
+  std::string description;
+  std::string scene_toml;  // the case's [scene] table, as TOML text
+  Scene scene;
+  Vec3 origin{0, 0, 0}, direction{1, 0, 0};
+  std::vector<HardCaseMethod> methods;
+};
+
 struct ConvergenceStudy {
+  std::string kind = "convergence";  // "convergence" or "hard_cases"
   std::string name;         // `name` key, else the file's stem
   std::string source;       // the file (or source name) it came from
   std::string description;
@@ -42,7 +65,8 @@ struct ConvergenceStudy {
   long quick_count = 8;       // rays with --quick
   std::uint64_t seed = 1;
   double tolerance = 0.25;    // on |observed - expected|
-  double reference_tol = 1e-13;
+  double reference_tol = 1e-13;  // hard_cases: the tolerance of the "truth" each error is against
+  std::vector<HardCase> cases;   // hard_cases only (then scene, methods, steps, rays are unused)
 };
 
 // Throws StudyFileError for any problem (unknown kind, method or key; missing key; empty or
@@ -68,9 +92,30 @@ struct OrderRow {
   bool pass = false;
 };
 
+// One row of a hard-cases study: one method on one case.
+struct CaseRow {
+  std::string case_name, method;
+  bool reference = false;
+  double value = 0;
+  double error = 0;   // |value - reference at reference_tol|
+  double bound = 0;   // reference: its error_estimate; discrete: max_error, or NaN (none stated)
+  bool finite = false;
+  long samples = 0;   // discrete: field samples; reference: field evaluations
+  bool pass = false;
+};
+
+struct CaseSummary {
+  std::string name;
+  double truth = 0, truth_estimate = 0;  // the reference at reference_tol and its error_estimate
+  long nan_count = 0;                    // non-finite values among the case's rows (and truth)
+  bool pass = true;
+};
+
 struct StudyResult {
   std::vector<ErrorRow> errors;  // method-major, steps in file order
   std::vector<OrderRow> orders;
+  std::vector<CaseRow> cases;            // hard_cases: case-major, methods in file order
+  std::vector<CaseSummary> case_summary;  // hard_cases: one per case
   long rays = 0;
   bool pass = true;
 };
@@ -79,20 +124,31 @@ struct StudyResult {
 // or an error is not positive.
 double observed_order(const std::vector<double>& steps, const std::vector<double>& errors);
 
-// Runs the study with parallel_for_index over rays (respects any ThreadLimit alive); the result
+// Runs the study (either kind; hard_cases goes to run_hard_cases) with parallel_for_index over rays (respects any ThreadLimit alive); the result
 // does not depend on the number of threads.  progress: a Progress bar on stderr.
 StudyResult run_convergence(const ConvergenceStudy& study, bool quick, bool progress);
+
+// hard_cases: per case the truth (reference at reference_tol), then every (case, method) in
+// parallel, each into its own slot.  quick runs the same cases (they are cheap).  A case passes
+// when every row is finite and, for reference rows, error <= error_estimate + truth's estimate
+// and error_estimate <= tol, and, for discrete rows with max_error, error <= max_error.
+StudyResult run_hard_cases(const ConvergenceStudy& study, bool progress);
 
 struct StudyFiles {
   std::string errors_csv, orders_csv, orders_md, orders_tex;
 };
 StudyFiles study_tables(const ConvergenceStudy& study, const StudyResult& result);
 
+struct HardCaseFiles {
+  std::string cases_csv, cases_md, cases_tex;
+};
+HardCaseFiles hard_case_tables(const ConvergenceStudy& study, const StudyResult& result);
+
 // The full parameters recorded in meta.json.
 nlohmann::json study_parameters(const ConvergenceStudy& study, bool quick, int threads);
 
-// Writes errors.csv, orders.csv, orders.md, orders.tex and meta.json into `dir` (created if
-// missing), each atomically.
+// Writes errors.csv, orders.csv, orders.md, orders.tex and meta.json (hard_cases: cases.csv,
+// cases.md, cases.tex and meta.json) into `dir` (created if missing), each atomically.
 void write_study(const std::filesystem::path& dir, const ConvergenceStudy& study,
                  const StudyResult& result, const nlohmann::json& parameters, double seconds);
 

@@ -21,6 +21,25 @@
 namespace vrv::cli {
 namespace {
 
+// One line naming what failed: the methods off their expected order, or the failing case rows.
+std::string failures(const ConvergenceStudy& study, const StudyResult& result) {
+  std::string out;
+  auto add = [&](const std::string& item) { out += (out.empty() ? "" : ", ") + item; };
+  if (study.kind == "hard_cases") {
+    for (const CaseRow& r : result.cases)
+      if (!r.pass)
+        add(fmt::format("{} / {} (value {:.6g}, error {:.3g}, bound {:.3g})", r.case_name, r.method,
+                        r.value, r.error, r.bound));
+    return out;
+  }
+  for (const OrderRow& o : result.orders)
+    if (!o.pass)
+      add(fmt::format("{} (observed {:.3f}, expected {:g})", segment_rule_name(o.rule), o.observed,
+                      o.expected));
+  return out + fmt::format(" (tolerance {:g})", study.tolerance);
+}
+
+
 namespace fs = std::filesystem;
 
 struct StudyOptions {
@@ -111,18 +130,16 @@ int run_study(const StudyOptions& opt) {
   j["pass"] = result.pass;
   std::cout << j.dump() << '\n';
   if (!result.pass) {
-    std::string failed;
-    for (const OrderRow& o : result.orders)
-      if (!o.pass)
-        failed += fmt::format("{}{} (observed {:.3f}, expected {:g})", failed.empty() ? "" : ", ",
-                              segment_rule_name(o.rule), o.observed, o.expected);
-    std::cerr << fmt::format("vrv study: {}: FAILED: {} (tolerance {:g})\n", study.name, failed,
-                             study.tolerance);
+    std::cerr << fmt::format("vrv study: {}: FAILED: {}\n", study.name, failures(study, result));
     return 1;
   }
-  if (!opt.quiet)
-    std::cerr << fmt::format("vrv study: {}: {} rays in {:.2f} s, all orders within {:g}; wrote {}\n",
-                             study.name, result.rays, seconds, study.tolerance, dir.string());
+  if (!opt.quiet) {
+    const std::string what = study.kind == "hard_cases"
+                                 ? fmt::format("{} cases, all pass", result.case_summary.size())
+                                 : fmt::format("{} rays, all orders within {:g}", result.rays, study.tolerance);
+    std::cerr << fmt::format("vrv study: {}: {} in {:.2f} s; wrote {}\n", study.name, what, seconds,
+                             dir.string());
+  }
   return 0;
 }
 

@@ -97,3 +97,78 @@ TEST(Study, BadStudyFilesGiveOneLineNamingFileAndKey) {
 
 }  // namespace
 }  // namespace vrv
+
+// ---- kind = "hard_cases" ------------------------------------------------------------------
+
+namespace vrv {
+namespace {
+
+const std::filesystem::path kHardCases =
+    std::filesystem::path(VRV_SOURCE_DIR) / "studies" / "hard-cases.toml";
+
+TEST(Study, HardCasesQuickPassesAndItsTablesHaveNoNan) {
+  const ConvergenceStudy study = load_study(kHardCases);
+  EXPECT_EQ(study.kind, "hard_cases");
+  EXPECT_GE(study.cases.size(), 8u);
+  const StudyResult r = run_convergence(study, /*quick=*/true, /*progress=*/false);
+  std::size_t rows = 0;
+  for (const HardCase& c : study.cases) rows += c.methods.size();
+  ASSERT_EQ(r.cases.size(), rows);
+  for (const CaseRow& row : r.cases) {
+    EXPECT_TRUE(row.finite) << row.case_name << " " << row.method;
+    EXPECT_TRUE(row.pass) << row.case_name << " " << row.method << " error " << row.error;
+  }
+  for (const CaseSummary& c : r.case_summary) EXPECT_EQ(c.nan_count, 0) << c.name;
+  EXPECT_TRUE(r.pass);
+  const HardCaseFiles f = hard_case_tables(study, r);
+  EXPECT_EQ(f.cases_csv.find("nan"), std::string::npos);
+  EXPECT_EQ(f.cases_csv.find("inf"), std::string::npos);
+  EXPECT_EQ(f.cases_md.find("nan"), std::string::npos);
+  // Any thread count gives the same bits.
+  std::string one, two;
+  {
+    const ThreadLimit limit(1);
+    one = hard_case_tables(study, run_convergence(study, true, false)).cases_csv;
+  }
+  {
+    const ThreadLimit limit(2);
+    two = hard_case_tables(study, run_convergence(study, true, false)).cases_csv;
+  }
+  EXPECT_EQ(one, two);
+}
+
+std::string hard_case(const std::string& method_lines) {
+  return "kind = \"hard_cases\"\n"
+         "[[case]]\nname = \"c\"\norigin = [-3, 0.1, 0.2]\ndirection = [1, 0, 0]\n"
+         "[case.scene.volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n"
+         "[case.scene.field]\nkind = \"marschner_lobb\"\n"
+         "[case.scene.transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n"
+         "[[case.method]]\n" + method_lines;
+}
+
+TEST(Study, BadHardCaseFilesGiveOneLineNamingFileAndKey) {
+  EXPECT_EQ(error_of(hard_case("method = \"reference\"\ntol = 1e-10\n")), "(no error)");
+  EXPECT_EQ(error_of(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\nmax_error = 1e-3\n")),
+            "(no error)");
+  const struct {
+    std::string text, prefix;
+  } cases[] = {
+      {hard_case("method = \"simpson\"\n"), "bad.toml: case[0].method[0].method: unknown method 'simpson'"},
+      {hard_case("method = \"alpha\"\nstrategy = \"step\"\n"), "bad.toml: case[0].method[0].step: missing"},
+      {hard_case("method = \"riemann\"\nstrategy = \"step\"\nstep = 0.1\ncorrection = \"lacroute\"\n"),
+       "bad.toml: case[0].method[0]: correction: only the alpha rule"},
+      {hard_case("method = \"reference\"\n"), "bad.toml: case[0].method[0].tol: missing"},
+      {hard_case("method = \"reference\"\ntol = 1e-10\nmax_error = 1\n"),
+       "bad.toml: case[0].method[0].max_error: not used by the reference method"},
+      {hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 1e-9\n"), "bad.toml: case[0].method[0]: about"},
+      {"kind = \"hard_cases\"\n", "bad.toml: case: missing"},
+  };
+  for (const auto& c : cases) {
+    const std::string e = error_of(c.text);
+    EXPECT_TRUE(e.starts_with(c.prefix)) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+}
+
+}  // namespace
+}  // namespace vrv
