@@ -224,7 +224,7 @@ HardCaseMethod read_case_method(const Reader& r, const toml::table& m, const std
 }
 
 void parse_hard_cases(const Reader& r, std::string_view source_name, const toml::table& doc,
-                      ConvergenceStudy& s) {
+                      StudyDefinition& s) {
   const toml::array* arr = r.require(doc, "case", "").as_array();
   if (!arr) r.fail("case", "expected an array of tables ([[case]])");
   if (arr->empty()) r.fail("case", "no cases");
@@ -265,7 +265,7 @@ double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x
 
 }  // namespace
 
-ConvergenceStudy parse_study(std::string_view text, std::string_view source_name,
+StudyDefinition parse_study(std::string_view text, std::string_view source_name,
                              std::string_view default_name) {
   const Reader r(source_name);
   toml::table doc;
@@ -275,7 +275,7 @@ ConvergenceStudy parse_study(std::string_view text, std::string_view source_name
     const auto& at = e.source().begin;
     r.fail("(syntax)", fmt::format("line {}, column {}: {}", at.line, at.column, e.description()));
   }
-  ConvergenceStudy s;
+  StudyDefinition s;
   s.source = std::string(source_name);
   const std::string kind = r.string(r.require(doc, "kind", ""), "kind");
   if (kind != "convergence" && kind != "hard_cases")
@@ -366,7 +366,7 @@ ConvergenceStudy parse_study(std::string_view text, std::string_view source_name
   return s;
 }
 
-ConvergenceStudy load_study(const std::filesystem::path& path) {
+StudyDefinition load_study(const std::filesystem::path& path) {
   const std::string source = path.string();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
@@ -411,7 +411,7 @@ double observed_order(const std::vector<double>& steps, const std::vector<double
   return A.colPivHouseholderQr().solve(b)(0);
 }
 
-StudyResult run_convergence(const ConvergenceStudy& study, bool quick, bool progress) {
+StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress) {
   if (study.kind == "hard_cases") return run_hard_cases(study, progress);
   const long n = quick ? study.quick_count : study.count;
   const std::vector<Ray> rays = study_rays(study.scene.box, n, study.seed);
@@ -477,7 +477,7 @@ StudyResult run_convergence(const ConvergenceStudy& study, bool quick, bool prog
   return result;
 }
 
-StudyResult run_hard_cases(const ConvergenceStudy& study, bool progress) {
+StudyResult run_hard_cases(const StudyDefinition& study, bool progress) {
   const std::size_t C = study.cases.size();
   std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (case, method)
   for (std::size_t c = 0; c < C; ++c)
@@ -547,7 +547,7 @@ StudyResult run_hard_cases(const ConvergenceStudy& study, bool progress) {
   return result;
 }
 
-StudyFiles study_tables(const ConvergenceStudy& study, const StudyResult& result) {
+StudyFiles study_tables(const StudyDefinition& study, const StudyResult& result) {
   Table errors({"method", "step", "max_error", "mean_error", "samples_per_ray"});
   errors.set_format("max_error", "{:.3e}");
   errors.set_format("mean_error", "{:.3e}");
@@ -568,7 +568,7 @@ StudyFiles study_tables(const ConvergenceStudy& study, const StudyResult& result
   return {errors.to_csv(), orders.to_csv(), orders.to_markdown(), orders.to_latex(style)};
 }
 
-HardCaseFiles hard_case_tables(const ConvergenceStudy& study, const StudyResult& result) {
+HardCaseFiles hard_case_tables(const StudyDefinition& study, const StudyResult& result) {
   Table t({"case", "method", "value", "error", "bound", "finite", "samples", "pass"});
   for (const char* c : {"value", "error", "bound"}) t.allow_missing(c);
   t.set_format("value", "{:.12g}");
@@ -589,7 +589,7 @@ HardCaseFiles hard_case_tables(const ConvergenceStudy& study, const StudyResult&
   return {t.to_csv(), t.to_markdown(), t.to_latex(style)};
 }
 
-nlohmann::json study_parameters(const ConvergenceStudy& study, bool quick, int threads) {
+nlohmann::json study_parameters(const StudyDefinition& study, bool quick, int threads) {
   nlohmann::ordered_json p;
   p["study"] = study.name;
   p["file"] = study.source;
@@ -648,7 +648,7 @@ nlohmann::json study_parameters(const ConvergenceStudy& study, bool quick, int t
   return nlohmann::json::parse(p.dump());
 }
 
-void write_study(const std::filesystem::path& dir, const ConvergenceStudy& study,
+void write_study(const std::filesystem::path& dir, const StudyDefinition& study,
                  const StudyResult& result, const nlohmann::json& parameters, double seconds) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);

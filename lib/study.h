@@ -51,7 +51,7 @@ struct HardCase {
   std::vector<HardCaseMethod> methods;
 };
 
-struct ConvergenceStudy {
+struct StudyDefinition {
   std::string kind = "convergence";  // "convergence" or "hard_cases"
   std::string name;         // `name` key, else the file's stem
   std::string source;       // the file (or source name) it came from
@@ -71,9 +71,9 @@ struct ConvergenceStudy {
 
 // Throws StudyFileError for any problem (unknown kind, method or key; missing key; empty or
 // non-positive steps; a bad [scene]).
-ConvergenceStudy parse_study(std::string_view toml_text, std::string_view source_name,
+StudyDefinition parse_study(std::string_view toml_text, std::string_view source_name,
                              std::string_view default_name);
-ConvergenceStudy load_study(const std::filesystem::path& path);
+StudyDefinition load_study(const std::filesystem::path& path);
 
 // The fixed-seed ray set: origins uniform on the sphere of radius 3 x the box half-diagonal
 // around the box centre, each aimed at a uniform point of the box.  Same rays on every platform
@@ -126,30 +126,30 @@ double observed_order(const std::vector<double>& steps, const std::vector<double
 
 // Runs the study (either kind; hard_cases goes to run_hard_cases) with parallel_for_index over rays (respects any ThreadLimit alive); the result
 // does not depend on the number of threads.  progress: a Progress bar on stderr.
-StudyResult run_convergence(const ConvergenceStudy& study, bool quick, bool progress);
+StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress);
 
 // hard_cases: per case the truth (reference at reference_tol), then every (case, method) in
 // parallel, each into its own slot.  quick runs the same cases (they are cheap).  A case passes
 // when every row is finite and, for reference rows, error <= error_estimate + truth's estimate
 // and error_estimate <= tol, and, for discrete rows with max_error, error <= max_error.
-StudyResult run_hard_cases(const ConvergenceStudy& study, bool progress);
+StudyResult run_hard_cases(const StudyDefinition& study, bool progress);
 
 struct StudyFiles {
   std::string errors_csv, orders_csv, orders_md, orders_tex;
 };
-StudyFiles study_tables(const ConvergenceStudy& study, const StudyResult& result);
+StudyFiles study_tables(const StudyDefinition& study, const StudyResult& result);
 
 struct HardCaseFiles {
   std::string cases_csv, cases_md, cases_tex;
 };
-HardCaseFiles hard_case_tables(const ConvergenceStudy& study, const StudyResult& result);
+HardCaseFiles hard_case_tables(const StudyDefinition& study, const StudyResult& result);
 
 // The full parameters recorded in meta.json.
-nlohmann::json study_parameters(const ConvergenceStudy& study, bool quick, int threads);
+nlohmann::json study_parameters(const StudyDefinition& study, bool quick, int threads);
 
 // Writes errors.csv, orders.csv, orders.md, orders.tex and meta.json (hard_cases: cases.csv,
 // cases.md, cases.tex and meta.json) into `dir` (created if missing), each atomically.
-void write_study(const std::filesystem::path& dir, const ConvergenceStudy& study,
+void write_study(const std::filesystem::path& dir, const StudyDefinition& study,
                  const StudyResult& result, const nlohmann::json& parameters, double seconds);
 
 }  // namespace vrv

@@ -22,7 +22,7 @@ namespace vrv::cli {
 namespace {
 
 // One line naming what failed: the methods off their expected order, or the failing case rows.
-std::string failures(const ConvergenceStudy& study, const StudyResult& result) {
+std::string failures(const StudyDefinition& study, const StudyResult& result) {
   std::string out;
   auto add = [&](const std::string& item) { out += (out.empty() ? "" : ", ") + item; };
   if (study.kind == "hard_cases") {
@@ -109,7 +109,7 @@ int run_study(const StudyOptions& opt) {
   }
   if (opt.study.empty()) throw std::invalid_argument("study: give a study NAME or FILE.toml (or --list)");
   if (opt.threads < 0) throw std::invalid_argument(fmt::format("--threads: must not be negative, got {}", opt.threads));
-  ConvergenceStudy study;
+  StudyDefinition study;
   try {
     study = load_study(resolve_study(opt.study));
   } catch (const StudyFileError& e) {

@@ -17,7 +17,7 @@ const std::filesystem::path kConvergence =
     std::filesystem::path(VRV_SOURCE_DIR) / "studies" / "convergence.toml";
 
 TEST(Study, ConvergenceQuickPassesWithObservedOrdersWithinTolerance) {
-  const ConvergenceStudy study = load_study(kConvergence);
+  const StudyDefinition study = load_study(kConvergence);
   EXPECT_EQ(study.name, "convergence");
   const StudyResult r = run_convergence(study, /*quick=*/true, /*progress=*/false);
   EXPECT_EQ(r.rays, study.quick_count);
@@ -31,7 +31,7 @@ TEST(Study, ConvergenceQuickPassesWithObservedOrdersWithinTolerance) {
 }
 
 TEST(Study, ErrorsAreBitwiseIdenticalForOneAndTwoThreads) {
-  const ConvergenceStudy study = load_study(kConvergence);
+  const StudyDefinition study = load_study(kConvergence);
   std::string one, two;
   {
     const ThreadLimit limit(1);
@@ -107,7 +107,7 @@ const std::filesystem::path kHardCases =
     std::filesystem::path(VRV_SOURCE_DIR) / "studies" / "hard-cases.toml";
 
 TEST(Study, HardCasesQuickPassesAndItsTablesHaveNoNan) {
-  const ConvergenceStudy study = load_study(kHardCases);
+  const StudyDefinition study = load_study(kHardCases);
   EXPECT_EQ(study.kind, "hard_cases");
   EXPECT_GE(study.cases.size(), 8u);
   const StudyResult r = run_convergence(study, /*quick=*/true, /*progress=*/false);
