@@ -1,5 +1,7 @@
 #include "lib/opacity_correction.h"
 
+#include "lib/enum_names.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -159,25 +161,17 @@ Target unit_target(double alpha_unit) {
 
 }  // namespace
 
-std::optional<Correction> parse_correction(std::string_view name) {
-  if (name == "none") return Correction::none;
-  if (name == "lacroute") return Correction::lacroute;
-  if (name == "schulze") return Correction::schulze;
-  if (name == "lee_newman") return Correction::lee_newman;
-  if (name == "lee_newman_quadratic") return Correction::lee_newman_quadratic;
-  return std::nullopt;
-}
+constexpr NameTable<Correction, 5> kNames{{
+    {Correction::none, "none"},
+    {Correction::lacroute, "lacroute"},
+    {Correction::schulze, "schulze"},
+    {Correction::lee_newman, "lee_newman"},
+    {Correction::lee_newman_quadratic, "lee_newman_quadratic"},
+}};
 
-std::string_view correction_name(Correction c) {
-  switch (c) {
-    case Correction::none: return "none";
-    case Correction::lacroute: return "lacroute";
-    case Correction::schulze: return "schulze";
-    case Correction::lee_newman: return "lee_newman";
-    case Correction::lee_newman_quadratic: return "lee_newman_quadratic";
-  }
-  return "none";
-}
+std::optional<Correction> parse_correction(std::string_view name) { return parse_name(kNames, name); }
+
+std::string_view correction_name(Correction c) { return name_of(kNames, c); }
 
 double lacroute(double alpha, int N) {
   check_factor(N);

@@ -1,5 +1,7 @@
 #include "lib/sampling.h"
 
+#include "lib/enum_names.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,7 +14,7 @@ namespace vrv {
 
 namespace {
 
-constexpr std::array<std::pair<Strategy, std::string_view>, 7> kNames{{
+constexpr NameTable<Strategy, 7> kNames{{
     {Strategy::eye, "eye"},
     {Strategy::entry, "entry"},
     {Strategy::entry_exit, "entry_exit"},
@@ -121,19 +123,9 @@ SamplePlan plan_rate(const SamplingConfig& c, const Ray& ray, Interval iv, const
 
 }  // namespace
 
-std::optional<Strategy> parse_strategy(std::string_view name) {
-  for (const auto& [s, n] : kNames) {
-    if (n == name) return s;
-  }
-  return std::nullopt;
-}
+std::optional<Strategy> parse_strategy(std::string_view name) { return parse_name(kNames, name); }
 
-std::string_view strategy_name(Strategy s) {
-  for (const auto& [t, n] : kNames) {
-    if (t == s) return n;
-  }
-  return "unknown";
-}
+std::string_view strategy_name(Strategy s) { return name_of(kNames, s); }
 
 SamplePlan plan_samples(const SamplingConfig& config, const Ray& ray, Interval iv, const Box& box) {
   const bool by_rate = rate_based(config.strategy);

@@ -1,11 +1,10 @@
 #include "lib/segment_rule.h"
 
-#include <array>
-#include <utility>
+#include "lib/enum_names.h"
 
 namespace vrv {
 namespace {
-constexpr std::array<std::pair<SegmentRule, std::string_view>, 5> kNames{{
+constexpr NameTable<SegmentRule, 5> kNames{{
     {SegmentRule::riemann, "riemann"},
     {SegmentRule::alpha, "alpha"},
     {SegmentRule::trapezoid, "trapezoid"},
@@ -14,16 +13,8 @@ constexpr std::array<std::pair<SegmentRule, std::string_view>, 5> kNames{{
 }};
 }  // namespace
 
-std::optional<SegmentRule> parse_segment_rule(std::string_view name) {
-  for (const auto& [rule, n] : kNames)
-    if (n == name) return rule;
-  return std::nullopt;
-}
+std::optional<SegmentRule> parse_segment_rule(std::string_view name) { return parse_name(kNames, name); }
 
-std::string_view segment_rule_name(SegmentRule r) {
-  for (const auto& [rule, n] : kNames)
-    if (rule == r) return n;
-  return "?";
-}
+std::string_view segment_rule_name(SegmentRule r) { return name_of(kNames, r); }
 
 }  // namespace vrv

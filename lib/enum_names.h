@@ -1,0 +1,28 @@
+#pragma once
+// Names of the options users type (strategies, rules, corrections): one table per enum, looked
+// up both ways, so a name can never be parsed one way and printed another.
+#include <array>
+#include <optional>
+#include <string_view>
+#include <utility>
+
+namespace vrv {
+
+template <class E, std::size_t N>
+using NameTable = std::array<std::pair<E, std::string_view>, N>;
+
+template <class E, std::size_t N>
+std::optional<E> parse_name(const NameTable<E, N>& table, std::string_view name) {
+  for (const auto& [value, n] : table)
+    if (n == name) return value;
+  return std::nullopt;
+}
+
+template <class E, std::size_t N>
+std::string_view name_of(const NameTable<E, N>& table, E value) {
+  for (const auto& [v, n] : table)
+    if (v == value) return n;
+  return "unknown";
+}
+
+}  // namespace vrv
