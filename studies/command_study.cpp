@@ -152,8 +152,9 @@ void add_study_command(CLI::App& app) {
   cmd->footer(
       "Studies are looked up as studies/NAME.toml in ./studies, <vrv's directory>/../studies, "
       "$VRV_STUDY_PATH and the source tree vrv was built from.\n"
-      "Writes OUT/NAME/{errors.csv, orders.csv, orders.md, orders.tex, meta.json}; stdout: one JSON "
-      "line {\"study\", \"out\", \"pass\"}; exit 1 when a method misses its expected order.\n"
+      "Writes OUT/NAME/: convergence studies errors.csv, orders.{csv,md,tex}; hard_cases studies "
+      "cases.{csv,md,tex}; both meta.json. stdout: one JSON line {\"study\", \"out\", \"pass\"}; "
+      "exit 1 when a check fails (a method off its expected order, a failing case).\n"
       "See docs/studies.md.");
   cmd->add_option("study", opt->study, "Study NAME (studies/NAME.toml) or FILE.toml");
   cmd->add_flag("--list", opt->list, "List the studies found");

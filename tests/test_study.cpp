@@ -69,6 +69,20 @@ std::string error_of(const std::string& text) {
   return "(no error)";
 }
 
+// A bad study file and the start of the one-line error it must give.
+struct BadFile {
+  std::string text, prefix;
+};
+
+template <std::size_t N>
+void expect_one_line_errors(const BadFile (&cases)[N]) {
+  for (const auto& c : cases) {
+    const std::string e = error_of(c.text);
+    EXPECT_TRUE(e.starts_with(c.prefix)) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+}
+
 TEST(Study, BadStudyFilesGiveOneLineNamingFileAndKey) {
   EXPECT_EQ(error_of(valid_study()), "(no error)");
   auto replace = [](std::string s, const std::string& from, const std::string& to) {
@@ -76,9 +90,7 @@ TEST(Study, BadStudyFilesGiveOneLineNamingFileAndKey) {
     EXPECT_NE(at, std::string::npos) << from;
     return s.replace(at, from.size(), to);
   };
-  const struct {
-    std::string text, prefix;
-  } cases[] = {
+  const BadFile cases[] = {
       {replace(valid_study(), "\"convergence\"", "\"speed\""), "bad.toml: kind: unknown kind 'speed'"},
       {replace(valid_study(), "\"riemann\"", "\"simpson\""), "bad.toml: method[0].rule: unknown method 'simpson'"},
       {replace(valid_study(), "[0.1, 0.05]", "[]"), "bad.toml: sampling.steps: empty"},
@@ -88,11 +100,7 @@ TEST(Study, BadStudyFilesGiveOneLineNamingFileAndKey) {
       {replace(valid_study(), "fM = 2.0", "fM = -2.0"), "bad.toml: scene.field.fM"},
       {"kind = \"convergence\"\n", "bad.toml: scene: missing"},
   };
-  for (const auto& c : cases) {
-    const std::string e = error_of(c.text);
-    EXPECT_TRUE(e.starts_with(c.prefix)) << e;
-    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
-  }
+  expect_one_line_errors(cases);
 }
 
 }  // namespace
@@ -150,9 +158,7 @@ TEST(Study, BadHardCaseFilesGiveOneLineNamingFileAndKey) {
   EXPECT_EQ(error_of(hard_case("method = \"reference\"\ntol = 1e-10\n")), "(no error)");
   EXPECT_EQ(error_of(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\nmax_error = 1e-3\n")),
             "(no error)");
-  const struct {
-    std::string text, prefix;
-  } cases[] = {
+  const BadFile cases[] = {
       {hard_case("method = \"simpson\"\n"), "bad.toml: case[0].method[0].method: unknown method 'simpson'"},
       {hard_case("method = \"alpha\"\nstrategy = \"step\"\n"), "bad.toml: case[0].method[0].step: missing"},
       {hard_case("method = \"riemann\"\nstrategy = \"step\"\nstep = 0.1\ncorrection = \"lacroute\"\n"),
@@ -163,11 +169,7 @@ TEST(Study, BadHardCaseFilesGiveOneLineNamingFileAndKey) {
       {hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 1e-9\n"), "bad.toml: case[0].method[0]: about"},
       {"kind = \"hard_cases\"\n", "bad.toml: case: missing"},
   };
-  for (const auto& c : cases) {
-    const std::string e = error_of(c.text);
-    EXPECT_TRUE(e.starts_with(c.prefix)) << e;
-    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
-  }
+  expect_one_line_errors(cases);
 }
 
 }  // namespace
