@@ -26,204 +26,15 @@
 namespace vrv {
 namespace {
 
-constexpr std::size_t kMaxStudyBytes = std::size_t{16} << 20;
 constexpr long kMaxRays = 1'000'000;
 constexpr std::size_t kMaxSteps = 64;
-
-std::string one_line(std::string s) {
-  std::replace_if(s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  return s;
-}
-
-class Reader {
- public:
-  explicit Reader(std::string_view source) : source_(source) {}
-  [[noreturn]] void fail(std::string_view key, std::string_view reason) const {
-    throw StudyFileError(one_line(fmt::format("{}: {}: {}", source_, key, reason)));
-  }
-  void check_keys(const toml::table& t, std::string_view path,
-                  std::initializer_list<std::string_view> allowed) const {
-    for (const auto& [key, value] : t)
-      if (std::find(allowed.begin(), allowed.end(), key.str()) == allowed.end())
-        fail(child(path, key.str()),
-             fmt::format("unknown key (allowed: {})", fmt::join(allowed, ", ")));
-  }
-  const toml::node& require(const toml::table& t, std::string_view key, std::string_view path) const {
-    const toml::node* n = t.get(key);
-    if (!n) fail(child(path, key), "missing");
-    return *n;
-  }
-  const toml::table& table(const toml::node& n, std::string_view path) const {
-    if (!n.is_table()) fail(path, "expected a table");
-    return *n.as_table();
-  }
-  std::string string(const toml::node& n, std::string_view path) const {
-    if (!n.is_string()) fail(path, "expected a string");
-    return std::string(n.as_string()->get());
-  }
-  double number(const toml::node& n, std::string_view path) const {
-    double x;
-    if (const auto* f = n.as_floating_point()) x = f->get();
-    else if (const auto* i = n.as_integer()) x = static_cast<double>(i->get());
-    else fail(path, "expected a number");
-    if (!std::isfinite(x)) fail(path, fmt::format("must be finite, got {}", x));
-    return x;
-  }
-  long integer(const toml::node& n, std::string_view path, long lo, long hi) const {
-    const auto* i = n.as_integer();
-    if (!i) fail(path, "expected an integer");
-    if (i->get() < lo || i->get() > hi)
-      fail(path, fmt::format("must be between {} and {}, got {}", lo, hi, i->get()));
-    return static_cast<long>(i->get());
-  }
-  static std::string child(std::string_view path, std::string_view key) {
-    return path.empty() ? std::string(key) : fmt::format("{}.{}", path, key);
-  }
-
- private:
-  std::string source_;
-};
-
-std::string scene_to_toml(const toml::table& scene) {
-  std::ostringstream out;
-  out << scene;
-  return out.str();
-}
-
-// The [scene] table under `parent` (at `path`): the usual scene tables, parsed by parse_scene, its
-// keys reported as <path>.scene.<key>; its TOML text goes to `toml_text`.  Shared by both kinds.
-Scene read_scene(const Reader& r, std::string_view source_name, const toml::table& parent,
-                 std::string_view path, std::string& toml_text) {
-  const std::string at = Reader::child(path, "scene");
-  const toml::table& scene = r.table(r.require(parent, "scene", path), at);
-  toml_text = scene_to_toml(scene);
-  constexpr std::string_view marker = "\x01scene\x01";
-  try {
-    return parse_scene(toml_text, marker);
-  } catch (const SceneFileError& e) {
-    std::string msg = e.what();
-    const std::string prefix = std::string(marker) + ": ";
-    if (msg.starts_with(prefix)) msg = msg.substr(prefix.size());
-    throw StudyFileError(one_line(fmt::format("{}: {}.{}", source_name, at, msg)));
-  }
-}
 
 // ---- kind = "hard_cases" --------------------------------------------------------------------
 
 constexpr std::size_t kMaxCases = 256;
 constexpr std::size_t kMaxCaseMethods = 32;
-constexpr double kMaxCaseSamples = 1e8;  // per discrete row, a cap on run time
 
-bool step_based(Strategy st) {
-  return st == Strategy::step || st == Strategy::vtk || st == Strategy::inviwo;
-}
-
-std::string method_label(const HardCaseMethod& m) {
-  if (m.reference) return fmt::format("reference tol={:g}", m.tol);
-  const DiscreteConfig& c = m.config;
-  std::string label = fmt::format("{} {} {}={:g}", segment_rule_name(c.rule),
-                                  strategy_name(c.sampling.strategy),
-                                  step_based(c.sampling.strategy) ? "h" : "rate",
-                                  step_based(c.sampling.strategy) ? c.sampling.step : c.sampling.rate);
-  if (c.oversample != 1) label += fmt::format(" N={}", c.oversample);
-  if (c.correction != Correction::none) label += fmt::format(" {}", correction_name(c.correction));
-  label += c.precision == Precision::single_precision ? " float" : " double";
-  return label;
-}
-
-Vec3 read_vec3(const Reader& r, const toml::table& t, std::string_view key, std::string_view path) {
-  const std::string at = Reader::child(path, key);
-  const toml::array* a = r.require(t, key, path).as_array();
-  if (!a || a->size() != 3) r.fail(at, "expected an array of three numbers");
-  Vec3 v;
-  for (std::size_t k = 0; k < 3; ++k) v[static_cast<int>(k)] = r.number(*a->get(k), fmt::format("{}[{}]", at, k));
-  return v;
-}
-
-HardCaseMethod read_case_method(const Reader& r, const toml::table& m, const std::string& path,
-                                const Scene& scene) {
-  r.check_keys(m, path, {"method", "label", "tol", "strategy", "rate", "step", "oversample",
-                         "correction", "precision", "max_error"});
-  HardCaseMethod out;
-  const std::string name = r.string(r.require(m, "method", path), path + ".method");
-  auto only_for_discrete = [&](std::initializer_list<std::string_view> keys) {
-    for (std::string_view k : keys)
-      if (m.contains(k)) r.fail(Reader::child(path, k), "not used by the reference method");
-  };
-  if (name == "reference") {
-    only_for_discrete({"strategy", "rate", "step", "oversample", "correction", "precision", "max_error"});
-    out.reference = true;
-    out.tol = r.number(r.require(m, "tol", path), path + ".tol");
-    if (!(out.tol >= 1e-15 && out.tol <= 1))
-      r.fail(path + ".tol", fmt::format("must be in [1e-15, 1], got {}", out.tol));
-  } else {
-    const auto rule = parse_segment_rule(name);
-    if (!rule)
-      r.fail(path + ".method", fmt::format("unknown method '{}' (one of reference, riemann, alpha, "
-                                           "trapezoid, exact_linear, moreland)", name));
-    if (m.contains("tol")) r.fail(path + ".tol", "only the reference method takes tol");
-    DiscreteConfig& c = out.config;
-    c.rule = *rule;
-    const std::string strategy =
-        r.string(r.require(m, "strategy", path), path + ".strategy");
-    const auto st = parse_strategy(strategy);
-    if (!st)
-      r.fail(path + ".strategy", fmt::format("unknown strategy '{}' (one of eye, entry, entry_exit, "
-                                             "entry_exit_corner, step, vtk, inviwo)", strategy));
-    c.sampling.strategy = *st;
-    c.sampling.dims = scene.dims;
-    double samples;  // a bound on the samples per ray
-    const double diagonal = scene.box.extent().norm();
-    if (step_based(*st)) {
-      if (m.contains("rate")) r.fail(path + ".rate", fmt::format("strategy {} takes step, not rate", strategy));
-      c.sampling.step = r.number(r.require(m, "step", path), path + ".step");
-      if (!(c.sampling.step > 0)) r.fail(path + ".step", fmt::format("must be positive, got {}", c.sampling.step));
-      samples = diagonal / c.sampling.step;
-    } else {
-      if (m.contains("step")) r.fail(path + ".step", fmt::format("strategy {} takes rate, not step", strategy));
-      c.sampling.rate = r.number(r.require(m, "rate", path), path + ".rate");
-      if (!(c.sampling.rate > 0)) r.fail(path + ".rate", fmt::format("must be positive, got {}", c.sampling.rate));
-      samples = c.sampling.rate * std::sqrt(3.0) *
-                *std::max_element(scene.dims.begin(), scene.dims.end());
-    }
-    if (m.contains("oversample"))
-      c.oversample = static_cast<int>(r.integer(*m.get("oversample"), path + ".oversample", 1, 65536));
-    if (samples * c.oversample > kMaxCaseSamples)
-      r.fail(path, fmt::format("about {:.3g} samples per ray (more than {:g})", samples * c.oversample,
-                               kMaxCaseSamples));
-    if (m.contains("correction")) {
-      const std::string corr = r.string(*m.get("correction"), path + ".correction");
-      const auto cc = parse_correction(corr);
-      if (!cc)
-        r.fail(path + ".correction", fmt::format("unknown correction '{}' (one of none, lacroute, "
-                                                 "schulze, lee_newman, lee_newman_quadratic)", corr));
-      c.correction = *cc;
-    }
-    if (m.contains("precision")) {
-      const std::string prec = r.string(*m.get("precision"), path + ".precision");
-      if (prec == "double") c.precision = Precision::double_precision;
-      else if (prec == "float") c.precision = Precision::single_precision;
-      else r.fail(path + ".precision", fmt::format("unknown precision '{}' (double or float)", prec));
-    }
-    if (m.contains("max_error")) {
-      out.max_error = r.number(*m.get("max_error"), path + ".max_error");
-      if (!(*out.max_error >= 0))
-        r.fail(path + ".max_error", fmt::format("must not be negative, got {}", *out.max_error));
-    }
-    try {
-      validate(c, std::holds_alternative<GridField>(scene.field));
-    } catch (const std::invalid_argument& e) {
-      std::string msg = e.what();  // "--option: reason"
-      if (msg.starts_with("--")) msg = msg.substr(2);
-      r.fail(path, msg);
-    }
-  }
-  out.label = m.contains("label") ? r.string(*m.get("label"), path + ".label") : method_label(out);
-  if (out.label.empty()) r.fail(path + ".label", "empty");
-  return out;
-}
-
-void parse_hard_cases(const Reader& r, std::string_view source_name, const toml::table& doc,
+void parse_hard_cases(const StudyReader& r, const toml::table& doc,
                       StudyDefinition& s) {
   const toml::array* arr = r.require(doc, "case", "").as_array();
   if (!arr) r.fail("case", "expected an array of tables ([[case]])");
@@ -239,9 +50,9 @@ void parse_hard_cases(const Reader& r, std::string_view source_name, const toml:
     for (const HardCase& earlier : s.cases)
       if (earlier.name == c.name) r.fail(path + ".name", fmt::format("'{}' is listed twice", c.name));
     if (t.contains("description")) c.description = r.string(*t.get("description"), path + ".description");
-    c.scene = read_scene(r, source_name, t, path, c.scene_toml);
-    c.origin = read_vec3(r, t, "origin", path);
-    c.direction = read_vec3(r, t, "direction", path);
+    c.scene = read_study_scene(r, t, path, c.scene_toml);
+    c.origin = r.vec3(t, "origin", path);
+    c.direction = r.vec3(t, "direction", path);
     if (!(c.direction.cwiseAbs().maxCoeff() > 0)) r.fail(path + ".direction", "must not be zero");
     const toml::array* ma = r.require(t, "method", path).as_array();
     if (!ma) r.fail(path + ".method", "expected an array of tables ([[case.method]])");
@@ -250,7 +61,7 @@ void parse_hard_cases(const Reader& r, std::string_view source_name, const toml:
       r.fail(path + ".method", fmt::format("more than {} methods", kMaxCaseMethods));
     for (std::size_t j = 0; j < ma->size(); ++j) {
       const std::string mpath = fmt::format("{}.method[{}]", path, j);
-      HardCaseMethod m = read_case_method(r, r.table(*ma->get(j), mpath), mpath, c.scene);
+      HardCaseMethod m = read_study_method(r, r.table(*ma->get(j), mpath), mpath, c.scene);
       for (const HardCaseMethod& earlier : c.methods)
         if (earlier.label == m.label)
           r.fail(mpath, fmt::format("'{}' is listed twice (give a distinct label)", m.label));
@@ -267,14 +78,8 @@ double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x
 
 StudyDefinition parse_study(std::string_view text, std::string_view source_name,
                              std::string_view default_name) {
-  const Reader r(source_name);
-  toml::table doc;
-  try {
-    doc = toml::parse(text, source_name);
-  } catch (const toml::parse_error& e) {
-    const auto& at = e.source().begin;
-    r.fail("(syntax)", fmt::format("line {}, column {}: {}", at.line, at.column, e.description()));
-  }
+  const StudyReader r(source_name);
+  const toml::table doc = parse_study_toml(text, source_name);
   StudyDefinition s;
   s.source = std::string(source_name);
   const std::string kind = r.string(r.require(doc, "kind", ""), "kind");
@@ -301,12 +106,12 @@ StudyDefinition parse_study(std::string_view text, std::string_view source_name,
       r.fail("reference_tol", fmt::format("must be positive, got {}", s.reference_tol));
   }
   if (kind == "hard_cases") {
-    parse_hard_cases(r, source_name, doc, s);
+    parse_hard_cases(r, doc, s);
     return s;
   }
 
   // [scene]: the usual scene tables, parsed by parse_scene; its keys reported as scene.<key>.
-  s.scene = read_scene(r, source_name, doc, "", s.scene_toml);
+  s.scene = read_study_scene(r, doc, "", s.scene_toml);
 
   // [[method]]: rule and expected_order.
   const toml::node& methods = r.require(doc, "method", "");
@@ -367,17 +172,7 @@ StudyDefinition parse_study(std::string_view text, std::string_view source_name,
 }
 
 StudyDefinition load_study(const std::filesystem::path& path) {
-  const std::string source = path.string();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw StudyFileError(one_line(fmt::format("{}: (file): no such study file", source)));
-  if (std::filesystem::file_size(path, ec) > kMaxStudyBytes)
-    throw StudyFileError(one_line(fmt::format("{}: (file): larger than 16 MiB", source)));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw StudyFileError(one_line(fmt::format("{}: (file): cannot read", source)));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_study(text.str(), source, path.stem().string());
+  return parse_study(read_study_text(path), path.string(), path.stem().string());
 }
 
 std::vector<Ray> study_rays(const Box& box, long count, std::uint64_t seed) {
@@ -600,22 +395,7 @@ nlohmann::json study_parameters(const StudyDefinition& study, bool quick, int th
     for (const HardCase& c : study.cases) {
       nlohmann::ordered_json methods = nlohmann::ordered_json::array();
       for (const HardCaseMethod& m : c.methods) {
-        nlohmann::ordered_json j;
-        j["label"] = m.label;
-        if (m.reference) {
-          j["method"] = "reference";
-          j["tol"] = m.tol;
-        } else {
-          const DiscreteConfig& d = m.config;
-          j["method"] = std::string(segment_rule_name(d.rule));
-          j["strategy"] = std::string(strategy_name(d.sampling.strategy));
-          if (step_based(d.sampling.strategy)) j["step"] = d.sampling.step;
-          else j["rate"] = d.sampling.rate;
-          j["oversample"] = d.oversample;
-          j["correction"] = std::string(correction_name(d.correction));
-          j["precision"] = d.precision == Precision::single_precision ? "float" : "double";
-          if (m.max_error) j["max_error"] = *m.max_error;
-        }
+        const nlohmann::ordered_json j = method_json(m);
         methods.push_back(j);
       }
       cases.push_back({{"name", c.name},
@@ -650,6 +430,27 @@ nlohmann::json study_parameters(const StudyDefinition& study, bool quick, int th
 
 void write_study(const std::filesystem::path& dir, const StudyDefinition& study,
                  const StudyResult& result, const nlohmann::json& parameters, double seconds) {
+  write_study_tables(dir, study, result);
+  nlohmann::json meta = run_metadata(parameters, seconds);
+  meta["pass"] = result.pass;
+  if (study.kind == "hard_cases") meta["cases"] = case_summary_json(result);
+  write_file_atomically(dir / "meta.json", meta.dump(2) + "\n");
+}
+
+nlohmann::json case_summary_json(const StudyResult& result) {
+  auto finite_or_null = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
+  nlohmann::json summary = nlohmann::json::array();
+  for (const CaseSummary& c : result.case_summary)
+    summary.push_back({{"name", c.name},
+                       {"reference", finite_or_null(c.truth)},
+                       {"reference_estimate", finite_or_null(c.truth_estimate)},
+                       {"nan_count", c.nan_count},
+                       {"pass", c.pass}});
+  return summary;
+}
+
+void write_study_tables(const std::filesystem::path& dir, const StudyDefinition& study,
+                        const StudyResult& result) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec || !std::filesystem::is_directory(dir))
@@ -660,19 +461,6 @@ void write_study(const std::filesystem::path& dir, const StudyDefinition& study,
     write_file_atomically(dir / "cases.csv", h.cases_csv);
     write_file_atomically(dir / "cases.md", h.cases_md);
     write_file_atomically(dir / "cases.tex", h.cases_tex);
-    nlohmann::json meta = run_metadata(parameters, seconds);
-    meta["pass"] = result.pass;
-    nlohmann::json summary = nlohmann::json::array();
-    for (const CaseSummary& c : result.case_summary)
-      summary.push_back({{"name", c.name},
-                         {"reference", std::isfinite(c.truth) ? nlohmann::json(c.truth) : nlohmann::json()},
-                         {"reference_estimate", std::isfinite(c.truth_estimate)
-                                                    ? nlohmann::json(c.truth_estimate)
-                                                    : nlohmann::json()},
-                         {"nan_count", c.nan_count},
-                         {"pass", c.pass}});
-    meta["cases"] = summary;
-    write_file_atomically(dir / "meta.json", meta.dump(2) + "\n");
     return;
   }
   const StudyFiles f = study_tables(study, result);
@@ -680,9 +468,6 @@ void write_study(const std::filesystem::path& dir, const StudyDefinition& study,
   write_file_atomically(dir / "orders.csv", f.orders_csv);
   write_file_atomically(dir / "orders.md", f.orders_md);
   write_file_atomically(dir / "orders.tex", f.orders_tex);
-  nlohmann::json meta = run_metadata(parameters, seconds);
-  meta["pass"] = result.pass;
-  write_file_atomically(dir / "meta.json", meta.dump(2) + "\n");
 }
 
 }  // namespace vrv

@@ -19,28 +19,17 @@
 
 #include "lib/discrete_raycast.h"
 #include "lib/scene.h"
+#include "lib/study_file.h"
 
 namespace vrv {
-
-// A bad study file: one line, "<file>: <key>: <reason>".
-class StudyFileError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct StudyMethod {
   SegmentRule rule = SegmentRule::riemann;
   double expected_order = 1;
 };
 
-// One method run on a hard case: the reference integrator at `tol`, or a discrete raycast.
-struct HardCaseMethod {
-  std::string label;              // `label` key, else built from the configuration
-  bool reference = false;
-  double tol = 1e-13;             // reference rows
-  DiscreteConfig config;          // discrete rows
-  std::optional<double> max_error;  // discrete rows: pass needs error <= max_error (the bound)
-};
+// One method run on a hard case: see StudyMethodSpec (lib/study_file.h).
+using HardCaseMethod = StudyMethodSpec;
 
 struct HardCase {
   std::string name;
@@ -151,5 +140,9 @@ nlohmann::json study_parameters(const StudyDefinition& study, bool quick, int th
 // cases.md, cases.tex and meta.json) into `dir` (created if missing), each atomically.
 void write_study(const std::filesystem::path& dir, const StudyDefinition& study,
                  const StudyResult& result, const nlohmann::json& parameters, double seconds);
+// The tables alone (no meta.json), and the hard cases' per-case summary as meta.json has it.
+void write_study_tables(const std::filesystem::path& dir, const StudyDefinition& study,
+                        const StudyResult& result);
+nlohmann::json case_summary_json(const StudyResult& result);
 
 }  // namespace vrv

@@ -211,7 +211,7 @@ expect_failure(unknown_study "no study named 'nope'" study nope)
 file(READ ${SRC}/studies/convergence.toml gate)
 string(REPLACE "expected_order = 1" "expected_order = 3" gate "${gate}")
 file(WRITE ${OUT}/gate.toml "${gate}")
-expect_failure(study_gate "gate: FAILED: riemann" study ${OUT}/gate.toml --quick --out ${OUT}/studies --quiet)
+expect_failure(study_gate "gate: FAILED: order riemann" study ${OUT}/gate.toml --quick --out ${OUT}/studies --quiet)
 
 # vrv study hard-cases: passes (quick runs the same cases), writes its four files, no "nan" text;
 # a case with an unknown method fails with one line naming the file and key.

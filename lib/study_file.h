@@ -1,0 +1,89 @@
+#pragma once
+// Reading study files (TOML): every problem is one line, "<file>: <key path>: <reason>", thrown as
+// StudyFileError, so that `vrv study` can print it and exit 2.  Shared by every study kind: the
+// reader with path-aware errors, the [scene] table (parsed by the scene-file parser) and the one
+// way a method is written in a study ({method = "reference", tol} or a discrete configuration).
+#include <filesystem>
+#include <initializer_list>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include "lib/discrete_raycast.h"
+#include "lib/geometry.h"
+#include "lib/scene.h"
+
+namespace vrv {
+
+// A bad study file: one line, "<file>: <key>: <reason>".
+class StudyFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Newlines replaced by spaces: error messages stay one line.
+std::string one_line(std::string s);
+
+class StudyReader {
+ public:
+  explicit StudyReader(std::string_view source) : source_(source) {}
+  const std::string& source() const { return source_; }
+  [[noreturn]] void fail(std::string_view key, std::string_view reason) const;
+  void check_keys(const toml::table& t, std::string_view path,
+                  std::initializer_list<std::string_view> allowed) const;
+  const toml::node& require(const toml::table& t, std::string_view key, std::string_view path) const;
+  const toml::table& table(const toml::node& n, std::string_view path) const;
+  const toml::array& array(const toml::node& n, std::string_view path) const;
+  std::string string(const toml::node& n, std::string_view path) const;
+  double number(const toml::node& n, std::string_view path) const;  // finite
+  long integer(const toml::node& n, std::string_view path, long lo, long hi) const;
+  bool boolean(const toml::node& n, std::string_view path) const;
+  // Optional keys: the default when absent.
+  double number_or(const toml::table& t, std::string_view key, std::string_view path, double def) const;
+  long integer_or(const toml::table& t, std::string_view key, std::string_view path, long lo, long hi,
+                  long def) const;
+  // A non-empty array of finite numbers, each in [lo, hi].
+  std::vector<double> numbers(const toml::table& t, std::string_view key, std::string_view path,
+                              double lo, double hi) const;
+  Vec3 vec3(const toml::table& t, std::string_view key, std::string_view path) const;
+  static std::string child(std::string_view path, std::string_view key);
+
+ private:
+  std::string source_;
+};
+
+// The study file parsed as TOML (syntax errors as "<file>: (syntax): line L, column C: ...").
+toml::table parse_study_toml(std::string_view text, std::string_view source_name);
+// Reads the file (must exist, at most 16 MiB) into `text`.
+std::string read_study_text(const std::filesystem::path& path);
+
+// The [scene] table under `parent` (at `path`): the usual scene tables, parsed by parse_scene, its
+// keys reported as <path>.scene.<key>; its TOML text goes to `toml_text`.
+Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
+                       std::string& toml_text);
+
+// A method as a study writes it: the reference integrator at `tol`, or a discrete raycast.
+struct StudyMethodSpec {
+  std::string label;              // `label` key, else built from the configuration
+  bool reference = false;
+  double tol = 1e-13;             // reference
+  DiscreteConfig config;          // discrete
+  std::optional<double> max_error;  // discrete: a stated bound on its error
+};
+
+// Keys: method (reference | riemann | alpha | trapezoid | exact_linear | moreland), label, tol
+// (reference), strategy, step | rate, oversample, correction, precision, max_error (discrete).
+// Checked against the scene (grid-only options, a cap of 1e8 samples per ray).
+StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, const std::string& path,
+                                  const Scene& scene);
+bool step_based(Strategy st);
+// "alpha step h=0.01 N=4 lacroute double", "reference tol=1e-10".
+std::string method_label(const StudyMethodSpec& m);
+// The method as JSON (for meta.json parameters).
+nlohmann::json method_json(const StudyMethodSpec& m);
+
+}  // namespace vrv

@@ -1,0 +1,66 @@
+// The two table-driven kinds of lib/study.h as study drivers: "convergence" (observed against
+// expected orders, Etiene et al. TVCG 2014) and "hard_cases" (stability cases).
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "lib/atomic_file.h"
+#include "lib/study.h"
+#include "studies/study_driver.h"
+
+namespace vrv {
+namespace {
+
+StudyDefinition definition(const StudyInput& in) {
+  std::ostringstream text;
+  text << in.doc;
+  return parse_study(text.str(), in.reader.source(), in.name);
+}
+
+std::vector<StudyCheck> checks_of(const StudyDefinition& study, const StudyResult& result) {
+  std::vector<StudyCheck> checks;
+  for (const OrderRow& o : result.orders)
+    checks.push_back({fmt::format("order {}", segment_rule_name(o.rule)), o.observed, o.expected,
+                      o.pass,
+                      fmt::format("observed order within {:g} of the expected", study.tolerance)});
+  for (const CaseRow& r : result.cases)
+    checks.push_back({fmt::format("{} / {}", r.case_name, r.method), r.error, r.bound, r.pass,
+                      r.finite ? "error against the reference within the bound" : "value not finite"});
+  return checks;
+}
+
+// The convergence plot: mean error against step per method, log-log with fitted slopes.
+constexpr const char* kConvergencePlots = R"json({
+  "plots": [
+    {"name": "convergence", "csv": "errors.csv", "style": "lines", "x": "step", "y": "mean_error",
+     "group": "method", "xscale": "log", "yscale": "log", "fit": true,
+     "xlabel": "step (world units)", "ylabel": "mean |discrete - reference|",
+     "title": "Convergence against step"}
+  ]
+}
+)json";
+
+StudyJob parse_table_study(const StudyInput& in) {
+  StudyDefinition study = definition(in);
+  return [study](const StudyRun& run) {
+    const StudyResult result = run_convergence(study, run.quick, run.progress);
+    write_study_tables(run.dir, study, result);
+    StudyOutcome out;
+    out.checks = checks_of(study, result);
+    out.parameters = study_parameters(study, run.quick, 0);
+    if (study.kind == "hard_cases") {
+      out.parameters["cases_summary"] = case_summary_json(result);
+      out.summary = fmt::format("{} cases", result.case_summary.size());
+    } else {
+      write_file_atomically(run.dir / "plots.json", kConvergencePlots);
+      out.summary = fmt::format("{} rays, {} methods", result.rays, study.methods.size());
+    }
+    return out;
+  };
+}
+
+const RegisterStudyKind kConvergence{"convergence", parse_table_study};
+const RegisterStudyKind kHardCases{"hard_cases", parse_table_study};
+
+}  // namespace
+}  // namespace vrv
