@@ -51,6 +51,7 @@ struct StudyOptions {
   int threads = 0;
   bool quiet = false;
   bool no_plots = false;
+  bool all = false;
 };
 
 // A study file, read and checked: its kind's driver has parsed it into a job.
@@ -144,6 +145,8 @@ fs::path resolve_study(const std::string& arg) {
                   arg, where));
 }
 
+int run_one(const LoadedStudy& study, const StudyOptions& opt);
+
 int run_study(const StudyOptions& opt) {
   if (opt.list) {
     if (!opt.study.empty()) throw std::invalid_argument("--list: takes no study name");
@@ -158,14 +161,35 @@ int run_study(const StudyOptions& opt) {
     }
     return 0;
   }
-  if (opt.study.empty()) throw std::invalid_argument("study: give a study NAME or FILE.toml (or --list)");
   if (opt.threads < 0) throw std::invalid_argument(fmt::format("--threads: must not be negative, got {}", opt.threads));
+  if (opt.all) {
+    if (!opt.study.empty()) throw std::invalid_argument("--all: takes no study name");
+    // Every study file is checked before any runs, so a bad file costs no time.
+    std::vector<LoadedStudy> studies;
+    for (const auto& [name, path] : find_studies()) {
+      try {
+        studies.push_back(load(path));
+      } catch (const StudyFileError& e) {
+        throw std::invalid_argument(e.what());
+      }
+    }
+    int rc = 0;
+    for (const LoadedStudy& s : studies) rc = std::max(rc, run_one(s, opt));
+    return rc;
+  }
+  if (opt.study.empty())
+    throw std::invalid_argument("study: give a study NAME or FILE.toml (or --all, --list)");
   LoadedStudy study;
   try {
     study = load(resolve_study(opt.study));
   } catch (const StudyFileError& e) {
     throw std::invalid_argument(e.what());
   }
+  return run_one(study, opt);
+}
+
+// Runs one study and writes its files; 0 when every check passes and the plots were drawn.
+int run_one(const LoadedStudy& study, const StudyOptions& opt) {
   const fs::path dir = fs::path(opt.out) / study.name;
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -258,6 +282,7 @@ void add_study_command(CLI::App& app) {
       "See docs/studies.md.");
   cmd->add_option("study", opt->study, "Study NAME (studies/NAME.toml) or FILE.toml");
   cmd->add_flag("--list", opt->list, "List the studies found");
+  cmd->add_flag("--all", opt->all, "Run every study found, in name order (results/ is --all --out results)");
   cmd->add_flag("--quick", opt->quick, "Fewer rays (the study's quick_count)");
   cmd->add_option("--out", opt->out, "Output directory (results go into OUT/NAME/)")->capture_default_str();
   cmd->add_option("--threads", opt->threads, "Threads (default: all cores); results do not depend on it");
