@@ -55,6 +55,12 @@ struct StudyDefinition {
   std::uint64_t seed = 1;
   double tolerance = 0.25;    // on |observed - expected|
   double reference_tol = 1e-13;  // hard_cases: the tolerance of the "truth" each error is against
+  // Convergence under grid refinement ([grid_refinement], optional): the analytic field sampled
+  // on node grids of these resolutions (cubic, trilinear), each method's error against the
+  // analytic reference with the step tied to the cell (steps_per_cell x cell size).
+  std::vector<int> grid_resolutions, quick_grid_resolutions;
+  double grid_expected_order = 2;  // trilinear reconstruction
+  double grid_steps_per_cell = 0.5;
   std::vector<HardCase> cases;   // hard_cases only (then scene, methods, steps, rays are unused)
 };
 
@@ -73,6 +79,21 @@ struct ErrorRow {
   SegmentRule rule;
   double step = 0;
   double max_error = 0, mean_error = 0, samples_per_ray = 0;
+};
+
+// One row of the grid refinement: "reference" (the continuous integral through the trilinear
+// grid) or a rule, on one resolution.
+struct GridErrorRow {
+  std::string method;
+  int resolution = 0;
+  double cell = 0;  // cell size (world units)
+  double max_error = 0, mean_error = 0;
+};
+
+struct GridOrderRow {
+  std::string method;
+  double expected = 0, observed = 0;
+  bool pass = false;
 };
 
 struct OrderRow {
@@ -103,6 +124,8 @@ struct CaseSummary {
 struct StudyResult {
   std::vector<ErrorRow> errors;  // method-major, steps in file order
   std::vector<OrderRow> orders;
+  std::vector<GridErrorRow> grid_errors;  // convergence with [grid_refinement]
+  std::vector<GridOrderRow> grid_orders;
   std::vector<CaseRow> cases;            // hard_cases: case-major, methods in file order
   std::vector<CaseSummary> case_summary;  // hard_cases: one per case
   long rays = 0;
@@ -125,6 +148,7 @@ StudyResult run_hard_cases(const StudyDefinition& study, bool progress);
 
 struct StudyFiles {
   std::string errors_csv, orders_csv, orders_md, orders_tex;
+  std::string grid_errors_csv, grid_orders_csv, grid_orders_md, grid_orders_tex;  // if refined
 };
 StudyFiles study_tables(const StudyDefinition& study, const StudyResult& result);
 

@@ -23,6 +23,10 @@ std::vector<StudyCheck> checks_of(const StudyDefinition& study, const StudyResul
     checks.push_back({fmt::format("order {}", segment_rule_name(o.rule)), o.observed, o.expected,
                       o.pass,
                       fmt::format("observed order within {:g} of the expected", study.tolerance)});
+  for (const GridOrderRow& o : result.grid_orders)
+    checks.push_back({fmt::format("grid order {}", o.method), o.observed, o.expected, o.pass,
+                      fmt::format("observed order under grid refinement within {:g} of the expected",
+                                  study.tolerance)});
   for (const CaseRow& r : result.cases)
     checks.push_back({fmt::format("{} / {}", r.case_name, r.method), r.error, r.bound, r.pass,
                       r.finite ? "error against the reference within the bound" : "value not finite"});
@@ -40,6 +44,20 @@ constexpr const char* kConvergencePlots = R"json({
 }
 )json";
 
+constexpr const char* kGridPlots = R"json({
+  "plots": [
+    {"name": "convergence", "csv": "errors.csv", "style": "lines", "x": "step", "y": "mean_error",
+     "group": "method", "xscale": "log", "yscale": "log", "fit": true,
+     "xlabel": "step (world units)", "ylabel": "mean |discrete - reference|",
+     "title": "Convergence against step"},
+    {"name": "grid_convergence", "csv": "grid_errors.csv", "style": "lines", "x": "cell",
+     "y": "mean_error", "group": "method", "xscale": "log", "yscale": "log", "fit": true,
+     "xlabel": "grid cell size (world units; discrete step tied to it)",
+     "ylabel": "mean |value - analytic reference|", "title": "Convergence under grid refinement"}
+  ]
+}
+)json";
+
 StudyJob parse_table_study(const StudyInput& in) {
   StudyDefinition study = definition(in);
   return [study](const StudyRun& run) {
@@ -52,7 +70,8 @@ StudyJob parse_table_study(const StudyInput& in) {
       out.parameters["cases_summary"] = case_summary_json(result);
       out.summary = fmt::format("{} cases", result.case_summary.size());
     } else {
-      write_file_atomically(run.dir / "plots.json", kConvergencePlots);
+      write_file_atomically(run.dir / "plots.json",
+                            result.grid_errors.empty() ? kConvergencePlots : kGridPlots);
       out.summary = fmt::format("{} rays, {} methods", result.rays, study.methods.size());
     }
     return out;

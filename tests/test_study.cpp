@@ -99,8 +99,44 @@ TEST(Study, BadStudyFilesGiveOneLineNamingFileAndKey) {
       {replace(valid_study(), "count = 2", "count = 2\ncolour = 1"), "bad.toml: rays.colour: unknown key"},
       {replace(valid_study(), "fM = 2.0", "fM = -2.0"), "bad.toml: scene.field.fM"},
       {"kind = \"convergence\"\n", "bad.toml: scene: missing"},
+      {valid_study() + "[grid_refinement]\nresolutions = [9]\n",
+       "bad.toml: grid_refinement.resolutions: one resolution gives no order"},
+      {valid_study() + "[grid_refinement]\nresolutions = [9, 17.5]\n",
+       "bad.toml: grid_refinement.resolutions[1]: expected an integer"},
+      {valid_study() + "[grid_refinement]\nresolutions = [9, 17]\nsteps_per_cell = 0\n",
+       "bad.toml: grid_refinement.steps_per_cell: must be in"},
+      {valid_study() + "[grid_refinement]\nresolution = [9, 17]\n",
+       "bad.toml: grid_refinement.resolution: unknown key"},
+      {replace(valid_study(), "kind = \"marschner_lobb\"\nfM = 2.0\n",
+               "kind = \"grid\"\nresolution = [5, 5, 5]\n[scene.field.source]\nkind = \"marschner_lobb\"\n") +
+           "[grid_refinement]\nresolutions = [9, 17]\n",
+       "bad.toml: grid_refinement: needs an analytic field"},
   };
   expect_one_line_errors(cases);
+}
+
+// Grid refinement of a linear ramp with a linear transfer function: trilinear reconstruction is
+// exact, so the reference through every grid equals the analytic one (to its tolerance), and a
+// smooth field's reconstruction error falls at second order.
+TEST(Study, GridRefinementIsExactForARampAndSecondOrderForMarschnerLobb) {
+  std::string ramp = valid_study() + "[grid_refinement]\nresolutions = [3, 5, 9]\n";
+  const std::string ml_field = "kind = \"marschner_lobb\"\nfM = 2.0";
+  ramp.replace(ramp.find(ml_field), ml_field.size(),
+               "kind = \"linear_ramp\"\ngradient = [0.3, 0.2, 0.1]\noffset = 0.5");
+  const StudyResult exact = run_convergence(parse_study(ramp, "ramp.toml", "ramp"), false, false);
+  ASSERT_EQ(exact.grid_errors.size(), 6u);  // reference and riemann, 3 resolutions
+  for (const GridErrorRow& row : exact.grid_errors)
+    if (row.method == "reference") {
+      EXPECT_LT(row.max_error, 1e-12) << row.resolution;
+    }
+
+  const StudyDefinition ml = parse_study(
+      valid_study() + "[grid_refinement]\nresolutions = [17, 33, 65]\n", "ml.toml", "ml");
+  const StudyResult smooth = run_convergence(ml, false, false);
+  ASSERT_EQ(smooth.grid_orders.size(), 2u);
+  EXPECT_EQ(smooth.grid_orders[0].method, "reference");
+  EXPECT_NEAR(smooth.grid_orders[0].observed, 2, 0.25);
+  EXPECT_NEAR(smooth.grid_orders[1].observed, 1, 0.25);  // riemann at half a cell: first order
 }
 
 }  // namespace
