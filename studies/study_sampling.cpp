@@ -53,9 +53,10 @@ Camera image_camera(const FanSetup& s, int width, int height) {
   return c;
 }
 
-DiscreteConfig strategy_config(const Scene& scene, Strategy strategy, double rate, const Vec3& eye) {
+DiscreteConfig strategy_config(const Scene& scene, SegmentRule rule, Strategy strategy, double rate,
+                               const Vec3& eye) {
   DiscreteConfig c;
-  c.rule = SegmentRule::riemann;
+  c.rule = rule;
   c.sampling.strategy = strategy;
   c.sampling.rate = rate;
   c.sampling.dims = scene.dims;

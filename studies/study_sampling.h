@@ -38,9 +38,10 @@ Camera fan_camera(const FanSetup& s);
 // that image columns run the way the fan's ray index does.
 Camera image_camera(const FanSetup& s, int width, int height);
 
-// One discrete configuration: the paper's eq. (5) (rule riemann) with a rate-based strategy over
-// the scene's dims, the eye strategy aligned with the camera's eye.
-DiscreteConfig strategy_config(const Scene& scene, Strategy strategy, double rate, const Vec3& eye);
+// One discrete configuration: a rule (the paper's eq. (5) is riemann) with a rate-based strategy
+// over the scene's dims, the eye strategy aligned with the camera's eye.
+DiscreteConfig strategy_config(const Scene& scene, SegmentRule rule, Strategy strategy, double rate,
+                               const Vec3& eye);
 
 struct RayValue {
   double value = 0;

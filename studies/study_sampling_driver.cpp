@@ -80,6 +80,72 @@ LinearRamp read_ramp(const StudyReader& r, const toml::table& doc, const Scene& 
   return ramp;
 }
 
+// orders.rules: sample rules only (riemann first: the paper's eq. (5), used by curves and images).
+std::vector<SegmentRule> read_rules(const StudyReader& r, const toml::table& orders) {
+  const toml::array& a = r.array(r.require(orders, "rules", "orders"), "orders.rules");
+  std::vector<SegmentRule> out;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::string p = fmt::format("orders.rules[{}]", i);
+    const auto rule = parse_segment_rule(r.string(*a.get(i), p));
+    if (!rule || is_segment_rule(*rule))
+      r.fail(p, "expected a sample rule (riemann or alpha): segment rules place nodes, not samples");
+    if (std::find(out.begin(), out.end(), *rule) != out.end()) r.fail(p, "listed twice");
+    out.push_back(*rule);
+  }
+  if (out.empty() || out.front() != SegmentRule::riemann)
+    r.fail("orders.rules", "must start with riemann (the paper's eq. (5), used by curves and images)");
+  return out;
+}
+
+// [[checks.order]]: {rule, strategies, min_order}, a lower bound on the observed orders.
+std::vector<Study::OrderBound> read_order_bounds(const StudyReader& r, const toml::table& checks,
+                                                 const Study& st) {
+  std::vector<Study::OrderBound> out;
+  const toml::node* n = checks.get("order");
+  if (!n) return out;
+  const toml::array& a = r.array(*n, "checks.order");
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::string p = fmt::format("checks.order[{}]", i);
+    const toml::table& t = r.table(*a.get(i), p);
+    r.check_keys(t, p, {"rule", "strategies", "min_order"});
+    const auto rule = parse_segment_rule(r.string(r.require(t, "rule", p), p + ".rule"));
+    if (!rule || std::find(st.rules.begin(), st.rules.end(), *rule) == st.rules.end())
+      r.fail(p + ".rule", "not among orders.rules");
+    Study::OrderBound b{*rule, read_strategies(r, t, "strategies", p),
+                        r.number(r.require(t, "min_order", p), p + ".min_order")};
+    for (Strategy s : b.strategies)
+      if (std::find(st.strategies.begin(), st.strategies.end(), s) == st.strategies.end())
+        r.fail(p + ".strategies", fmt::format("{} is not among the study's strategies", strategy_name(s)));
+    out.push_back(std::move(b));
+  }
+  return out;
+}
+
+// [[checks.exact]]: {rule, strategies, max_error}, configurations that reproduce the continuous
+// solution up to rounding.
+std::vector<Study::ExactBound> read_exact_bounds(const StudyReader& r, const toml::table& checks,
+                                                 const Study& st) {
+  std::vector<Study::ExactBound> out;
+  const toml::node* n = checks.get("exact");
+  if (!n) return out;
+  const toml::array& a = r.array(*n, "checks.exact");
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::string p = fmt::format("checks.exact[{}]", i);
+    const toml::table& t = r.table(*a.get(i), p);
+    r.check_keys(t, p, {"rule", "strategies", "max_error"});
+    const auto rule = parse_segment_rule(r.string(r.require(t, "rule", p), p + ".rule"));
+    if (!rule || std::find(st.rules.begin(), st.rules.end(), *rule) == st.rules.end())
+      r.fail(p + ".rule", "not among orders.rules");
+    Study::ExactBound b{*rule, read_strategies(r, t, "strategies", p),
+                        r.number(r.require(t, "max_error", p), p + ".max_error")};
+    for (Strategy s : b.strategies)
+      if (std::find(st.strategies.begin(), st.strategies.end(), s) == st.strategies.end())
+        r.fail(p + ".strategies", fmt::format("{} is not among the study's strategies", strategy_name(s)));
+    out.push_back(std::move(b));
+  }
+  return out;
+}
+
 std::vector<double> read_rates(const StudyReader& r, const toml::table& t, std::string_view path) {
   std::vector<double> v = r.numbers(t, "rates", path, 1e-3, 1e4);
   for (std::size_t i = 1; i < v.size(); ++i)
@@ -108,8 +174,9 @@ StudyJob parse_sampling_study(const StudyInput& in) {
   st.curve_rates = read_rates(r, curves, "curves");
 
   const toml::table& orders = r.table(r.require(doc, "orders", ""), "orders");
-  r.check_keys(orders, "orders", {"rates"});
+  r.check_keys(orders, "orders", {"rates", "rules"});
   st.order_rates = read_rates(r, orders, "orders");
+  st.rules = read_rules(r, orders);
   if (st.order_rates.size() < 2) r.fail("orders.rates", "an order needs at least two rates");
   for (double rate : st.curve_rates)
     if (std::find(st.order_rates.begin(), st.order_rates.end(), rate) == st.order_rates.end())
@@ -126,7 +193,7 @@ StudyJob parse_sampling_study(const StudyInput& in) {
   st.image_rates = read_rates(r, images, "images");
 
   const toml::table& checks = r.table(r.require(doc, "checks", ""), "checks");
-  r.check_keys(checks, "checks", {"identity_tol", "closed_form_kappa", "min_order", "order_checked", "keeps_every_ray",
+  r.check_keys(checks, "checks", {"identity_tol", "closed_form_kappa", "order", "exact", "keeps_every_ray",
                                   "drops_corner_rays"});
   st.identity_tol = r.number(r.require(checks, "identity_tol", "checks"), "checks.identity_tol");
   if (checks.contains("closed_form_kappa")) {
@@ -142,8 +209,8 @@ StudyJob parse_sampling_study(const StudyInput& in) {
              "needs emission = kappa * extinction, each given by the same two control points");
     st.closed_form_kappa = kappa;
   }
-  st.min_order = r.number(r.require(checks, "min_order", "checks"), "checks.min_order");
-  st.order_checked = read_subset(r, checks, "order_checked", st.strategies);
+  st.order_bounds = read_order_bounds(r, checks, st);
+  st.exact_bounds = read_exact_bounds(r, checks, st);
   st.keeps_every_ray = read_subset(r, checks, "keeps_every_ray", st.strategies);
   st.drops_corner_rays = read_subset(r, checks, "drops_corner_rays", st.strategies);
   return [st](const StudyRun& run) { return run_sampling_study(st, run); };

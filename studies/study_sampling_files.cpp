@@ -26,9 +26,10 @@ void write_table(const std::filesystem::path& dir, const std::string& stem, cons
 
 std::string rate_text(double rate) { return fmt::format("{:g}", rate); }
 
-const StrategyRun* find_run(const std::vector<StrategyRun>& runs, Strategy s, double rate) {
+const StrategyRun* find_run(const std::vector<StrategyRun>& runs, SegmentRule rule, Strategy s,
+                            double rate) {
   for (const StrategyRun& f : runs)
-    if (f.strategy == s && f.rate == rate) return &f;
+    if (f.rule == rule && f.strategy == s && f.rate == rate) return &f;
   return nullptr;
 }
 
@@ -46,7 +47,7 @@ Table ray_table(const Study& st, std::size_t ray_count, const std::vector<Contin
                  static_cast<long>(i), fan_angle_degrees(st.setup, static_cast<int>(i)),
                  truth[i].chord, kMissing, truth[i].value, truth[i].value, 0.0});
     for (double rate : st.curve_rates) {
-      const StrategyRun* f = find_run(runs, s, rate);
+      const StrategyRun* f = find_run(runs, st.rules.front(), s, rate);
       for (std::size_t i = 0; i < ray_count; ++i)
         t.add_row({std::string(strategy_name(s)), series_name(rate), rate, static_cast<long>(i),
                    fan_angle_degrees(st.setup, static_cast<int>(i)), truth[i].chord,
@@ -58,14 +59,15 @@ Table ray_table(const Study& st, std::size_t ray_count, const std::vector<Contin
 }
 
 Table error_table(const Study& st, const std::vector<StrategyRun>& runs) {
-  Table t({"strategy", "rate", "h", "max_error", "mean_error", "mean_samples", "rays_hit",
+  Table t({"rule", "strategy", "rate", "h", "max_error", "mean_error", "mean_samples", "rays_hit",
            "rays_dropped"});
   for (const char* c : {"max_error", "mean_error"}) t.set_format(c, "{:.3e}");
   t.set_format("mean_samples", "{:.2f}");
+  for (SegmentRule rule : st.rules)
   for (Strategy s : st.strategies)
     for (double rate : st.order_rates) {
-      const StrategyRun* f = find_run(runs, s, rate);
-      t.add_row({std::string(strategy_name(s)), rate, 1 / rate, f->stats.max_error,
+      const StrategyRun* f = find_run(runs, rule, s, rate);
+      t.add_row({std::string(segment_rule_name(rule)), std::string(strategy_name(s)), rate, 1 / rate, f->stats.max_error,
                  f->stats.mean_error, f->stats.mean_samples, f->stats.hit, f->stats.dropped});
     }
   return t;
@@ -75,7 +77,7 @@ Table error_table(const Study& st, const std::vector<StrategyRun>& runs) {
 // curve rates, the rays lost at the lowest rate, and the observed orders.
 Table summary_table(const Study& st, const std::vector<StrategyRun>& runs,
                     const std::vector<StrategyOrder>& orders, LatexStyle& style) {
-  std::vector<std::string> cols{"strategy"};
+  std::vector<std::string> cols{"rule", "strategy"};
   for (double rate : st.curve_rates) {
     cols.push_back("max_sr" + rate_text(rate));
     style.headers[cols.back()] = fmt::format("max, S.R.~{}", rate_text(rate));
@@ -98,10 +100,13 @@ Table summary_table(const Study& st, const std::vector<StrategyRun>& runs,
   t.allow_missing("order_max");
   t.allow_missing("order_mean");
   for (const StrategyOrder& o : orders) {
-    std::vector<Table::Cell> row{std::string(strategy_name(o.strategy))};
-    for (double rate : st.curve_rates) row.emplace_back(find_run(runs, o.strategy, rate)->stats.max_error);
-    for (double rate : st.curve_rates) row.emplace_back(find_run(runs, o.strategy, rate)->stats.mean_error);
-    row.emplace_back(find_run(runs, o.strategy, st.curve_rates.front())->stats.dropped);
+    std::vector<Table::Cell> row{std::string(segment_rule_name(o.rule)),
+                                 std::string(strategy_name(o.strategy))};
+    for (double rate : st.curve_rates)
+      row.emplace_back(find_run(runs, o.rule, o.strategy, rate)->stats.max_error);
+    for (double rate : st.curve_rates)
+      row.emplace_back(find_run(runs, o.rule, o.strategy, rate)->stats.mean_error);
+    row.emplace_back(find_run(runs, o.rule, o.strategy, st.curve_rates.front())->stats.dropped);
     row.emplace_back(o.order_max);
     row.emplace_back(o.order_mean);
     t.add_row(std::move(row));
@@ -194,13 +199,24 @@ void write_plots(const std::filesystem::path& dir, const Study& st) {
                      {"where", {{"series", series_name(rate)}}}, {"hlines", {0}},
                      {"xlabel", "ray"}, {"ylabel", "discrete - continuous"},
                      {"title", fmt::format("Signed per-ray error, sampling rate {}", rate_text(rate))}});
+  for (SegmentRule rule : st.rules)
   for (const char* y : {"max_error", "mean_error"})
-    plots.push_back({{"name", fmt::format("convergence_{}", y)}, {"csv", "errors.csv"},
+    plots.push_back({{"name", fmt::format("convergence_{}_{}", segment_rule_name(rule), y)}, {"csv", "errors.csv"},
                      {"style", "lines"}, {"x", "h"}, {"y", y}, {"group", "strategy"},
+                     {"where", {{"rule", std::string(segment_rule_name(rule))}}},
                      {"xscale", "log"}, {"yscale", "log"}, {"fit", true},
                      {"xlabel", "nominal step h = 1 / rate (voxels)"},
                      {"ylabel", fmt::format("{} per-ray |error|", std::string_view(y).substr(0, 4) == "max_" ? "max" : "mean")},
-                     {"title", fmt::format("Convergence per placement ({} fan rays)", st.setup.rays)}});
+                     {"title", fmt::format("Convergence per placement, rule {} ({} fan rays)",
+                                           segment_rule_name(rule), st.setup.rays)}});
+  for (SegmentRule rule : st.rules)
+    plots.push_back({{"name", fmt::format("error_vs_samples_{}", segment_rule_name(rule))},
+                     {"csv", "errors.csv"}, {"style", "lines"}, {"x", "mean_samples"},
+                     {"y", "mean_error"}, {"group", "strategy"},
+                     {"where", {{"rule", std::string(segment_rule_name(rule))}}},
+                     {"xscale", "log"}, {"yscale", "log"}, {"fit", true},
+                     {"xlabel", "mean samples per ray"}, {"ylabel", "mean per-ray |error|"},
+                     {"title", fmt::format("Error against work, rule {}", segment_rule_name(rule))}});
   write_file_atomically(dir / "plots.json", nlohmann::json{{"plots", plots}}.dump(2) + "\n");
 }
 

@@ -27,15 +27,19 @@ double order_over_rates(const std::vector<double>& rates, const std::vector<doub
 
 std::vector<StrategyOrder> observed_orders(const Study& st, const std::vector<StrategyRun>& runs) {
   std::vector<StrategyOrder> out;
+  for (SegmentRule rule : st.rules)
   for (Strategy s : st.strategies) {
     std::vector<double> rates, max_errors, mean_errors;
     for (const StrategyRun& f : runs)
-      if (f.strategy == s) {
+      if (f.rule == rule && f.strategy == s) {
         rates.push_back(f.rate);
         max_errors.push_back(f.stats.max_error);
         mean_errors.push_back(f.stats.mean_error);
       }
-    out.push_back({s, order_over_rates(rates, max_errors), order_over_rates(rates, mean_errors)});
+    if (*std::max_element(max_errors.begin(), max_errors.end()) <= st.identity_tol)
+      out.push_back({rule, s, NAN, NAN});
+    else
+      out.push_back({rule, s, order_over_rates(rates, max_errors), order_over_rates(rates, mean_errors)});
   }
   return out;
 }
@@ -82,7 +86,7 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
   const Camera view = image_camera(st.setup, width, height);
   const std::vector<Ray> pixels = camera_rays(view);
 
-  const long fan_jobs = static_cast<long>(st.strategies.size() * st.order_rates.size());
+  const long fan_jobs = static_cast<long>(st.rules.size() * st.strategies.size() * st.order_rates.size());
   const long image_jobs = static_cast<long>(st.strategies.size() * st.image_rates.size());
   Progress progress("sampling", 2 + fan_jobs + 1 + image_jobs, run.progress);
 
@@ -106,16 +110,18 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
   Identity identity;
   long nonfinite = 0;
   std::vector<StrategyRun> runs;
-  for (Strategy s : st.strategies)
-    for (double rate : st.order_rates) {
-      const Vec3 eye = fan.eye;
-      StrategyRun f{s, rate, discrete_rays(st.scene, fan_rays, strategy_config(st.scene, s, rate, eye)), {}};
-      f.stats = error_stats(truth, f.rays);
-      nonfinite += f.stats.nonfinite;
-      compare(f.rays, discrete_rays(ramp, fan_rays, strategy_config(ramp, s, rate, eye)), identity);
-      runs.push_back(std::move(f));
-      progress.advance();
-    }
+  for (SegmentRule rule : st.rules)
+    for (Strategy s : st.strategies)
+      for (double rate : st.order_rates) {
+        const Vec3 eye = fan.eye;
+        StrategyRun f{rule, s, rate,
+                      discrete_rays(st.scene, fan_rays, strategy_config(st.scene, rule, s, rate, eye)), {}};
+        f.stats = error_stats(truth, f.rays);
+        nonfinite += f.stats.nonfinite;
+        compare(f.rays, discrete_rays(ramp, fan_rays, strategy_config(ramp, rule, s, rate, eye)), identity);
+        runs.push_back(std::move(f));
+        progress.advance();
+      }
 
   // The images: the continuous solution, then every strategy at every image rate.
   const std::vector<ContinuousRay> image_truth = continuous_rays(st.scene, pixels, st.reference_tol);
@@ -124,7 +130,9 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
   std::vector<StrategyRun> images;
   for (double rate : st.image_rates)
     for (Strategy s : st.strategies) {
-      StrategyRun im{s, rate, discrete_rays(st.scene, pixels, strategy_config(st.scene, s, rate, view.eye)), {}};
+      const SegmentRule rule = st.rules.front();
+      StrategyRun im{rule, s, rate,
+                     discrete_rays(st.scene, pixels, strategy_config(st.scene, rule, s, rate, view.eye)), {}};
       im.stats = error_stats(image_truth, im.rays);
       nonfinite += im.stats.nonfinite;
       images.push_back(std::move(im));
@@ -160,19 +168,26 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
   checks.push_back(same);
   checks.push_back(at_most("finite values", static_cast<double>(nonfinite), 0,
                            "non-finite discrete values on the fan and in the images"));
-  for (Strategy s : st.order_checked)
-    for (const StrategyOrder& o : orders)
-      if (o.strategy == s) {
-        checks.push_back(at_least(fmt::format("order of max error: {}", strategy_name(s)),
-                                  o.order_max, st.min_order,
-                                  "least-squares slope over orders.rates (first order expected)"));
-        checks.push_back(at_least(fmt::format("order of mean error: {}", strategy_name(s)),
-                                  o.order_mean, st.min_order,
-                                  "least-squares slope over orders.rates (first order expected)"));
-      }
+  for (const Study::OrderBound& b : st.order_bounds)
+    for (Strategy s : b.strategies)
+      for (const StrategyOrder& o : orders)
+        if (o.rule == b.rule && o.strategy == s)
+          for (const auto& [what, value] : {std::pair{"max", o.order_max}, std::pair{"mean", o.order_mean}})
+            checks.push_back(at_least(
+                fmt::format("order of {} error: {} {}", what, segment_rule_name(b.rule), strategy_name(s)),
+                value, b.min_order, "least-squares slope of log error against log(1/rate) over orders.rates"));
+  for (const Study::ExactBound& b : st.exact_bounds)
+    for (Strategy s : b.strategies) {
+      double worst = 0;
+      for (const StrategyRun& f : runs)
+        if (f.rule == b.rule && f.strategy == s) worst = std::max(worst, f.stats.max_error);
+      checks.push_back(at_most(
+          fmt::format("identity: {} {} = continuous", segment_rule_name(b.rule), strategy_name(s)),
+          worst, b.max_error, "max error over every fan ray and rate: exact up to rounding"));
+    }
   for (Strategy s : st.keeps_every_ray) {
     long dropped = 0;
-    for (const StrategyRun& f : runs) dropped += f.strategy == s ? f.stats.dropped : 0;
+    for (const StrategyRun& f : runs) dropped += f.strategy == s ? f.stats.dropped : 0;  // every rule
     for (const StrategyRun& im : images) dropped += im.strategy == s ? im.stats.dropped : 0;
     checks.push_back(at_most(fmt::format("keeps every ray: {}", strategy_name(s)),
                              static_cast<double>(dropped), 0,
@@ -180,7 +195,7 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
   }
   for (Strategy s : st.drops_corner_rays)
     for (const StrategyRun& f : runs)
-      if (f.strategy == s && f.rate == st.curve_rates.front())
+      if (f.rule == st.rules.front() && f.strategy == s && f.rate == st.curve_rates.front())
         checks.push_back(at_least(
             fmt::format("drops corner rays (Fig. 2c): {} at rate {:g}", strategy_name(s), f.rate),
             static_cast<double>(f.stats.dropped), 1,
@@ -196,7 +211,8 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
       {"rays_hit", runs.empty() ? 0 : runs.front().stats.hit},
       {"pixels_hit", images.empty() ? 0 : images.front().stats.hit},
   };
-  out.summary = fmt::format("{} strategies x {} rates on {} rays, {}x{} images", st.strategies.size(),
+  out.summary = fmt::format("{} rules x {} strategies x {} rates on {} rays, {}x{} images",
+                            st.rules.size(), st.strategies.size(),
                             st.order_rates.size(), fan_rays.size(), width, height);
   return out;
 }

@@ -24,8 +24,22 @@ struct Study {
   int width = 500, height = 500, quick_width = 100, quick_height = 100;
   double identity_tol = 1e-12;
   std::optional<double> closed_form_kappa;  // g = kappa tau, both linear: I = kappa (1 - e^-Phi)
-  double min_order = 0.75;
-  std::vector<Strategy> order_checked, keeps_every_ray, drops_corner_rays;
+  // Rules for the error table and orders; the first is the paper's eq. (5) (riemann), which the
+  // curves and images use.
+  std::vector<SegmentRule> rules{SegmentRule::riemann};
+  struct OrderBound {
+    SegmentRule rule;
+    std::vector<Strategy> strategies;
+    double min_order = 0.75;
+  };
+  std::vector<OrderBound> order_bounds;
+  struct ExactBound {  // a configuration that must reproduce the continuous solution
+    SegmentRule rule;
+    std::vector<Strategy> strategies;
+    double max_error = 1e-12;
+  };
+  std::vector<ExactBound> exact_bounds;
+  std::vector<Strategy> keeps_every_ray, drops_corner_rays;
 };
 
 // The same scene with the grid replaced by the ramp it samples (dims kept: same sample plans).
@@ -33,6 +47,7 @@ Scene ramp_scene(const Study& st);
 
 // One strategy at one rate on a set of rays (the fan, or an image's pixels).
 struct StrategyRun {
+  SegmentRule rule;
   Strategy strategy;
   double rate = 1;
   std::vector<RayValue> rays;
@@ -42,8 +57,10 @@ struct StrategyRun {
 // Observed order: least-squares slope of log(error) against log(1/rate) (lib/study.h).
 double order_over_rates(const std::vector<double>& rates, const std::vector<double>& errors);
 
-// Per strategy: orders of the max and of the mean error over the runs at orders.rates.
+// Per rule and strategy: orders of the max and of the mean error over the runs at orders.rates;
+// NaN (no order) when every error is at rounding level (<= identity_tol): the method is exact.
 struct StrategyOrder {
+  SegmentRule rule;
   Strategy strategy;
   double order_max = 0, order_mean = 0;
 };

@@ -124,18 +124,35 @@ TEST(SamplingStudy, EntryExitDropsCornerRaysAndCornerKeepsThem) {
   const Camera fan = fan_camera(s);
   const std::vector<Ray> rays = camera_rays(fan);
   const std::vector<ContinuousRay> truth = continuous_rays(scene, rays, 1e-13);
-  const auto plain = discrete_rays(scene, rays, strategy_config(scene, Strategy::entry_exit, 1, fan.eye));
+  const auto plain = discrete_rays(scene, rays, strategy_config(scene, SegmentRule::riemann, Strategy::entry_exit, 1, fan.eye));
   const auto corner =
-      discrete_rays(scene, rays, strategy_config(scene, Strategy::entry_exit_corner, 1, fan.eye));
+      discrete_rays(scene, rays, strategy_config(scene, SegmentRule::riemann, Strategy::entry_exit_corner, 1, fan.eye));
   EXPECT_GE(error_stats(truth, plain).dropped, 1);
   EXPECT_EQ(error_stats(truth, corner).dropped, 0);
+}
+
+// With g = 2 tau the alpha rule composites to 2 (1 - exp(-sum tau dx)); Listing 4 tiles every chord
+// and samples the midpoints, which integrates the linear tau exactly.  Listing 2 does not tile.
+TEST(SamplingStudy, AlphaWithTheCornerPlacementIsExactForProportionalTransfer) {
+  const Scene scene = study_scene();
+  const Camera fan = fan_camera(FanSetup{});
+  const std::vector<Ray> rays = camera_rays(fan);
+  const std::vector<ContinuousRay> truth = continuous_rays(scene, rays, 1e-13);
+  for (double rate : {1.0, 3.0, 16.0}) {
+    const auto corner = discrete_rays(
+        scene, rays, strategy_config(scene, SegmentRule::alpha, Strategy::entry_exit_corner, rate, fan.eye));
+    EXPECT_LT(error_stats(truth, corner).max_error, 1e-13) << rate;
+    const auto entry =
+        discrete_rays(scene, rays, strategy_config(scene, SegmentRule::alpha, Strategy::entry, rate, fan.eye));
+    EXPECT_GT(error_stats(truth, entry).max_error, 1e-3) << rate;
+  }
 }
 
 TEST(SamplingStudy, RaysAreBitwiseIdenticalForOneAndTwoThreads) {
   const Scene scene = study_scene();
   const Camera fan = fan_camera(FanSetup{});
   const std::vector<Ray> rays = camera_rays(fan);
-  const DiscreteConfig c = strategy_config(scene, Strategy::eye, 4, fan.eye);
+  const DiscreteConfig c = strategy_config(scene, SegmentRule::riemann, Strategy::eye, 4, fan.eye);
   std::vector<RayValue> one, two;
   std::vector<ContinuousRay> t1, t2;
   {
@@ -177,6 +194,14 @@ TEST(SamplingStudy, StudyFileIsValidatedKeyByKey) {
   expect_rejected("rates = [1.0, 2.0, 4.0", "rates = [2.0, 1.0, 4.0", "orders.rates: must be strictly");
   expect_rejected("eye = [-9.0, 0.0]", "eye = [-9.0, 0.0, 1.0]", "setup.eye: expected two numbers");
   expect_rejected("closed_form_kappa = 2.0", "closed_form_kappa = 3.0", "checks.closed_form_kappa: needs");
+  expect_rejected("rules = [\"riemann\", \"alpha\"]", "rules = [\"alpha\"]",
+                  "orders.rules: must start with riemann");
+  expect_rejected("rules = [\"riemann\", \"alpha\"]", "rules = [\"riemann\", \"trapezoid\"]",
+                  "orders.rules[1]: expected a sample rule");
+  expect_rejected("rule = \"alpha\"\nstrategies = [\"eye\", \"entry\"]",
+                  "rule = \"moreland\"\nstrategies = [\"eye\", \"entry\"]",
+                  "checks.order[1].rule: not among orders.rules");
+  expect_rejected("max_error = 1e-12", "max_error = 1e-12\nbogus = 2", "checks.exact[0].bogus: unknown key");
   expect_rejected("keeps_every_ray = [\"entry_exit_corner\"]", "keeps_every_ray = [\"step\"]",
                   "checks.keeps_every_ray[0]");
 }
