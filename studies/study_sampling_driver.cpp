@@ -1,12 +1,9 @@
 // Study kind "sampling": reads the study file (the paper's set-up, the strategies, the rates, the
 // images and the bounds) into a Study; study_sampling_run.cpp runs it and writes the outputs.
 #include <algorithm>
-#include <cmath>
 
 #include <fmt/format.h>
 
-#include "lib/reference_integrator.h"
-#include "lib/study.h"
 #include "studies/study_driver.h"
 #include "studies/study_sampling.h"
 #include "studies/study_sampling_run.h"

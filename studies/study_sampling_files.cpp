@@ -125,7 +125,7 @@ void write_fan_tables(const std::filesystem::path& dir, const Study& st, std::si
   LatexStyle errors_style;
   errors_style.caption = fmt::format(
       "Per-ray error $|I_\\mathrm{{discrete}} - I|$ over the {} fan rays that meet the volume "
-      "(eq.~(5), riemann rule); $h = 1/\\mathrm{{rate}}$ in voxels.",
+      "per rule (riemann: eq.~(5)); $h = 1/\\mathrm{{rate}}$ in voxels.",
       runs.empty() ? 0 : runs.front().stats.hit);
   errors_style.label = "tab:sampling-errors";
   write_table(dir, "errors", error_table(st, runs), errors_style);
