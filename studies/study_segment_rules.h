@@ -56,6 +56,7 @@ struct RenderSpec {
   std::vector<double> steps, quick_steps;
   double map_step = 0;      // the step of the error maps (one of steps and of quick_steps)
   int quick_width = 0, quick_height = 0;
+  bool check_orders = true;  // false: orders reported, not gated (steps outside the asymptotic range)
 };
 
 struct RuleSpec {
