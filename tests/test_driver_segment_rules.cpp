@@ -3,6 +3,8 @@
 #include "studies/study_segment_rules.h"
 
 #include <cmath>
+#include <filesystem>
+#include <string>
 #include <limits>
 #include <random>
 
@@ -11,6 +13,8 @@
 
 #include "lib/parallel.h"
 #include "lib/scene_file.h"
+#include "lib/study_file.h"
+#include "studies/study_driver.h"
 
 namespace vrv {
 namespace {
@@ -152,6 +156,38 @@ TEST(SegmentRules, RenderErrorsShrinkAtTheExpectedOrdersAndDoNotDependOnThreads)
   float m = 0;
   for (float v : one.error_maps[1].pixels) m = std::max(m, std::abs(v));
   EXPECT_FLOAT_EQ(m, static_cast<float>(one.rows[4].max_error));
+}
+
+}  // namespace
+}  // namespace vrv
+
+namespace vrv {
+namespace {
+
+// A bad study file is one line naming the file, the key and the reason.
+std::string parse_error(const std::string& edit_from, const std::string& edit_to) {
+  std::string text = read_study_text(std::filesystem::path(VRV_SOURCE_DIR) / "studies" / "segment-rules.toml");
+  const auto at = text.find(edit_from);
+  if (at == std::string::npos) return "edit not found: " + edit_from;
+  text.replace(at, edit_from.size(), edit_to);
+  const toml::table doc = parse_study_toml(text, "bad.toml");
+  const StudyReader reader("bad.toml");
+  try {
+    find_study_kind("segment_rules")(StudyInput{doc, reader, "bad"});
+  } catch (const StudyFileError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+TEST(SegmentRules, BadFilesNameTheKey) {
+  EXPECT_EQ(parse_error("map_step = 0.04", "map_step = 0.03"),
+            "bad.toml: render[0].map_step: must be one of steps and of quick_steps");
+  EXPECT_EQ(parse_error("alpha_top = 0.9990234375", "alpha_top = 1.0"),
+            "bad.toml: unit_segment.alpha_top: must be in (0, 1)");
+  EXPECT_EQ(parse_error("rule = \"moreland\"", "rule = \"simpson\""),
+            "bad.toml: images.rule[4].rule: unknown rule 'simpson'");
+  EXPECT_NE(parse_error("quick_points = 21", "quick_point = 21").find("bad.toml: unit_segment"), std::string::npos);
 }
 
 }  // namespace
