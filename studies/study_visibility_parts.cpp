@@ -279,8 +279,8 @@ TerminationResult run_termination(const VisibilityStudy& s, const StudyRun& run)
       pick = i + 2;
   Image err(static_cast<int>(side), static_cast<int>(side));
   for (long p = 0; p < P; ++p) err.pixels[p] = static_cast<float>(value[pick][p] - value[1][p]);
-  write_exr(err, run.dir / "termination_error.exr");
-  write_error_map_png(err, run.dir / "termination_error.png", (1 - thresholds[pick - 2]) * s.radiance);
+  write_exr(err, run.dir / "termination_error_map.exr");
+  write_error_map_png(err, run.dir / "termination_error_map.png", (1 - thresholds[pick - 2]) * s.radiance);
   return out;
 }
 

@@ -1,7 +1,10 @@
 // The visibility study's own computations: the opacity identities in stable form, the radiance
 // bound, block extinction ranges, the POF chord and the culling renderer.
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -9,6 +12,8 @@
 #include "lib/discrete_raycast.h"
 #include "lib/parallel.h"
 #include "lib/scene.h"
+#include "lib/study_file.h"
+#include "studies/study_driver.h"
 #include "studies/study_visibility.h"
 #include "studies/study_visibility_culling.h"
 
@@ -99,8 +104,12 @@ TEST(VisibilityBlocks, ExtinctionRangeMatchesDenseSampling) {
   const auto tf = TransferFunction::emission_extinction(curve({{0, 0}}), curve({{0, 4}, {0.3, 1}, {0.3, 7}, {1, 2}}));
   for (auto [lo, hi] : {std::pair{0.0, 0.2}, std::pair{0.1, 0.5}, std::pair{0.35, 0.9}, std::pair{-1.0, 2.0}}) {
     double mn = 1e300, mx = 0;
-    for (int i = 0; i <= 10000; ++i) {
-      const double t = tf.extinction(lo + (hi - lo) * i / 10000.0);
+    std::vector<double> vs;
+    for (int i = 0; i <= 10000; ++i) vs.push_back(lo + (hi - lo) * i / 10000.0);
+    for (double b : tf.breakpoints())  // the extremes of a piecewise-linear curve sit there
+      if (b >= lo && b <= hi) vs.push_back(b);
+    for (double v : vs) {
+      const double t = tf.extinction(v);
       mn = std::min(mn, t), mx = std::max(mx, t);
     }
     EXPECT_LE(extinction_min(tf, lo, hi), mn);
@@ -257,6 +266,52 @@ TEST(VisibilityCulling, SameImagesForOneAndTwoThreads) {
   for (int m = 0; m < kCullMethods; ++m) {
     EXPECT_EQ(one.image[m].pixels, two.image[m].pixels);
     EXPECT_EQ(one.culled[m], two.culled[m]);
+  }
+}
+
+std::string study_text() {
+  std::ifstream f(std::string(VRV_SOURCE_DIR) + "/studies/visibility.toml");
+  std::stringstream text;
+  text << f.rdbuf();
+  return text.str();
+}
+
+// The message parse_visibility throws for `text` ("" when it parses).
+std::string parse_error(const std::string& text) {
+  const StudyReader reader("bad.toml");
+  try {
+    const toml::table doc = parse_study_toml(text, "bad.toml");
+    const StudyParse parse = find_study_kind("visibility");
+    if (!parse) return "no kind";
+    parse(StudyInput{doc, reader, "bad"});
+  } catch (const StudyFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+TEST(VisibilityStudyFile, TheStudyParsesAndBadKeysGiveOneLine) {
+  const std::string text = study_text();
+  EXPECT_EQ(parse_error(text), "");
+  const std::pair<std::string, std::string> cases[] = {
+      {replaced(text, "chord_fraction = 0.75", "chord_fraction = -1"), "bad.toml: culling.chord_fraction:"},
+      {replaced(text, "threshold = 0.95\nstep", "threshold = 1.5\nstep"), "bad.toml: culling.threshold:"},
+      {replaced(text, "pof_block = [4, 4, 4]", "pof_block = [4, 9, 4]"), "bad.toml: culling.pof_block:"},
+      {replaced(text, "ray_samples = 200", "ray_samples = 50"), "bad.toml: threshold_samples.ray_samples:"},
+      {replaced(text, "kind = \"grid\"", "kind = \"marschner_lobb\"\nfoo = 1"), "bad.toml: scene"},
+      {replaced(text, "[identity]", "[identity]\nspeed = 3"), "bad.toml: identity.speed:"},
+  };
+  for (const auto& [bad, start] : cases) {
+    const std::string e = parse_error(bad);
+    EXPECT_EQ(e.rfind(start, 0), 0u) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
   }
 }
 
