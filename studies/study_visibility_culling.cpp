@@ -182,8 +182,9 @@ ViewCulling cull_view(const Scene& scene, const GridField& field, const BlockGri
   SamplingConfig sampling;
   sampling.strategy = Strategy::step;
   sampling.step = o.step;
-  const detail::Classifier classes(scene.transfer, o.step);
   parallel_for_index(P, [&](long p) {
+    // One classifier per pixel: it caches the transfer function's current branch (not shared).
+    const detail::Classifier classes(scene.transfer, o.step);
     const Ray ray = cam.ray(static_cast<int>(p % W), static_cast<int>(p / W));
     const auto iv = clip(ray, scene.box);
     if (!iv) return;

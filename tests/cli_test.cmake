@@ -204,7 +204,7 @@ foreach(f errors.csv orders.csv orders.md orders.tex meta.json)
 endforeach()
 file(WRITE ${OUT}/bad_study.toml "kind = \"convergence\"\n[scene.volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[scene.field]\nkind = \"marschner_lobb\"\n[scene.transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[[method]]\nrule = \"simpson\"\nexpected_order = 2\n[sampling]\nstrategy = \"inviwo\"\nsteps = [0.1, 0.05]\n[rays]\ncount = 2\n")
 expect_failure(bad_study "bad_study.toml: method\\[0\\]\\.rule: unknown method" study ${OUT}/bad_study.toml --quiet)
-file(WRITE ${OUT}/bad_kind.toml "kind = \"visibility\"\n")
+file(WRITE ${OUT}/bad_kind.toml "kind = \"no_such_kind\"\n")
 expect_failure(bad_study_kind "bad_kind.toml: kind: unknown kind" study ${OUT}/bad_kind.toml)
 expect_failure(unknown_study "no study named 'nope'" study nope)
 # The CI gate: a method missing its expected order exits 1 with one line on stderr.
