@@ -192,7 +192,7 @@ TEST(VisibilityCulling, UnculledImageIsTheAlphaRuleRaycast) {
   const BlockGrid blocks{s.box, {4, 4, 4}};
   const BlockExtinction ext = block_extinction(g, s.transfer, blocks);
   CullingOptions o;
-  o.side = 12;
+  o.side = 32;  // enough pixels on two threads to expose shared per-ray state
   o.step = 0.05;
   const Vec3 d = view_direction(2, 3, 6, 6);
   const ViewCulling v = cull_view(s, g, blocks, ext, std::vector<double>(blocks.count(), 0.0), d, o);
