@@ -92,7 +92,7 @@ OpacityStudy read_study(const StudyInput& in) {
 
   const toml::table& rd = r.table(r.require(doc, "render", ""), "render");
   r.check_keys(rd, "render", {"resolution", "layout", "interpolation", "oversample", "reference_tol", "quick_width",
-                              "quick_height", "paper"});
+                              "quick_height", "error_map_quantile", "paper"});
   GridField::Index3 res{};
   const std::vector<double> rv = r.numbers(rd, "resolution", "render", 2, 1024);
   if (rv.size() != 3) r.fail("render.resolution", "expected three integers");
@@ -117,6 +117,8 @@ OpacityStudy read_study(const StudyInput& in) {
   if (!(s.scenes.reference_tol > 0)) r.fail("render.reference_tol", "must be positive");
   s.quick_width = static_cast<int>(r.integer(r.require(rd, "quick_width", "render"), "render.quick_width", 1, 4096));
   s.quick_height = static_cast<int>(r.integer(r.require(rd, "quick_height", "render"), "render.quick_height", 1, 4096));
+  s.error_map_quantile = r.number(r.require(rd, "error_map_quantile", "render"), "render.error_map_quantile");
+  if (!(s.error_map_quantile > 0 && s.error_map_quantile <= 1)) r.fail("render.error_map_quantile", "must be in (0, 1]");
   s.paper_render = paper_values(r, rd, "render");
 
   const toml::table& sw = r.table(r.require(doc, "sweep", ""), "sweep");
@@ -151,13 +153,14 @@ OpacityStudy read_study(const StudyInput& in) {
 
   const toml::table& b = r.table(r.require(doc, "bounds", ""), "bounds");
   r.check_keys(b, "bounds", {"identity", "quadratic_exact_N2", "fit_mean_N5", "comparable", "plateau",
-                                 "order_tolerance"});
+                                 "order_tolerance", "reference"});
   s.b_identity = r.number(r.require(b, "identity", "bounds"), "bounds.identity");
   s.b_quadratic = r.number(r.require(b, "quadratic_exact_N2", "bounds"), "bounds.quadratic_exact_N2");
   s.b_fit_mean = r.number(r.require(b, "fit_mean_N5", "bounds"), "bounds.fit_mean_N5");
   s.b_comparable = r.number(r.require(b, "comparable", "bounds"), "bounds.comparable");
   s.b_plateau = r.number(r.require(b, "plateau", "bounds"), "bounds.plateau");
   s.b_order = r.number(r.require(b, "order_tolerance", "bounds"), "bounds.order_tolerance");
+  s.b_reference = r.number(r.require(b, "reference", "bounds"), "bounds.reference");
   return s;
 }
 
