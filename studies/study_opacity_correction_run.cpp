@@ -368,7 +368,7 @@ std::string heatmap(const std::string& quantity, Correction c) {
                      quantity, n);
 }
 
-std::string plots_json(const OpacityStudy& s) {
+std::string plots_json() {
   std::vector<std::string> plots{
       R"j({"name": "sweep_first", "csv": "sweep.csv", "style": "lines", "x": "N", "y": "mean_error", "group": "correction",
      "where": {"placement": "first"}, "xscale": "log", "yscale": "log", "fit": true, "xlabel": "oversampling factor N",
@@ -384,7 +384,6 @@ std::string plots_json(const OpacityStudy& s) {
      "ylabel": "mean |p_quadratic - p_exact|", "title": "Quadratic fit error, random 8-bit groups (dashed: paper, lobster)"})j"};
   for (const char* q : {"opacity", "intensity"})
     for (Correction c : {Correction::none, Correction::lacroute, Correction::lee_newman}) plots.push_back(heatmap(q, c));
-  (void)s;
   std::string out = "{\n  \"plots\": [\n    ";
   for (std::size_t i = 0; i < plots.size(); ++i) out += (i ? ",\n    " : "") + plots[i];
   return out + "\n  ]\n}\n";
@@ -400,7 +399,7 @@ StudyOutcome run_opacity_study(const OpacityStudy& s, const StudyRun& run) {
   render_part(s, run, out);
   sweep_part(s, run, out);
   timing_part(s, run, out);
-  write_file_atomically(run.dir / "plots.json", plots_json(s));
+  write_file_atomically(run.dir / "plots.json", plots_json());
   out.parameters["quick"] = run.quick;
   long failed = 0;
   for (const StudyCheck& c : out.checks) failed += !c.pass;
