@@ -27,6 +27,8 @@ struct DiscreteConfig {
   SegmentRule rule = SegmentRule::riemann;
   SamplingConfig sampling;
   int oversample = 1;                   // N: samples per unit step (renderer's convention)
+  bool centred_oversamples = false;     // N samples at the centres of the unit step's N parts,
+                                        // not from the unit sample on (see detail::oversampled)
   Correction correction = Correction::none;
   std::optional<double> termination;    // stop once the accumulated opacity reaches it
   std::optional<double> skip_below;     // skip samples whose opacity is below it

@@ -37,11 +37,14 @@ class Compositor {
   std::vector<Composite<Real>> stack_;
 };
 
-// Samples every dt / N from the same first sample, while below the same end.
-inline SamplePlan oversampled(const SamplePlan& plan, int N) {
+// Samples every dt / N, while below the same end: from the same first sample (Lee & Newman's
+// alpha_u1 = alpha_o1), or centred, at the midpoints of the N equal parts of the step the unit
+// sample stands for (the first (N - 1) dt / (2N) before it).
+inline SamplePlan oversampled(const SamplePlan& plan, int N, bool centred = false) {
   if (N == 1) return plan;
   SamplePlan fine = plan;
   fine.dt = plan.dt / N;
+  if (centred) fine.t_first = plan.t_first - (plan.dt - fine.dt) / 2;
   fine.count = 0;
   if (plan.count == 0) return fine;
   while (fine.t(fine.count) < fine.t_end) ++fine.count;
@@ -113,7 +116,7 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
   const SamplePlan plan = plan_samples(config_.sampling, ray, iv, box_);
   const double unit_step = plan.dt;  // the strategy's step; N oversamples divide it
   const int N = config_.oversample;
-  const SamplePlan fine = detail::oversampled(plan, N);
+  const SamplePlan fine = detail::oversampled(plan, N, config_.centred_oversamples);
   const Real dx = Real(fine.dt);
   auto t_of = [&](long m) { return Real(fine.t_first) + Real(m) * dx; };
   detail::Compositor<Real> out(config_);
