@@ -78,7 +78,7 @@ void add_git(nlohmann::json& meta) {
     if (!is_hash(*head)) return;
     meta["git_commit"] = *head;
 #endif
-    if (const auto status = run(git + "status --porcelain --untracked-files=no 2>/dev/null"))
+    if (const auto status = run(git + "status --porcelain --untracked-files=no -- . ':!results' 2>/dev/null"))
       meta["git_dirty"] = !status->empty();
   } catch (...) {  // never let provenance stop a study
   }

@@ -5,7 +5,9 @@
 //   git_commit    VRV_GIT_COMMIT if defined, else `git rev-parse HEAD` at run time in the source tree
 //                 (VRV_SOURCE_DIR if defined, else the tree this file was compiled from, else the
 //                 current directory); "unknown" if none answers
-//   git_dirty     true/false when tracked files differ from that commit, null when unknown
+//   git_dirty     true/false when tracked files outside results/ differ from that commit (results/
+//                 is what studies write, so regenerating it does not make the tree dirty), null
+//                 when unknown
 //   date          when run_metadata is called, ISO 8601 UTC, e.g. "2024-05-01T12:34:56Z"
 //   host          gethostname(), "unknown" on failure
 //   compiler      compiler id and version, e.g. "GCC 12.2.0"

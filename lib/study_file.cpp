@@ -174,6 +174,7 @@ std::string method_label(const StudyMethodSpec& m) {
                                   step_based(c.sampling.strategy) ? "h" : "rate",
                                   step_based(c.sampling.strategy) ? c.sampling.step : c.sampling.rate);
   if (c.oversample != 1) label += fmt::format(" N={}", c.oversample);
+  if (c.centred_oversamples) label += " centred";
   if (c.correction != Correction::none) label += fmt::format(" {}", correction_name(c.correction));
   label += c.precision == Precision::single_precision ? " float" : " double";
   return label;
@@ -181,7 +182,7 @@ std::string method_label(const StudyMethodSpec& m) {
 
 StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, const std::string& path,
                                 const Scene& scene) {
-  r.check_keys(m, path, {"method", "label", "tol", "strategy", "rate", "step", "oversample",
+  r.check_keys(m, path, {"method", "label", "tol", "strategy", "rate", "step", "oversample", "centred_oversamples",
                          "correction", "precision", "max_error"});
   StudyMethodSpec out;
   const std::string name = r.string(r.require(m, "method", path), path + ".method");
@@ -190,7 +191,8 @@ StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, co
       if (m.contains(k)) r.fail(StudyReader::child(path, k), "not used by the reference method");
   };
   if (name == "reference") {
-    only_for_discrete({"strategy", "rate", "step", "oversample", "correction", "precision", "max_error"});
+    only_for_discrete({"strategy", "rate", "step", "oversample", "centred_oversamples", "correction",
+                       "precision", "max_error"});
     out.reference = true;
     out.tol = r.number(r.require(m, "tol", path), path + ".tol");
     if (!(out.tol >= 1e-15 && out.tol <= 1))
@@ -227,6 +229,8 @@ StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, co
     }
     if (m.contains("oversample"))
       c.oversample = static_cast<int>(r.integer(*m.get("oversample"), path + ".oversample", 1, 65536));
+    if (m.contains("centred_oversamples"))
+      c.centred_oversamples = r.boolean(*m.get("centred_oversamples"), path + ".centred_oversamples");
     if (samples * c.oversample > kMaxCaseSamples)
       r.fail(path, fmt::format("about {:.3g} samples per ray (more than {:g})", samples * c.oversample,
                                kMaxCaseSamples));
@@ -275,6 +279,7 @@ nlohmann::json method_json(const StudyMethodSpec& m) {
     if (step_based(d.sampling.strategy)) j["step"] = d.sampling.step;
     else j["rate"] = d.sampling.rate;
     j["oversample"] = d.oversample;
+    j["centred_oversamples"] = d.centred_oversamples;
     j["correction"] = std::string(correction_name(d.correction));
     j["precision"] = d.precision == Precision::single_precision ? "float" : "double";
     if (m.max_error) j["max_error"] = *m.max_error;

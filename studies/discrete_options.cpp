@@ -27,6 +27,8 @@ void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
   cmd.add_option("--step", opt.step, "World step H (step, vtk, inviwo; --step alone implies --strategy step)");
   cmd.add_option("--oversample", opt.oversample, "Oversampling factor N dividing the unit step")
       ->capture_default_str();
+  cmd.add_flag("--centred-oversamples", opt.centred_oversamples,
+               "Put the N oversamples at the centres of the unit step's N parts (default: from the unit sample on)");
   cmd.add_option("--correction", opt.correction,
                  "Opacity correction (alpha method): none | lacroute | schulze | lee_newman | lee_newman_quadratic")
       ->capture_default_str();
@@ -57,6 +59,7 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
   c.sampling.step = opt.step.value_or(0.0);
   c.sampling.dims = scene.dims;
   c.oversample = opt.oversample;
+  c.centred_oversamples = opt.centred_oversamples;
   c.correction = parse_choice<Correction>(opt.correction, "--correction", parse_correction,
                                           "none, lacroute, schulze, lee_newman, lee_newman_quadratic");
   c.termination = opt.termination;

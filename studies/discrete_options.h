@@ -16,6 +16,7 @@ struct DiscreteOptions {
   std::optional<double> rate;
   std::optional<double> step;
   int oversample = 1;
+  bool centred_oversamples = false;
   std::string correction = "none";
   std::optional<double> termination;
   std::optional<double> skip;

@@ -131,6 +131,24 @@ TEST(DiscreteRaycast, LacrouteOversamplingEqualsTheFinerAlphaRaycast) {
   }
 }
 
+TEST(DiscreteRaycast, CentredLacrouteOversamplingIsTheAlphaRaycastAtTheFineStep) {
+  // Centred oversamples of a step-strategy plan sit at entry + (m + 1/2) dx / N: the positions of
+  // the step strategy at dx / N; Lacroute makes the opacities those of dx / N too.
+  const MarschnerLobb ml;
+  const Ray ray = make_ray(Vec3(-3, 0.3, -0.2), Vec3(1, -0.1, 0.08));
+  for (int N : {2, 5, 64, 1024}) {
+    DiscreteConfig over = config(SegmentRule::alpha, Strategy::step, 0.1);
+    over.oversample = N;
+    over.centred_oversamples = true;
+    over.correction = Correction::lacroute;
+    const DiscreteResult a = DiscreteRaycaster(ml, kBox, linear_tf(), 0, over).cast(ray);
+    const DiscreteResult b =
+        DiscreteRaycaster(ml, kBox, linear_tf(), 0, config(SegmentRule::alpha, Strategy::step, 0.1 / N)).cast(ray);
+    EXPECT_NEAR(a.value, b.value, 1e-12) << N;
+    EXPECT_LE(std::abs(a.samples - b.samples), 1) << N;
+  }
+}
+
 TEST(DiscreteRaycast, EntryExitDropsACornerRayAndCornerKeepsIt) {
   const MarschnerLobb ml;
   // Chord of length ~0.01 across the edge x = y = 1.
