@@ -23,4 +23,16 @@ concept ScalarField = requires(const F& f, const Vec3& p, const Ray& ray, Interv
   f.append_breaks(ray, iv, breaks);
 };
 
+// The absolute rounding level of f's values where the field states one (value_noise()), else 0
+// (values then count as accurate to a few ulps of themselves).  Without it, a panel where f is
+// near 0 but computed from O(1) terms never looks resolved, and the integrator splits it to its
+// work cap.
+template <class F>
+double field_value_noise(const F& f) {
+  if constexpr (requires { { f.value_noise() } -> std::convertible_to<double>; })
+    return f.value_noise();
+  else
+    return 0;
+}
+
 }  // namespace vrv

@@ -91,6 +91,9 @@ void write_exr(const Image& image, const fs::path& path) {
   OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::FLOAT);
   spec.channelnames = {"Y"};
   spec.attribute("compression", "zip");
+  // OpenImageIO stamps EXRs with the time of writing unless told a date; an empty one keeps
+  // reruns byte-identical (results/ must not change when the numbers do not).
+  spec.attribute("DateTime", "");
   write_atomically(path, "openexr", spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
 }
 

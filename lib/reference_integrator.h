@@ -86,9 +86,11 @@ RayPanel fit_panel(const F& field, const Ray& ray, double a, double b, int n, lo
   for (int j = 0; j < n; ++j) panel.values[j] = field.value(ray.at(panel.t_of(rule.node(j))));
   evaluations += n;
   rule.coefficients(panel.values, panel.coefficients);
-  const ChebyshevAccuracy acc = chebyshev_accuracy(panel.coefficients);
-  panel.error = acc.error;
-  panel.resolved = acc.resolved;
+  // The error is what the coefficients show; the field's absolute noise only decides when
+  // splitting has stopped helping (it would otherwise inflate every panel's estimate by the
+  // worst-case rounding, which the tail already measures where it matters).
+  panel.error = chebyshev_accuracy(panel.coefficients).error;
+  panel.resolved = chebyshev_accuracy(panel.coefficients, field_value_noise(field)).resolved;
   return panel;
 }
 
@@ -100,7 +102,7 @@ void resolve_smooth(const F& field, const Ray& ray, double a, double b, int leve
   constexpr int max_level = 30;
   constexpr long max_evaluations = 1'000'000;  // work cap per ray, as for the quadrature
   RayPanel panel = fit_panel(field, ray, a, b, n, evaluations);
-  const ChebyshevAccuracy check = chebyshev_accuracy(panel.coefficients);
+  const ChebyshevAccuracy check = chebyshev_accuracy(panel.coefficients, field_value_noise(field));
   const bool good = check.resolved && (check.at_rounding || panel.error <= acc.field_tolerance());
   if (!good && level < max_level && evaluations < max_evaluations) {
     const double m = 0.5 * (a + b);
