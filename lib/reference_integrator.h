@@ -119,6 +119,14 @@ void resolve_smooth(const F& field, const Ray& ray, double a, double b, int leve
 // resolve cos(w t) to ~1e-14 while w h <= ~18.
 inline constexpr double kPanelPhase = 16;
 
+// The first panel's phase for a tolerance: kPanelPhase up to 1e-10; looser tolerances allow
+// longer panels.  The 33-point coefficients of cos(w t) fall like (w h / 4)^33 / 33!, so the
+// phase that keeps them under tol grows like tol^(1/33) (x 1.75 at 1e-2).  Only the first guess:
+// panels are still halved until their tail meets the field tolerance.
+inline double first_panel_phase(double tol) {
+  return kPanelPhase * std::pow(std::clamp(tol, 1e-10, 1e-1) / 1e-10, 1.0 / 33);
+}
+
 template <ScalarField F>
 ReferenceResult integrate_reference(const F& field, const Box& box, const TransferFunction& tf,
                                     double background, const Ray& ray,
@@ -144,7 +152,7 @@ ReferenceResult integrate_reference(const F& field, const Box& box, const Transf
       acc.consume(detail::fit_panel(field, ray, a, b, degree + 1, evaluations));
       continue;
     }
-    const double h0 = field.bandwidth() > 0 ? kPanelPhase / field.bandwidth() : b - a;
+    const double h0 = field.bandwidth() > 0 ? first_panel_phase(options.tol) / field.bandwidth() : b - a;
     const int count = std::max(1, static_cast<int>(std::ceil((b - a) / h0)));
     for (int k = 0; k < count; ++k)
       detail::resolve_smooth(field, ray, a + (b - a) * k / count,

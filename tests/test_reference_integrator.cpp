@@ -523,6 +523,27 @@ TEST(ReferenceIntegratorHard, TinyExtinction) {
   }
 }
 
+// Looser tolerances start from longer panels (first_panel_phase): every ray stays honest against
+// the independent integral and within its tolerance, and the work falls with the tolerance.
+TEST(ReferenceIntegratorMarschnerLobb, LooseTolerancesAreHonestAndCheaper) {
+  const TransferFunction tf = tf_general();
+  const std::vector<RaySpec> rays = random_rays(12, 2026);
+  const std::vector<ind::Result> refs = references(kMLRef, tf, 0, rays);
+  std::vector<double> mean_evaluations;
+  for (double tol : {1e-2, 1e-4, 1e-6, 1e-8, 1e-12}) {
+    Stats stats;
+    for (std::size_t i = 0; i < rays.size(); ++i)
+      compare([&] {
+        return integrate_reference(kML, kBox, tf, 0, make_ray(rays[i].origin, rays[i].direction), {tol});
+      }, refs[i], rays[i], &stats, tol);
+    EXPECT_EQ(stats.dishonest, 0) << tol;
+    mean_evaluations.push_back(stats.mean_evaluations());
+  }
+  for (std::size_t k = 1; k < mean_evaluations.size(); ++k)
+    EXPECT_LE(mean_evaluations[k - 1], mean_evaluations[k]) << k;
+  EXPECT_LT(mean_evaluations.front(), 0.75 * mean_evaluations.back());
+}
+
 TEST(ReferenceIntegratorHard, RayWhereTheFieldIsNearZero) {
   // Marschner-Lobb stays near 4e-4 over the first third of this chord (the speed-vs-error study's
   // ray 217): its values there are O(1) terms cancelling, noisy at ~1e-15 absolute.  Judged
