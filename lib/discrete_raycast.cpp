@@ -9,6 +9,11 @@ namespace vrv {
 void validate(const DiscreteConfig& c, bool grid_field) {
   if (c.oversample < 1 || c.oversample > 65536)
     throw std::invalid_argument(fmt::format("--oversample: must be in [1, 65536], got {}", c.oversample));
+  const Strategy st = c.sampling.strategy;
+  if (c.centred_oversamples && st != Strategy::step && st != Strategy::vtk && st != Strategy::inviwo)
+    throw std::invalid_argument(fmt::format(
+        "--centred-oversamples: needs a strategy whose first sample is at least half a step inside "
+        "(step, vtk or inviwo), not {}", strategy_name(st)));
   if (c.correction != Correction::none && c.rule != SegmentRule::alpha)
     throw std::invalid_argument(fmt::format(
         "--correction: only the alpha rule composites opacities (method is {})", segment_rule_name(c.rule)));

@@ -144,7 +144,16 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
           alphas[j] = c.alpha_unit;
           colors[j] = c.color;
         }
-        correct_group(config_.correction, std::span(alphas).first(n), std::span(colors).first(n), N);
+        // Centred oversamples straddle the unit sample, so Lee & Newman's target (the unit
+        // sample's transparency) costs one more lookup; the last, partial group of a ray may have
+        // no unit sample inside the ray, and then aims at its first oversample.
+        std::optional<double> unit_alpha;
+        const bool lee_newman = config_.correction == Correction::lee_newman ||
+                                config_.correction == Correction::lee_newman_quadratic;
+        if (lee_newman && config_.centred_oversamples && N > 1 && m0 / N < plan.count)
+          unit_alpha = sample(Real(plan.t(m0 / N))).alpha_unit;
+        correct_group(config_.correction, std::span(alphas).first(n), std::span(colors).first(n), N,
+                      unit_alpha);
         for (long j = 0; j < n && !out.done(); ++j)
           out.add({Real(colors[j]) * Real(alphas[j]), Real(1) - Real(alphas[j])});
       }

@@ -200,7 +200,8 @@ double lee_newman_quadratic_p(std::span<const double> alphas, double alpha_unit)
   return quadratic_p(alphas, unit_target(alpha_unit));
 }
 
-void correct_group(Correction c, std::span<double> alphas, std::span<double> colors, int N) {
+void correct_group(Correction c, std::span<double> alphas, std::span<double> colors, int N,
+                   std::optional<double> alpha_unit) {
   check_factor(N);
   if (!colors.empty() && colors.size() != alphas.size())
     throw std::invalid_argument("correct_group: colors must be empty or as many as alphas");
@@ -223,7 +224,7 @@ void correct_group(Correction c, std::span<double> alphas, std::span<double> col
         throw std::invalid_argument("correct_group: a Lee & Newman group has at most N samples");
       for (double& a : alphas) a = clamp01(a);
       const std::size_t m = alphas.size();
-      Target t = unit_target(alphas[0]);
+      Target t = unit_target(alpha_unit ? *alpha_unit : alphas[0]);
       if (m < static_cast<std::size_t>(N)) {  // partial group: (1 - alpha_1)^(m/N)
         t.log_target *= static_cast<double>(m) / N;
         t.transparency = std::exp(t.log_target);

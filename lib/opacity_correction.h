@@ -49,12 +49,14 @@ double lee_newman_quadratic_p(std::span<const double> alphas, double alpha_unit)
 //   none                  leaves both;
 //   lacroute              alpha <- lacroute(alpha, N) per sample, colours unchanged;
 //   schulze               as lacroute, and colour <- colour * schulze_color_scale(alpha, N);
-//   lee_newman(_quadratic) alpha <- p alpha with p from the group (alpha_unit = alphas[0]),
-//                         colours unchanged.
-// A Lee & Newman group is the m <= N consecutive oversamples of one unit step, the first on the
-// unit sample; a partial group (m < N, the end of a ray) aims at the transparency
-// (1 - alphas[0])^(m/N), which is the full-group target for m = N.  Throws std::invalid_argument
-// if N < 1, colors has a different non-zero size, or a Lee & Newman group has more than N samples.
-void correct_group(Correction c, std::span<double> alphas, std::span<double> colors, int N);
+//   lee_newman(_quadratic) alpha <- p alpha with p from the group (aiming at alpha_unit, the unit
+//                         sample's opacity: alphas[0] unless given), colours unchanged.
+// A Lee & Newman group is the m <= N consecutive oversamples of one unit step, by default the
+// first on the unit sample (give alpha_unit when none of them is, e.g. centred oversamples); a
+// partial group (m < N, the end of a ray) aims at the transparency (1 - alpha_unit)^(m/N), which
+// is the full-group target for m = N.  Throws std::invalid_argument if N < 1, colors has a
+// different non-zero size, or a Lee & Newman group has more than N samples.
+void correct_group(Correction c, std::span<double> alphas, std::span<double> colors, int N,
+                   std::optional<double> alpha_unit = std::nullopt);
 
 }  // namespace vrv

@@ -173,7 +173,7 @@ SpeedErrorPoint measure(const Definition& d, const Level& level, const std::vect
   p.seconds_per_ray = best / static_cast<double>(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double e = std::abs(value[i] - truth[i].value);
-    p.max_error = std::max(p.max_error, e);
+    if (!(e <= p.max_error)) p.max_error = e;  // a NaN propagates (std::max would drop it)
     p.mean_error += e / static_cast<double>(n);
     p.work_per_ray += work[i] / static_cast<double>(n);
   }
@@ -190,6 +190,8 @@ Table points_table(const std::vector<SpeedErrorPoint>& pts, const std::vector<bo
            "seconds_per_ray", "work_per_ray", "on_front", "on_work_front"});
   t.set_format("level", "{:g}");
   for (const char* c : {"max_error", "mean_error", "max_estimate", "seconds_per_ray"}) t.set_format(c, "{:.3e}");
+  t.allow_missing("max_error");  // a non-finite error shows as missing and fails its check
+  t.allow_missing("mean_error");
   t.set_format("work_per_ray", "{:.1f}");
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const SpeedErrorPoint& p = pts[i];
@@ -255,7 +257,8 @@ std::vector<StudyCheck> checks_of(const Definition& d, const std::vector<SpeedEr
       checks.push_back({fmt::format("reference tol={:g}: meets its tolerance", p.level), p.max_estimate,
                         p.level, p.max_estimate <= p.level, "largest own error estimate <= tol"});
     }
-    const bool finite = std::isfinite(p.max_error) && std::isfinite(p.seconds_per_ray) && p.seconds_per_ray > 0;
+    const bool finite = std::isfinite(p.max_error) && std::isfinite(p.mean_error) &&
+                        std::isfinite(p.seconds_per_ray) && p.seconds_per_ray > 0;
     if (!finite)
       checks.push_back({fmt::format("{} {}={:g}: finite", p.method, p.level_name, p.level), p.max_error, 0,
                         false, "error and time finite, time > 0"});

@@ -149,6 +149,19 @@ TEST(DiscreteRaycast, CentredLacrouteOversamplingIsTheAlphaRaycastAtTheFineStep)
   }
 }
 
+TEST(DiscreteRaycast, CentredOversamplesNeedAStrategyThatStartsHalfAStepIn) {
+  for (Strategy st : {Strategy::eye, Strategy::entry, Strategy::entry_exit, Strategy::entry_exit_corner}) {
+    DiscreteConfig c;
+    c.sampling.strategy = st;
+    c.oversample = 4;
+    c.centred_oversamples = true;
+    EXPECT_THROW(validate(c, false), std::invalid_argument) << strategy_name(st);
+  }
+  DiscreteConfig ok = config(SegmentRule::alpha, Strategy::step, 0.1);
+  ok.centred_oversamples = true;
+  EXPECT_NO_THROW(validate(ok, false));
+}
+
 TEST(DiscreteRaycast, EntryExitDropsACornerRayAndCornerKeepsIt) {
   const MarschnerLobb ml;
   // Chord of length ~0.01 across the edge x = y = 1.

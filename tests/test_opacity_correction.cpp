@@ -354,3 +354,37 @@ TEST(OpacityCorrection, EdgeConventionsForP) {
 
 }  // namespace
 }  // namespace vrv
+
+namespace vrv {
+namespace {
+
+// Centred oversamples straddle the unit sample: the group must aim at the opacity given for it,
+// not at its first oversample.  (Opacity rising 0.2 -> 0.8 over the step, 0.5 at its centre.)
+TEST(OpacityCorrection, LeeNewmanAimsAtTheGivenUnitOpacity) {
+  for (int N : {3, 5, 63}) {
+    std::vector<double> alphas(N), colors;
+    for (int k = 0; k < N; ++k) alphas[k] = 0.2 + 0.6 * (k + 0.5) / N;
+    for (Correction c : {Correction::lee_newman, Correction::lee_newman_quadratic}) {
+      std::vector<double> a = alphas;
+      correct_group(c, a, colors, N, 0.5);
+      double log_t = 0;
+      for (double x : a) log_t += std::log1p(-x);
+      const double resultant = -std::expm1(log_t);
+      if (c == Correction::lee_newman) {
+        EXPECT_NEAR(resultant, 0.5, 1e-14) << N;
+      } else if (N <= 5) {
+        EXPECT_NEAR(resultant, 0.5, 0.05) << N;  // the fit's own error (it degrades with N)
+      }
+      std::vector<double> first = alphas;
+      correct_group(c, first, colors, N);  // default: the first oversample is the unit sample
+      double log_first = 0;
+      for (double x : first) log_first += std::log1p(-x);
+      if (c == Correction::lee_newman) {
+        EXPECT_NEAR(-std::expm1(log_first), alphas[0], 1e-14) << N;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace vrv
