@@ -94,47 +94,26 @@ std::vector<SegmentRule> read_rules(const StudyReader& r, const toml::table& ord
   return out;
 }
 
-// [[checks.order]]: {rule, strategies, min_order}, a lower bound on the observed orders.
-std::vector<Study::OrderBound> read_order_bounds(const StudyReader& r, const toml::table& checks,
-                                                 const Study& st) {
-  std::vector<Study::OrderBound> out;
-  const toml::node* n = checks.get("order");
+// [[checks.order]] {rule, strategies, min_order} (a lower bound on the observed orders) and
+// [[checks.exact]] {rule, strategies, max_error} (configurations that reproduce the continuous
+// solution up to rounding): the same shape, read once.  Bound is Study::OrderBound or ExactBound.
+template <class Bound>
+std::vector<Bound> read_bounds(const StudyReader& r, const toml::table& checks, const Study& st,
+                               std::string_view key, std::string_view value_key) {
+  std::vector<Bound> out;
+  const toml::node* n = checks.get(key);
   if (!n) return out;
-  const toml::array& a = r.array(*n, "checks.order");
+  const std::string at = fmt::format("checks.{}", key);
+  const toml::array& a = r.array(*n, at);
   for (std::size_t i = 0; i < a.size(); ++i) {
-    const std::string p = fmt::format("checks.order[{}]", i);
+    const std::string p = fmt::format("{}[{}]", at, i);
     const toml::table& t = r.table(*a.get(i), p);
-    r.check_keys(t, p, {"rule", "strategies", "min_order"});
+    r.check_keys(t, p, {"rule", "strategies", value_key});
     const auto rule = parse_segment_rule(r.string(r.require(t, "rule", p), p + ".rule"));
     if (!rule || std::find(st.rules.begin(), st.rules.end(), *rule) == st.rules.end())
       r.fail(p + ".rule", "not among orders.rules");
-    Study::OrderBound b{*rule, read_strategies(r, t, "strategies", p),
-                        r.number(r.require(t, "min_order", p), p + ".min_order")};
-    for (Strategy s : b.strategies)
-      if (std::find(st.strategies.begin(), st.strategies.end(), s) == st.strategies.end())
-        r.fail(p + ".strategies", fmt::format("{} is not among the study's strategies", strategy_name(s)));
-    out.push_back(std::move(b));
-  }
-  return out;
-}
-
-// [[checks.exact]]: {rule, strategies, max_error}, configurations that reproduce the continuous
-// solution up to rounding.
-std::vector<Study::ExactBound> read_exact_bounds(const StudyReader& r, const toml::table& checks,
-                                                 const Study& st) {
-  std::vector<Study::ExactBound> out;
-  const toml::node* n = checks.get("exact");
-  if (!n) return out;
-  const toml::array& a = r.array(*n, "checks.exact");
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const std::string p = fmt::format("checks.exact[{}]", i);
-    const toml::table& t = r.table(*a.get(i), p);
-    r.check_keys(t, p, {"rule", "strategies", "max_error"});
-    const auto rule = parse_segment_rule(r.string(r.require(t, "rule", p), p + ".rule"));
-    if (!rule || std::find(st.rules.begin(), st.rules.end(), *rule) == st.rules.end())
-      r.fail(p + ".rule", "not among orders.rules");
-    Study::ExactBound b{*rule, read_strategies(r, t, "strategies", p),
-                        r.number(r.require(t, "max_error", p), p + ".max_error")};
+    Bound b{*rule, read_strategies(r, t, "strategies", p),
+            r.number(r.require(t, value_key, p), StudyReader::child(p, value_key))};
     for (Strategy s : b.strategies)
       if (std::find(st.strategies.begin(), st.strategies.end(), s) == st.strategies.end())
         r.fail(p + ".strategies", fmt::format("{} is not among the study's strategies", strategy_name(s)));
@@ -206,8 +185,8 @@ StudyJob parse_sampling_study(const StudyInput& in) {
              "needs emission = kappa * extinction, each given by the same two control points");
     st.closed_form_kappa = kappa;
   }
-  st.order_bounds = read_order_bounds(r, checks, st);
-  st.exact_bounds = read_exact_bounds(r, checks, st);
+  st.order_bounds = read_bounds<Study::OrderBound>(r, checks, st, "order", "min_order");
+  st.exact_bounds = read_bounds<Study::ExactBound>(r, checks, st, "exact", "max_error");
   st.keeps_every_ray = read_subset(r, checks, "keeps_every_ray", st.strategies);
   st.drops_corner_rays = read_subset(r, checks, "drops_corner_rays", st.strategies);
   return [st](const StudyRun& run) { return run_sampling_study(st, run); };
