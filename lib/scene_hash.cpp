@@ -74,7 +74,8 @@ void hash_scene(Hasher& h, const Scene& s) {
 }  // namespace
 
 std::string camera_description(const Camera& c) {
-  return fmt::format("{} eye {:a},{:a},{:a} target {:a},{:a},{:a} up {:a},{:a},{:a} fov {:a} extent {:a} angle {:a} {}x{}",
+  // fmt's "{}" is the shortest text that reads back to the same double: exact and readable.
+  return fmt::format("{} eye [{}, {}, {}] target [{}, {}, {}] up [{}, {}, {}] fov {} extent {} angle {} {}x{}",
                      to_string(c.projection), c.eye[0], c.eye[1], c.eye[2], c.target[0], c.target[1],
                      c.target[2], c.up[0], c.up[1], c.up[2], c.fov_degrees, c.extent, c.angle_degrees,
                      c.width, c.height);

@@ -16,7 +16,8 @@ namespace vrv {
 
 std::string scene_hash(const Scene& scene);
 std::string scene_hash(const Scene& scene, const Camera& camera);
-// The canonical text the camera part of the hash is taken over (one line; useful in messages).
+// The canonical text the camera part of the hash is taken over: one line, every number in its
+// shortest round-trip form, e.g. "perspective eye [0, 0, -4] target [0, 0, 0] up [0, 1, 0] fov 40 ...".
 std::string camera_description(const Camera& camera);
 
 }  // namespace vrv

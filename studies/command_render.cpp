@@ -211,10 +211,13 @@ ImageF64 read_reference_image(const std::string& path, const Camera& camera, con
   if (!provenance)
     throw bad("carries no vrv provenance (scene hash, camera), so it cannot be checked against this "
               "scene and camera; render the reference with this version of vrv render");
-  if (provenance->scene_hash != hash)
-    throw bad(fmt::format("rendered from another scene or camera (scene hash {} with camera {}; this "
-                          "render: {} with camera {})", provenance->scene_hash.substr(0, 12), provenance->camera,
-                          hash.substr(0, 12), camera_description(camera)));
+  if (provenance->scene_hash != hash) {
+    const std::string here = camera_description(camera);
+    if (provenance->camera != here)
+      throw bad(fmt::format("rendered with another camera ({}; this render: {})", provenance->camera, here));
+    throw bad(fmt::format("rendered from another scene (scene hash {}; this render's {})",
+                          provenance->scene_hash.substr(0, 12), hash.substr(0, 12)));
+  }
   for (int y = 0; y < ref.height; ++y)
     for (int x = 0; x < ref.width; ++x) {
       const double v = ref.pixels[static_cast<std::size_t>(y) * ref.width + x];

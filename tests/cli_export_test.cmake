@@ -60,10 +60,14 @@ run(ref 0 render --reference --width 6 --height 5 --quiet -o ${OUT}/ref.exr)
 if(NOT EXISTS ${OUT}/ref.f64.tiff)
   message(FATAL_ERROR "render: no ref.f64.tiff")
 endif()
+file(WRITE ${OUT}/camera.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[camera]\nprojection = \"perspective\"\neye = [0, 0, -5]\nwidth = 6\nheight = 5\n")
+run(other_camera 0 render --scene ${OUT}/camera.toml --reference --quiet -o ${OUT}/other_camera.exr)
 run(err_ok 0 render --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/a.exr --error-against ${OUT}/ref.exr)
 file(WRITE ${OUT}/other.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.6]]\n")
-expect_error(err_other_scene "--error-against: .*ref.exr: rendered from another scene or camera"
+expect_error(err_other_scene "--error-against: .*ref.exr: rendered from another scene \\(scene hash"
   render --scene ${OUT}/other.toml --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/b.exr --error-against ${OUT}/ref.exr)
+expect_error(err_other_camera "--error-against: .*other_camera.exr: rendered with another camera"
+  render --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/b.exr --error-against ${OUT}/other_camera.exr)
 expect_error(err_png "--error-against: .*ref.png: 8-bit uint8 pixels"
   render --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/b.exr --error-against ${OUT}/ref.png)
 expect_error(err_self "-o: .*would overwrite the reference"

@@ -132,7 +132,7 @@ TEST(VolumeExport, VtiAsciiAndRawAppendedReadBack) {
     og >> origin[0] >> origin[1] >> origin[2];
     EXPECT_EQ(spacing, v.spacing);
     EXPECT_EQ(origin, v.origin);
-    EXPECT_EQ(attribute(ascii, "type"), t == SampleType::float32 ? "Float32" : "Float64");
+    EXPECT_EQ(attribute(ascii.substr(ascii.find("<DataArray")), "type"), t == SampleType::float32 ? "Float32" : "Float64");
     const auto begin = ascii.find('>', ascii.find("<DataArray")) + 1;
     std::istringstream numbers(ascii.substr(begin, ascii.find("</DataArray>") - begin));
     for (std::size_t m = 0; m < v.values.size(); ++m) {
