@@ -82,13 +82,19 @@ void stamp(OIIO::ImageSpec& spec, const ImageProvenance* p) {
   spec.attribute("ImageDescription", p->to_json());
 }
 
-// Opens the first subimage for reading with the checks every reader shares.
-std::unique_ptr<OIIO::ImageInput> open_one_channel(const fs::path& path) {
+// Opens an image file for reading, or throws naming the file.
+std::unique_ptr<OIIO::ImageInput> open_image(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) fail(path, "cannot read: no such file");
   if (fs::is_directory(path, ec)) fail(path, "cannot read: is a directory");
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) fail(path, fmt::format("cannot read: {}", OIIO::geterror()));
+  return in;
+}
+
+// Opens the first subimage for reading with the checks every pixel reader shares.
+std::unique_ptr<OIIO::ImageInput> open_one_channel(const fs::path& path) {
+  auto in = open_image(path);
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.deep) fail(path, "deep images are not supported");
   if (spec.nchannels != 1)
@@ -196,10 +202,7 @@ std::string ImageProvenance::to_json() const {
 }
 
 std::optional<ImageProvenance> read_provenance(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail(path, "cannot read: no such file");
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) fail(path, fmt::format("cannot read: {}", OIIO::geterror()));
+  auto in = open_image(path);
   const OIIO::ImageSpec& spec = in->spec();
   ImageProvenance p;
   p.scene_hash = spec.get_string_attribute("vrv:scene_hash");
@@ -237,11 +240,7 @@ void write_tiff_f64(const ImageF64& image, const fs::path& path, const ImageProv
 }
 
 ImageInfo read_image_info(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail(path, "cannot read: no such file");
-  if (fs::is_directory(path, ec)) fail(path, "cannot read: is a directory");
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) fail(path, fmt::format("cannot read: {}", OIIO::geterror()));
+  auto in = open_image(path);
   const OIIO::ImageSpec& spec = in->spec();
   ImageInfo info;
   info.width = spec.width;
