@@ -295,3 +295,9 @@ void add_study_command(CLI::App& app) {
 }
 
 }  // namespace vrv::cli
+
+namespace vrv::cli {
+
+int draw_study_plots(const std::filesystem::path& dir) { return draw_plots(dir); }
+
+}  // namespace vrv::cli
