@@ -88,7 +88,7 @@ std::vector<BoundRow> evaluate_bounds(const std::string& case_name, const Verify
           if (c.step == step && (!worst_channel || !(error_metric(c.all(), bound) <= error_metric(worst_channel->all(), bound))))
             worst_channel = &c;
         rows.push_back(judge_bound(case_name, bound,
-                                   fmt::format("{} ({}, h = {:g})", worst_channel->image, worst_channel->channel, step),
+                                   fmt::format("{} ({})", worst_channel->image, worst_channel->channel),
                                    error_metric(worst_channel->all(), bound), limits));
       }
     }

@@ -508,10 +508,15 @@ std::vector<Fault> find_faults(const VerifyReport& rep, const PixelGeometry& g, 
                                     "(entry/exit handling)", finest.image, ch, band->stats.rms,
                                     opt.silhouette_band, inner->stats.rms, f.order)});
   }
-  // Jittered start positions: zero-mean noise, uncorrelated between neighbours.
+  // Jittered start positions: zero-mean noise, uncorrelated between neighbours, and first order
+  // (a random fraction of a step); a step rounded per ray also decorrelates neighbours, but at the
+  // rule's own (second) order.
   const double corr = neighbour_correlation(finest, g, rep.width, rep.height);
+  double order = kNaN;
+  for (const OrderReport& o : rep.orders)
+    if (o.kind == "reference" && o.channel == ch) order = o.fit.order;
   if (inner && inner->pixels > 16 && inner->stats.rms > 2 * finest.floor_rms && std::isfinite(corr) &&
-      std::abs(corr) < 0.3 && std::abs(inner->stats.mean_signed) < 0.5 * inner->stats.rms)
+      std::abs(corr) < 0.3 && std::abs(inner->stats.mean_signed) < 0.5 * inner->stats.rms && order < 1.5)
     faults.push_back({"jitter", fmt::format("{} ({}): interior error RMS {:.3g} with mean {:.3g} and "
                                             "neighbour correlation {:.2f}: zero-mean noise, as from "
                                             "jittered start positions", finest.image, ch,

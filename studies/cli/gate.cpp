@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "lib/io/bounds_file.h"
+#include "lib/io/verify_output.h"
 #include "lib/parallel.h"
 #include "lib/scene_file.h"
 #include "studies/cli/verify_run.h"

@@ -41,7 +41,8 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
                            const std::string& case_name, const fs::path& out,
                            const nlohmann::json& parameters, bool no_plots) {
   const auto start = std::chrono::steady_clock::now();
-  VerifyRun run{verify_images(scene, images, options)};
+  VerifyRun run;
+  run.report = verify_images(scene, images, options);
   if (bounds) run.rows = evaluate_bounds(case_name, run.report, *bounds);
   run.pass = run.report.pass && worst(run.rows) < BoundVerdict::fail;
   if (!out.empty()) {
