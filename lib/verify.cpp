@@ -470,10 +470,9 @@ std::vector<Fault> find_faults(const VerifyReport& rep, const PixelGeometry& g, 
     if (!(f.explained >= 0.5) || !(std::abs(f.entry) >= 0.3 && std::abs(f.entry) <= 0.7)) continue;
     faults.push_back({"half-step offset",
                       fmt::format("{} ({}): the error is {:.0f} % explained by moving the samples {:+.2f} "
-                                  "steps at the entry and {:+.2f} at the exit ({}: the first sample is "
-                                  "{} a step from where a midpoint rule puts it)",
-                                  r->image, ch, 100 * f.explained, f.entry, f.exit,
-                                  f.entry > 0 ? "late" : "early", f.entry > 0 ? "half" : "half")});
+                                  "steps at the entry and {:+.2f} at the exit: the samples sit half a step "
+                                  "{} than a midpoint rule puts them", r->image, ch, 100 * f.explained,
+                                  f.entry, f.exit, f.entry > 0 ? "later" : "earlier")});
     break;
   }
   // Constant floor: the images agree with each other much better than with the reference.

@@ -29,8 +29,6 @@ double ulp_at(double largest, int mantissa) {
 
 }  // namespace
 
-double quantisation_rms(const ChannelImage& image) { return image.quantum / std::sqrt(12.0); }
-
 ChannelImage read_channel_image(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) fail(path, "cannot read: no such file");

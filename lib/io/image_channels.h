@@ -2,6 +2,7 @@
 // A renderer's image as vrv verify reads it: every channel in double, with the names, which one
 // is alpha, and how finely the file could store a value (its quantum), so that an 8- or 16-bit
 // image's rounding is stated instead of being mistaken for a discretisation error.
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -29,8 +30,8 @@ struct ChannelImage {
 // be read, is deep, volumetric, empty, larger than 65536 on a side or has more than 4 channels.
 ChannelImage read_channel_image(const std::filesystem::path& path);
 
-// Quantisation floors of `image`: max |rounding| = quantum / 2, RMS = quantum / sqrt(12).
+// Quantisation floors of `image` (inline: lib/verify uses them without linking OpenImageIO): max |rounding| = quantum / 2, RMS = quantum / sqrt(12).
 inline double quantisation_max(const ChannelImage& image) { return image.quantum / 2; }
-double quantisation_rms(const ChannelImage& image);
+inline double quantisation_rms(const ChannelImage& image) { return image.quantum / std::sqrt(12.0); }
 
 }  // namespace vrv

@@ -28,8 +28,11 @@ inline double pixel_random(long i) {
   return static_cast<double>(z >> 11) * 0x1.0p-53;
 }
 
+// The image composited over the scene's background; with `alpha`, the colour over nothing
+// (premultiplied) and the opacity 1 - transparency per pixel in *alpha.
 inline std::vector<double> render(const Scene& scene, const Camera& camera, double step, Fault fault,
-                                  double unit_distance) {
+                                  double unit_distance, std::vector<double>* alpha = nullptr) {
+  if (alpha) alpha->assign(static_cast<std::size_t>(camera.width) * camera.height, 0.0);
   std::vector<double> out(static_cast<std::size_t>(camera.width) * camera.height);
   visit_field(scene, [&](const auto& field) {
     for (int y = 0; y < camera.height; ++y)
@@ -53,7 +56,9 @@ inline std::vector<double> render(const Scene& scene, const Camera& camera, doub
             transparency *= 1 - alpha;
           }
         }
-        out[static_cast<std::size_t>(y) * camera.width + x] = colour + transparency * scene.background;
+        const std::size_t i = static_cast<std::size_t>(y) * camera.width + x;
+        out[i] = alpha ? colour : colour + transparency * scene.background;
+        if (alpha) (*alpha)[i] = 1 - transparency;
       }
   });
   return out;

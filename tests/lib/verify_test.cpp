@@ -140,6 +140,39 @@ TEST_F(VerifyToy, EightBitImagesStateTheirFloorAndClaimNoOrderBelowIt) {
   EXPECT_TRUE(has_fault(r, "quantisation"));
 }
 
+// RGBA over nothing, premultiplied or straight: each colour channel composited over the
+// background matches the grey image's errors, and alpha converges to the reference opacity.
+TEST_F(VerifyToy, RgbaPremultipliedAndStraight) {
+  for (AlphaMode mode : {AlphaMode::premultiplied, AlphaMode::straight}) {
+    std::vector<ImageWithStep> images;
+    for (double h : kSteps) {
+      std::vector<double> a;
+      std::vector<double> c = toy::render(scene, *scene.camera, h, toy::Fault::none, h, &a);
+      if (mode == AlphaMode::straight)
+        for (std::size_t i = 0; i < c.size(); ++i) c[i] = a[i] > 0 ? c[i] / a[i] : 0;
+      ChannelImage im;
+      im.width = scene.camera->width, im.height = scene.camera->height;
+      im.names = {"R", "G", "B", "A"};
+      im.planes = {c, c, c, a};
+      im.alpha = 3;
+      im.pixel_type = "double";
+      images.push_back({"rgba " + std::to_string(h), h, im});
+    }
+    VerifyOptions o = options();
+    o.alpha = mode;
+    o.diagnose = false;
+    const VerifyReport r = verify_images(scene, images, o);
+    EXPECT_TRUE(r.pass) << r.verdict.reason;
+    ASSERT_EQ(r.orders.size(), 8u);  // R, G, B, A: reference and self each
+    EXPECT_EQ(r.orders[6].channel, "A");
+    EXPECT_GE(r.orders[6].fit.order, 1.75);
+    // The colour channels' errors equal the grey image's (the same numbers composited here).
+    const VerifyReport grey = verify_images(scene, toy_images(scene, toy::Fault::none, "grey"), o);
+    EXPECT_NEAR(r.channels.back().alpha ? r.channels[r.channels.size() - 4].all().rms : 0,
+                grey.channels.back().all().rms, 1e-6 * grey.channels.back().all().rms + 1e-7);
+  }
+}
+
 TEST_F(VerifyToy, BadInputIsOneLineNamingTheImage) {
   std::vector<ImageWithStep> images = toy_images(scene, toy::Fault::none, "bad");
   VerifyOptions o = options();
