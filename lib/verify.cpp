@@ -491,7 +491,9 @@ std::vector<Fault> find_faults(const VerifyReport& rep, const PixelGeometry& g, 
   // First-order border band.
   const RegionStats* band = region(finest, "silhouette");
   const RegionStats* inner = region(finest, "interior");
-  if (band && inner && band->pixels > 0 && band->stats.rms > 3 * inner->stats.rms &&
+  const RegionStats* jump = region(finest, "tf_jump");
+  const double inside_rms = std::max(inner ? inner->stats.rms : 0.0, jump ? jump->stats.rms : 0.0);
+  if (band && inner && band->pixels > 0 && band->stats.rms > 3 * inside_rms &&
       band->stats.rms > 2 * finest.floor_rms) {
     std::vector<double> steps, errs;
     for (std::size_t k = 0; k < images; ++k) {
@@ -505,7 +507,7 @@ std::vector<Fault> find_faults(const VerifyReport& rep, const PixelGeometry& g, 
                         fmt::format("{} ({}): RMS {:.3g} in the {}-pixel silhouette band against {:.3g} "
                                     "inside, converging there at order {:.3g}: rays that graze the box "
                                     "(entry/exit handling)", finest.image, ch, band->stats.rms,
-                                    opt.silhouette_band, inner->stats.rms, f.order)});
+                                    opt.silhouette_band, inside_rms, f.order)});
   }
   // Jittered start positions: zero-mean noise, uncorrelated between neighbours, and first order
   // (a random fraction of a step); a step rounded per ray also decorrelates neighbours, but at the
@@ -521,7 +523,6 @@ std::vector<Fault> find_faults(const VerifyReport& rep, const PixelGeometry& g, 
                                             "jittered start positions", finest.image, ch,
                                             inner->stats.rms, inner->stats.mean_signed, corr)});
   // Error concentrated at transfer-function jumps.
-  const RegionStats* jump = region(finest, "tf_jump");
   if (jump && inner && jump->pixels > 0 && jump->stats.rms > 3 * inner->stats.rms &&
       jump->stats.rms > 2 * finest.floor_rms)
     faults.push_back({"error at transfer-function jumps",

@@ -92,3 +92,8 @@ string(JSON verdict GET "${LAST_OUT}" bounds 0 verdict)
 if(NOT verdict STREQUAL "fail")
   message(FATAL_ERROR "bounds_tight: ${bound} fail = ${tighter} below the measured ${measured} gave '${verdict}'")
 endif()
+
+# A gate case naming a study that does not exist is bad input (exit 2), not a failed bound.
+file(WRITE ${OUT}/nostudy.toml "[[case]]\nname = \"s\"\nstudy = \"no_such_study\"\n")
+expect_bad_input(gate_no_study "case s: study no_such_study exited with 2"
+  gate --bounds ${OUT}/nostudy.toml --out ${OUT}/nostudy --quiet)

@@ -126,6 +126,22 @@ TEST_F(VerifyToy, JitterIsNamed) {
   EXPECT_FALSE(has_fault(r, "half-step offset"));
 }
 
+TEST_F(VerifyToy, ErrorAtTransferFunctionJumpsIsNamed) {
+  std::string text = kScene;
+  const std::string from = "emission = [[0.0, 0.0], [1.0, 1.0]]\nextinction = [[0.0, 0.0], [1.0, 2.0]]";
+  text.replace(text.find(from), from.size(),
+               "emission = [[0.0, 0.2], [0.55, 0.2], [0.55, 1.0], [1.0, 1.0]]\n"
+               "extinction = [[0.0, 0.5], [0.55, 0.5], [0.55, 2.0], [1.0, 2.0]]");
+  const Scene steps = parse_scene(text, "jump.toml");
+  VerifyOptions o;
+  o.diagnose = false;
+  const VerifyReport r = verify_images(steps, toy_images(steps, toy::Fault::none, "jump"), o);
+  EXPECT_GT(r.reference.jump_pixels, 0);
+  EXPECT_TRUE(has_fault(r, "error at transfer-function jumps"));
+  EXPECT_FALSE(has_fault(r, "first-order border band"));
+  EXPECT_NEAR(r.orders[0].fit.order, 1, 0.25);  // a jump inside a step: first order
+}
+
 TEST_F(VerifyToy, EightBitImagesStateTheirFloorAndClaimNoOrderBelowIt) {
   std::vector<ImageWithStep> images = toy_images(scene, toy::Fault::none, "eightbit");
   for (ImageWithStep& im : images) {
