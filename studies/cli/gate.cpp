@@ -1,5 +1,6 @@
 // vrv gate: runs what a bounds file names (vrv's own methods rendered at several steps, a
 // renderer's images, or studies) and gates each on its bounds.  See docs/verify.md.
+#include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -47,7 +48,11 @@ int run_study_case(const GateCase& c, const fs::path& out, long& failed) {
   const std::string exe = self.string(), dir = out.string();
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("gate: cannot start a study");
+  const std::string log = (out / (c.name + ".stderr.log")).string();
   if (pid == 0) {
+    // The study's own messages go to a log beside its results (one line of ours on stderr).
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) dup2(fd, 2);
     const char* argv[] = {exe.c_str(), "study", c.study.c_str(), "--quick", "--quiet", "--no-plots", "--out",
                           dir.c_str(), nullptr};
     execv(argv[0], const_cast<char* const*>(argv));
@@ -136,8 +141,13 @@ int run_gate(const GateOptions& o) {
     if (!c.study.empty()) {
       long failed = 0;
       const int rc = run_study_case(c, out, failed);
-      if (rc == kExitBadInput || rc > kExitBadInput)
-        throw std::invalid_argument(fmt::format("{}: case {}: study {} exited with {}", o.bounds, c.name, c.study, rc));
+      if (rc == kExitBadInput || rc > kExitBadInput) {
+        std::ifstream log(out / (c.name + ".stderr.log"));
+        std::string first;
+        std::getline(log, first);
+        throw std::invalid_argument(fmt::format("{}: case {}: study {} exited with {}: {}", o.bounds, c.name,
+                                                c.study, rc, first));
+      }
       rows.push_back(study_row(c.name, rc == 0, failed));
       pass = pass && rc == 0;
       case_json.push_back({{"case", c.name}, {"study", c.study}, {"pass", rc == 0}});
