@@ -182,6 +182,15 @@ void write_error_map_png(const Image& error, const fs::path& path, double max_ab
   write_atomically(path, "png", spec, OIIO::TypeDesc::UINT8, rgb.data());
 }
 
+void write_rgb8_png(int width, int height, const std::vector<unsigned char>& rgb, const fs::path& path,
+                    const std::string& description) {
+  if (width < 1 || height < 1 || rgb.size() != static_cast<std::size_t>(width) * height * 3)
+    fail(path, fmt::format("bad RGB image size {} x {} with {} bytes", width, height, rgb.size()));
+  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+  if (!description.empty()) spec.attribute("ImageDescription", description);
+  write_atomically(path, "png", spec, OIIO::TypeDesc::UINT8, rgb.data());
+}
+
 Image read_exr(const fs::path& path) {
   auto in = open_one_channel(path);
   const OIIO::ImageSpec& spec = in->spec();

@@ -93,6 +93,11 @@ struct Rgb8 {
 };
 Rgb8 diverging_colour(double value, double max_abs);
 
+// 8-bit RGB, interleaved rows (top first), written atomically as PNG with `description` as its
+// ImageDescription (empty: none).  rgb.size() must be 3 * width * height.
+void write_rgb8_png(int width, int height, const std::vector<unsigned char>& rgb,
+                    const std::filesystem::path& path, const std::string& description);
+
 // Reads the first subimage of a one-channel image (EXR or anything OIIO reads) as floats.
 // Throws std::runtime_error naming the file when it cannot be read or has other than one channel.
 Image read_exr(const std::filesystem::path& path);
