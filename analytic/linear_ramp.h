@@ -15,6 +15,7 @@ struct LinearRamp {
   int degree_along_ray() const { return 1; }
   double bandwidth() const { return 0; }
   void append_breaks(const Ray&, Interval, std::vector<double>&) const {}
+  double max_change_within(double distance) const { return distance * gradient.norm(); }
 };
 
 }  // namespace vrv

@@ -2,6 +2,7 @@
 // What an integrator needs from a scalar field.  Fields are plain types used through
 // templates (no virtual call per evaluation); a scene holds one of them in a std::variant.
 #include <concepts>
+#include <limits>
 #include <vector>
 
 #include "lib/geometry.h"
@@ -33,6 +34,18 @@ double field_value_noise(const F& f) {
     return f.value_noise();
   else
     return 0;
+}
+
+// The largest change of f between two points `distance` apart where the field states one
+// (max_change_within()), else infinity; 0 for distance 0.  It charges the rounding of a far
+// ray's entry point (RayFrame::position_error) to the estimate.
+template <class F>
+double field_change_within(const F& f, double distance) {
+  if (!(distance > 0)) return 0;
+  if constexpr (requires { { f.max_change_within(distance) } -> std::convertible_to<double>; })
+    return f.max_change_within(distance);
+  else
+    return std::numeric_limits<double>::infinity();
 }
 
 }  // namespace vrv

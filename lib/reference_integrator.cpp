@@ -26,9 +26,14 @@ int spectral_points(const RayPanel& panel, double c, double d) {
 
 }  // namespace
 
-RayAccumulator::RayAccumulator(const TransferFunction& tf, double background, double tol,
-                               Interval iv)
-    : tf_(tf), background_(background), tol_(tol), iv_(iv) {
+RayAccumulator::RayAccumulator(const TransferFunction& tf, double background,
+                               const ReferenceOptions& options, Interval iv, double position_error)
+    : tf_(tf),
+      background_(background),
+      tol_(options.tol),
+      stop_when_opaque_(options.stop_when_opaque),
+      iv_(iv),
+      position_error_(position_error) {
   check_termination(iv.t0);
 }
 
@@ -51,29 +56,31 @@ void RayAccumulator::book_depth_error(double dphi) {
 }
 
 void RayAccumulator::consume(const RayPanel& panel) {
+  if (stopped_) return;
   const double transmittance = std::exp(-phi_);
+  const double field_error = panel.error + position_error_;
   crossings_.clear();
-  find_crossings(panel, tf_.breakpoints(), crossings_);
+  if (may_cross(panel, tf_.breakpoints())) find_crossings(panel, tf_.breakpoints(), crossings_);
   const double length = panel.b - panel.a;
   // A proxy error df moves the crossings of jumps by df / |p'| (those of kinks only to
   // second order) ...
   for (const Crossing& x : crossings_) {
     const auto jump = tf_.jump_at(x.level);
     if (jump.emission == 0 && jump.extinction == 0) continue;
-    const double df = panel.error + 4 * eps * std::max(1.0, std::abs(x.level));
+    const double df = field_error + 4 * eps * std::max(1.0, std::abs(x.level));
     const double dt = std::min(df / std::abs(x.slope), length) + 4 * eps * std::abs(x.t);
     error_ += transmittance * jump.emission * dt;
     book_depth_error(jump.extinction * dt);
   }
   double c = panel.a;
-  for (std::size_t k = 0; k <= crossings_.size(); ++k) {
+  for (std::size_t k = 0; k <= crossings_.size() && !stopped_; ++k) {
     const double t = k < crossings_.size() ? crossings_[k].t : panel.b;
     if (!(t > c)) continue;
     const double v = panel(0.5 * (c + t));
     // ... and changes g and tau through the slopes of the branch each piece is on.
     const auto slopes = tf_.slope_bounds(v, v);
-    error_ += panel.error * (t - c) * std::exp(-phi_) * (emission_done_ ? 0.0 : slopes.emission);
-    book_depth_error(panel.error * (t - c) * slopes.extinction);
+    error_ += field_error * (t - c) * std::exp(-phi_) * (emission_done_ ? 0.0 : slopes.emission);
+    book_depth_error(field_error * (t - c) * slopes.extinction);
     integrate_piece(panel, c, t, tf_.segment(v));
     c = t;
   }
@@ -118,9 +125,17 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   const double half = 0.5 * (d - c), mid = 0.5 * (c + d);
   // The whole panel at its own nodes: the sampled values themselves, no interpolation.
   const bool own_nodes = c == panel.a && d == panel.b && n == panel.size();
+  double values[129];
+  if (own_nodes) {
+    std::copy_n(panel.values.begin(), n, values);
+  } else {
+    double xs[129];
+    for (int j = 0; j < n; ++j) xs[j] = panel.x_of(mid + half * rule.node(j));
+    chebyshev_evaluate_many(panel.coefficients, {xs, count}, {values, count});
+  }
   double v_max = 1, tau_max = 0, g_max = 0;
   for (int j = 0; j < n; ++j) {
-    const double v = own_nodes ? panel.values[j] : panel(mid + half * rule.node(j));
+    const double v = values[j];
     v_max = std::max(v_max, std::abs(v));
     tau[j] = seg.tau(v);
     tau_max = std::max(tau_max, tau[j]);
@@ -140,6 +155,12 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   double emission = 0;
   if (!depth_only) {
     rule.cumulative_integral({tau, count}, {phi, count});
+    // tau >= 0, so Phi rises from 0 at x = -1 (the last node): rounding in the spectral
+    // integral (~eps sum |tau|, thousands when tau ~ 1e21) must not make it negative, or
+    // e^-Phi overflows.  The running maximum is the stable form; its change is within that
+    // rounding, which h_noise below charges through (1 + phi_ + dphi).
+    phi[n - 1] = std::max(phi[n - 1], 0.0);
+    for (int j = n - 1; j-- > 0;) phi[j] = std::max(phi[j], phi[j + 1]);
     for (int j = 0; j < n; ++j) h[j] = g[j] * std::exp(-(phi_ + half * phi[j]));
     rule.coefficients({h, count}, {h_c, count});
     const double h_noise =
@@ -155,11 +176,13 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   const bool splittable =
       level < kMaxLevel && mid > c && mid < d && spectral_pieces_ < kMaxSpectralPieces;
   const double judged = error + depth_error * std::exp(-phi_) * sensitivity_after(c);
-  if (splittable && (!converged || (judged > local_tol && !at_rounding))) {
+  const bool good = converged && (judged <= local_tol || at_rounding);
+  if (splittable && !good) {
     integrate_spectral(panel, c, mid, seg, depth_only, level + 1);
     integrate_spectral(panel, mid, d, seg, depth_only, level + 1);
     return;
   }
+  if (!good && (level >= kMaxLevel || spectral_pieces_ >= kMaxSpectralPieces)) capped_ = true;
   // Rounding in the running sum Phi is booked apart: splitting cannot reduce it.
   book_depth_error(depth_error + 4 * eps * (phi_ + dphi));
   value_ += emission;
@@ -168,13 +191,32 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
 }
 
 void RayAccumulator::check_termination(double t) {
-  if (emission_done_) return;
+  if (stopped_) return;
   // Everything still to come emits at most max g per unit length, attenuated by e^-Phi.
-  const double rest = std::exp(-phi_) * tf_.max_emission() * (iv_.t1 - t);
-  if (rest <= kTerminationShare * tol_) {
+  const double transmittance = std::exp(-phi_);
+  const double rest = emission_done_ ? 0.0 : transmittance * tf_.max_emission() * (iv_.t1 - t);
+  // Opaque: neither the emission to come nor the background (whose share lies in
+  // [0, e^-Phi I0], reported as e^-Phi I0) can matter any more.
+  const double behind = rest + transmittance * background_;
+  if (stop_when_opaque_ && termination_booked_ + behind <= kTerminationShare * tol_) {
+    emission_done_ = stopped_ = stopped_early_ = true;
+    error_ += behind;
+    termination_booked_ += behind;
+    return;
+  }
+  if (!emission_done_ && rest <= kTerminationShare * tol_) {
     emission_done_ = true;
     error_ += rest;
+    termination_booked_ += rest;
   }
+}
+
+void RayAccumulator::give_up(double t) {
+  if (stopped_) return;
+  // The rest emits at most max g per unit length and lets through at most e^-Phi I0.
+  const double transmittance = std::exp(-phi_);
+  error_ += transmittance * ((emission_done_ ? 0.0 : tf_.max_emission() * (iv_.t1 - t)) + background_);
+  stopped_ = capped_ = true;
 }
 
 ReferenceResult RayAccumulator::finish() const {
@@ -183,10 +225,13 @@ ReferenceResult RayAccumulator::finish() const {
   r.t_entry = iv_.t0;
   r.t_exit = iv_.t1;
   r.optical_depth = phi_;
+  r.stopped_early = stopped_early_;
   r.value = value_ + background_ * std::exp(-phi_);
   // First order in dPhi; 10 % covers the second-order terms.
   const double after = std::max(0.0, r.value * depth_error_ - depth_error_weighted_);
   r.error_estimate = error_ + 1.1 * after + 16 * eps * (std::abs(value_) + background_);
+  r.tolerance_met = !capped_ && r.error_estimate <= tol_ && std::isfinite(r.value) &&
+                    std::isfinite(r.error_estimate);
   return r;
 }
 
