@@ -80,7 +80,8 @@ void RayAccumulator::consume(const RayPanel& panel) {
     // ... and changes g and tau through the slopes of the branch each piece is on.
     const auto slopes = tf_.slope_bounds(v, v);
     error_ += field_error * (t - c) * std::exp(-phi_) * (emission_done_ ? 0.0 : slopes.emission);
-    book_depth_error(field_error * (t - c) * slopes.extinction);
+    piece_depth_error_ = field_error * (t - c) * slopes.extinction;
+    book_depth_error(piece_depth_error_);
     integrate_piece(panel, c, t, tf_.segment(v));
     c = t;
   }
@@ -109,10 +110,86 @@ void RayAccumulator::integrate_piece(const RayPanel& panel, double c, double d,
     const double phi0 = phi_;
     integrate_spectral(panel, c, d, seg, true, 0);
     if (!emission_done_) value_ += *kappa * std::exp(-phi0) * -std::expm1(-(phi_ - phi0));
+  } else if (integrate_opaque_piece(panel, c, d, seg)) {
   } else {
     integrate_spectral(panel, c, d, seg, false, 0);
   }
   check_termination(d);
+}
+
+namespace {
+
+// The range of the proxy on [c, d]: re-expanded there (exactly, it is a polynomial of the
+// same degree), every value lies in c0 +- sum |ck|, widened by the rounding.
+ValueRange piece_range(const RayPanel& panel, double c, double d) {
+  const int n = panel.size();
+  const auto count = static_cast<std::size_t>(n);
+  const ChebyshevRule& rule = ChebyshevRule::get(n);
+  double xs[129], values[129], coefficients[129];
+  for (int j = 0; j < n; ++j) xs[j] = panel.x_of(0.5 * (c + d) + 0.5 * (d - c) * rule.node(j));
+  chebyshev_evaluate_many(panel.coefficients, {xs, count}, {values, count});
+  rule.coefficients({values, count}, {coefficients, count});
+  double spread = 0, size = 0;
+  for (int k = 1; k < n; ++k) spread += std::abs(coefficients[k]);
+  for (int j = 0; j < n; ++j) size = std::max(size, std::abs(values[j]));
+  const double slack = 16 * n * eps * (size + spread);
+  return {coefficients[0] - spread - slack, coefficients[0] + spread + slack};
+}
+
+}  // namespace
+
+bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, double d,
+                                            const TransferSegment& seg) {
+  // Where a piece absorbs all but e^-32, e^-Phi is a boundary layer of width 1/tau that no
+  // polynomial resolves (tau ~ 1e21 gave a NaN, then estimates of 1e6).  There
+  //   int g e^-Phi ds = int (g / tau) e^-Phi dPhi,
+  // and g / tau (a ratio of two affine functions of v, monotone where tau > 0) lies between its
+  // values at the ends of the value range: over the layer [c, e] that holds all but e^-64 of
+  // the light, the integral is that bracket times e^-Phi0 (1 - e^-dPhi), and only Phi is needed.
+  // Taken when the bracket meets the piece's share of the tolerance; else the spectral route.
+  if (!tf_.affine() || emission_done_ || panel.size() < 2) return false;
+  double lo = 0, hi = 0;
+  tf_.segment(panel(0.5 * (c + d)), lo, hi);
+  const double margin = panel.error + position_error_;
+  const auto values_on = [&](double from, double to) {
+    const ValueRange r = piece_range(panel, from, to);
+    return ValueRange{std::max(r.min - margin, lo), std::min(r.max + margin, hi)};
+  };
+  const ValueRange whole = values_on(c, d);
+  if (!(whole.min <= whole.max)) return false;
+  // The layer: 64 optical depths at the entry's tau (a few ulps of t if thinner than that).
+  const double tau_c = seg.tau(panel(c));
+  if (!(tau_c * (d - c) > 64)) return false;
+  const double e = std::min(d, c + std::max(64 / tau_c, 8 * eps * std::max(std::abs(c), std::abs(d))));
+  if (!(e > c)) return false;
+  const ValueRange layer = e < d ? values_on(c, e) : whole;
+  if (!(layer.min <= layer.max)) return false;
+  const double tau_lo = seg.tau(layer.min), tau_hi = seg.tau(layer.max);
+  const double r_lo = seg.g(layer.min) / tau_lo, r_hi = seg.g(layer.max) / tau_hi;
+  if (!(std::min(tau_lo, tau_hi) * (e - c) > 32)) return false;
+  const double r_min = std::min(r_lo, r_hi), r_max = std::max(r_lo, r_hi);
+  const double transmittance = std::exp(-phi_);
+  const double local_tol = kQuadratureShare * tol_ * (d - c) / iv_.length();
+  if (!(0.5 * (r_max - r_min) * transmittance <= local_tol)) return false;
+  const double phi0 = phi_, booked0 = depth_error_;
+  integrate_spectral(panel, c, e, seg, true, 0);
+  const double absorbed = -std::expm1(-(phi_ - phi0));
+  const double emission = 0.5 * (r_min + r_max) * transmittance * absorbed;
+  value_ += emission;
+  // 1 - e^-dPhi is 1 up to e^-(tau_min (e - c)), whatever the errors in Phi inside the layer.
+  const double unabsorbed = std::exp(-std::min(tau_lo, tau_hi) * (e - c));
+  error_ += 0.5 * (r_max - r_min) * transmittance * absorbed + r_max * transmittance * unabsorbed +
+            8 * eps * emission;
+  // Depth errors of the piece (its field error, booked by consume, and the layer's quadrature)
+  // do not reach the layer's own emission, which the bracket covers (v's range is widened by
+  // the field error): charge them only to what comes after, as if booked after this emission.
+  depth_error_weighted_ += (piece_depth_error_ + depth_error_ - booked0) * emission;
+  if (e < d) {
+    // Behind the layer: at most max g e^-Phi per unit length; only Phi is carried on.
+    error_ += std::max(seg.g(whole.min), seg.g(whole.max)) * std::exp(-phi_) * (d - e);
+    integrate_spectral(panel, e, d, seg, true, 0);
+  }
+  return true;
 }
 
 void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double d,

@@ -74,6 +74,8 @@ class RayAccumulator {
 
  private:
   void integrate_piece(const RayPanel& panel, double c, double d, const TransferSegment& seg);
+  // A piece that absorbs (nearly) everything, from Phi alone; false when it does not apply.
+  bool integrate_opaque_piece(const RayPanel& panel, double c, double d, const TransferSegment& seg);
   // Adaptive Clenshaw-Curtis on [c, d]; `depth_only` skips the emission.
   void integrate_spectral(const RayPanel& panel, double c, double d, const TransferSegment& seg,
                           bool depth_only, int level);
@@ -99,6 +101,7 @@ class RayAccumulator {
   bool capped_ = false;
   double termination_booked_ = 0;  // error booked by early termination so far
   long spectral_pieces_ = 0;
+  double piece_depth_error_ = 0;     // the field-error part of dPhi booked for the current piece
   double depth_error_ = 0;           // sum of dPhi_i
   double depth_error_weighted_ = 0;  // sum of dPhi_i * (value before i)
   std::vector<Crossing> crossings_;
@@ -106,6 +109,13 @@ class RayAccumulator {
 
 // Work cap per ray: past it the rest of the ray is bounded (RayAccumulator::give_up).
 inline constexpr long kMaxEvaluations = 1'000'000;
+
+// The field's rounding level on [a, b] of the ray (its coordinates' size matters far out).
+template <ScalarField F>
+double panel_noise(const F& field, const Ray& ray, double a, double b) {
+  const double extent = std::max(ray.at(a).cwiseAbs().maxCoeff(), ray.at(b).cwiseAbs().maxCoeff());
+  return field_value_noise(field, extent);
+}
 
 template <ScalarField F>
 RayPanel fit_panel(const F& field, const Ray& ray, double a, double b, int n, long& evaluations) {
@@ -118,7 +128,7 @@ RayPanel fit_panel(const F& field, const Ray& ray, double a, double b, int n, lo
   // splitting has stopped helping (it would otherwise inflate every panel's estimate by the
   // worst-case rounding, which the tail already measures where it matters).
   panel.error = chebyshev_accuracy(panel.coefficients).error;
-  panel.resolved = chebyshev_accuracy(panel.coefficients, field_value_noise(field)).resolved;
+  panel.resolved = chebyshev_accuracy(panel.coefficients, panel_noise(field, ray, a, b)).resolved;
   return panel;
 }
 
@@ -130,7 +140,7 @@ void resolve_smooth(const F& field, const Ray& ray, double a, double b, int leve
   constexpr int max_level = 30;
   if (acc.stopped()) return;
   RayPanel panel = fit_panel(field, ray, a, b, n, evaluations);
-  const ChebyshevAccuracy check = chebyshev_accuracy(panel.coefficients, field_value_noise(field));
+  const ChebyshevAccuracy check = chebyshev_accuracy(panel.coefficients, panel_noise(field, ray, a, b));
   const bool good = check.resolved && (check.at_rounding || panel.error <= acc.field_tolerance());
   if (!good && evaluations >= kMaxEvaluations) {
     // An unresolved panel's error is only a guess: bound the rest of the ray instead.
