@@ -498,9 +498,21 @@ TEST(ReferenceIntegratorHard, OpticalDepthInThousands) {
     ind::Result ref;
     const auto r = check_ray(kML, kMLRef, tf, 0, spec, &ref);
     if (!r) continue;
-    EXPECT_GT(r->optical_depth, 1000) << describe(spec);
+    // The ray stops once opaque (stop_when_opaque): its depth is the depth up to there.
+    EXPECT_TRUE(r->stopped_early) << describe(spec);
+    EXPECT_LE(r->optical_depth, static_cast<double>(ref.optical_depth)) << describe(spec);
     EXPECT_GT(static_cast<double>(ref.optical_depth), 1000) << describe(spec);
     EXPECT_LT(r->evaluations, 5000) << describe(spec);
+    // Carried to the exit, the depth is the whole depth and the value the same.
+    ReferenceOptions whole{kTol};
+    whole.stop_when_opaque = false;
+    const ReferenceResult w =
+        integrate_reference(kML, kBox, tf, 0, make_ray(spec.origin, spec.direction), whole);
+    EXPECT_FALSE(w.stopped_early);
+    EXPECT_NEAR(w.optical_depth, static_cast<double>(ref.optical_depth), 1e-9 * w.optical_depth)
+        << describe(spec);
+    EXPECT_EQ(w.value, r->value) << describe(spec);
+    EXPECT_LT(w.evaluations, 5000) << describe(spec);
     std::cout << std::setprecision(6) << "[ depth x2000 ] value " << r->value << ", estimate "
               << r->error_estimate << ", depth " << r->optical_depth << " (independent "
               << static_cast<double>(ref.optical_depth) << "), evaluations " << r->evaluations
