@@ -34,6 +34,8 @@ RayAccumulator::RayAccumulator(const TransferFunction& tf, double background,
       stop_when_opaque_(options.stop_when_opaque),
       iv_(iv),
       position_error_(position_error) {
+  for (double v : tf.breakpoints())
+    max_extinction_ = std::max(max_extinction_, tf.extinction(v) + tf.jump_at(v).extinction);
   check_termination(iv.t0);
 }
 
@@ -64,17 +66,22 @@ void RayAccumulator::consume(const RayPanel& panel) {
   const double length = panel.b - panel.a;
   // A proxy error df moves the crossings of jumps by df / |p'| (those of kinks only to
   // second order) ...
-  for (const Crossing& x : crossings_) {
+  // The emission part is charged when the ray reaches the crossing, attenuated by e^-Phi
+  // there (emission 1e300 behind optical depth 700 gave estimates of 1e285).
+  crossing_shifts_.assign(crossings_.size(), 0.0);
+  for (std::size_t k = 0; k < crossings_.size(); ++k) {
+    const Crossing& x = crossings_[k];
     const auto jump = tf_.jump_at(x.level);
     if (jump.emission == 0 && jump.extinction == 0) continue;
     const double df = field_error + 4 * eps * std::max(1.0, std::abs(x.level));
     const double dt = std::min(df / std::abs(x.slope), length) + 4 * eps * std::abs(x.t);
-    error_ += transmittance * jump.emission * dt;
+    crossing_shifts_[k] = dt;
     book_depth_error(jump.extinction * dt);
   }
   double c = panel.a;
   for (std::size_t k = 0; k <= crossings_.size() && !stopped_; ++k) {
     const double t = k < crossings_.size() ? crossings_[k].t : panel.b;
+    if (k > 0) charge_crossing(crossings_[k - 1], crossing_shifts_[k - 1], transmittance);
     if (!(t > c)) continue;
     const double v = panel(0.5 * (c + t));
     // ... and changes g and tau through the slopes of the branch each piece is on.
@@ -85,6 +92,14 @@ void RayAccumulator::consume(const RayPanel& panel) {
     integrate_piece(panel, c, t, tf_.segment(v));
     c = t;
   }
+}
+
+void RayAccumulator::charge_crossing(const Crossing& x, double dt, double panel_transmittance) {
+  if (dt == 0 || emission_done_) return;  // after termination its bound covers all emission
+  // The shifted stretch [x - dt, x + dt] is attenuated at least by Phi(x - dt) >= Phi - tau dt,
+  // and never less than at the panel's start.
+  const double transmittance = std::min(panel_transmittance, std::exp(-(phi_ - max_extinction_ * dt)));
+  error_ += transmittance * tf_.jump_at(x.level).emission * dt;
 }
 
 void RayAccumulator::add(const PieceIntegral& piece) {

@@ -80,6 +80,8 @@ class RayAccumulator {
   void integrate_spectral(const RayPanel& panel, double c, double d, const TransferSegment& seg,
                           bool depth_only, int level);
   void add(const PieceIntegral& piece);
+  // The emission error of a jump crossed at x whose position is uncertain by dt.
+  void charge_crossing(const Crossing& x, double dt, double panel_transmittance);
   void check_termination(double t);
   double sensitivity_after(double t) const;  // a priori bound on |dI / dPhi| at t
   // An uncertainty dPhi in the optical depth here scales everything behind by e^-dPhi, so it
@@ -101,6 +103,8 @@ class RayAccumulator {
   bool capped_ = false;
   double termination_booked_ = 0;  // error booked by early termination so far
   long spectral_pieces_ = 0;
+  double max_extinction_ = 0;        // max tau over all values
+  std::vector<double> crossing_shifts_;  // dt of each crossing of the current panel
   double piece_depth_error_ = 0;     // the field-error part of dPhi booked for the current piece
   double depth_error_ = 0;           // sum of dPhi_i
   double depth_error_weighted_ = 0;  // sum of dPhi_i * (value before i)
