@@ -155,7 +155,7 @@ ValueRange piece_range(const RayPanel& panel, double c, double d) {
 
 bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, double d,
                                             const TransferSegment& seg) {
-  // Where a piece absorbs all but e^-32, e^-Phi is a boundary layer of width 1/tau that no
+  // Where a piece is thousands of optical depths thick, e^-Phi is a boundary layer of width 1/tau that no
   // polynomial resolves (tau ~ 1e21 gave a NaN, then estimates of 1e6).  There
   //   int g e^-Phi ds = int (g / tau) e^-Phi dPhi,
   // and g / tau (a ratio of two affine functions of v, monotone where tau > 0) lies between its
@@ -174,7 +174,9 @@ bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, dou
   if (!(whole.min <= whole.max)) return false;
   // The layer: 64 optical depths at the entry's tau (a few ulps of t if thinner than that).
   const double tau_c = seg.tau(panel(c));
-  if (!(tau_c * (d - c) > 64)) return false;
+  // Only where the layer is a small part of the piece (the spectral route handles depths of
+  // hundreds per piece well, and then more tightly).
+  if (!(tau_c * (d - c) > 4096)) return false;
   const double e = std::min(d, c + std::max(64 / tau_c, 8 * eps * std::max(std::abs(c), std::abs(d))));
   if (!(e > c)) return false;
   const ValueRange layer = e < d ? values_on(c, e) : whole;
