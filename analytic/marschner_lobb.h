@@ -7,7 +7,7 @@
 #include <numbers>
 #include <vector>
 
-#include "lib/geometry.h"
+#include "analytic/vec3.h"
 
 namespace vrv {
 
@@ -22,7 +22,8 @@ struct MarschnerLobb {
     constexpr double pi = std::numbers::pi;
     return pi * pi * fM + pi / 2;
   }
-  void append_breaks(const Ray&, Interval, std::vector<double>&) const {}
+  // Smooth everywhere: no breaks on any ray (any ray and interval types).
+  void append_breaks(const auto&, const auto&, std::vector<double>&) const {}
   // |grad f| <= (pi/2 + alpha pi^2 fM) / (2 (1 + alpha)): the z term and the radial term.
   double max_change_within(double distance) const {
     constexpr double pi = std::numbers::pi;
