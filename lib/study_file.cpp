@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "lib/io/error_line.h"
 #include "lib/scene_file.h"
 
 namespace vrv {
@@ -28,7 +29,7 @@ std::string one_line(std::string s) {
 }
 
 void StudyReader::fail(std::string_view key, std::string_view reason) const {
-  throw StudyFileError(one_line(fmt::format("{}: {}: {}", source_, key, reason)));
+  throw StudyFileError(error_line(source_, key, reason));
 }
 
 void StudyReader::check_keys(const toml::table& t, std::string_view path,
@@ -123,6 +124,8 @@ std::string StudyReader::child(std::string_view path, std::string_view key) {
 }
 
 toml::table parse_study_toml(std::string_view text, std::string_view source_name) {
+  if (const auto problem = toml_nesting_problem(text))
+    StudyReader(source_name).fail("(syntax)", *problem);
   try {
     return toml::parse(text, source_name);
   } catch (const toml::parse_error& e) {
