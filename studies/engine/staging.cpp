@@ -61,7 +61,9 @@ StudyStaging::StudyStaging(const fs::path& out, const std::string& name, bool re
 }
 
 StudyStaging::~StudyStaging() {
-  if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the flock
+  if (lock_fd_ < 0) return;
+  ::unlink(lock_.c_str());  // while still holding it; SIGKILL leaves it, unlocked and harmless
+  ::close(lock_fd_);        // releases the flock
 }
 
 void StudyStaging::publish() {

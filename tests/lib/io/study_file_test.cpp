@@ -1,8 +1,12 @@
 // The study-file reader (lib/io/study_file): hostile inputs give one-line StudyFileErrors.
+#include <filesystem>
+#include <fstream>
 #include <string>
+#include <variant>
 
 #include <gtest/gtest.h>
 
+#include "lib/scene_file.h"
 #include "lib/study_file.h"
 
 namespace vrv {
@@ -43,6 +47,52 @@ TEST(StudyFile, HugeKeyGivesAShortLine) {
     EXPECT_LT(msg.size(), 1200u);
     EXPECT_EQ(msg.rfind("s.toml: kkkk", 0), 0u) << msg;
     EXPECT_NE(msg.find("(10000000 bytes): unknown key"), std::string::npos) << msg;
+  }
+}
+
+// scene = "my.toml" said only "expected a table": a path is a scene file next to the study file.
+TEST(StudyFile, SceneMayBeAPathRelativeToTheStudyFile) {
+  const auto dir = std::filesystem::temp_directory_path() / "vrv_study_file_test";
+  std::filesystem::create_directories(dir / "sub");
+  std::ofstream(dir / "sub" / "my.toml") << default_scene_toml();
+  std::ofstream(dir / "bad.toml") << "[volume]\nmin = 1\n";
+  const StudyReader r((dir / "s.toml").string());
+  std::string text;
+  const Scene s = read_study_scene(r, toml::parse("scene = \"sub/my.toml\"\n"), "", text);
+  EXPECT_TRUE(std::holds_alternative<MarschnerLobb>(s.field));
+  EXPECT_EQ(text, default_scene_toml());
+  auto error = [&](const std::string& doc) {
+    try {
+      read_study_scene(r, toml::parse(doc), "case[0]", text);
+    } catch (const StudyFileError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string prefix = (dir / "s.toml").string() + ": case[0].scene: ";
+  std::string msg = error("scene = \"missing.toml\"\n");
+  EXPECT_EQ(msg.rfind(prefix + "'missing.toml' is not a scene file", 0), 0u) << msg;
+  msg = error("scene = \"bad.toml\"\n");
+  EXPECT_EQ(msg.rfind(prefix + (dir / "bad.toml").string() + ": volume.min: ", 0), 0u) << msg;
+  msg = error("scene = 3\n");
+  EXPECT_EQ(msg, prefix + "expected a [scene] table or the path of a scene file (relative to the study file)");
+  std::filesystem::remove_all(dir);
+}
+
+// tolerance = 1e308 made a convergence gate pass whatever the observed order.
+TEST(StudyFile, OrderToleranceIsBounded) {
+  const StudyReader r("s.toml");
+  const toml::table doc = toml::parse("a = 0.25\nb = 1e308\nc = 0\nd = 0.5\n");
+  EXPECT_EQ(r.order_tolerance(*doc.get("a"), "a"), 0.25);
+  EXPECT_EQ(r.order_tolerance(*doc.get("d"), "d"), 0.5);
+  for (const char* key : {"b", "c"}) {
+    try {
+      r.order_tolerance(*doc.get(key), key);
+      ADD_FAILURE() << key;
+    } catch (const StudyFileError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(std::string("s.toml: ") + key + ": must be in (0, 0.5]", 0), 0u)
+          << e.what();
+    }
   }
 }
 
