@@ -9,6 +9,7 @@
 // value, error, bound and finiteness are recorded and gated.  See docs/studies.md.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -138,13 +139,22 @@ double observed_order(const std::vector<double>& steps, const std::vector<double
 
 // Runs the study (either kind; hard_cases goes to run_hard_cases) with parallel_for_index over rays (respects any ThreadLimit alive); the result
 // does not depend on the number of threads.  progress: a Progress bar on stderr.
-StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress);
+// Checkpoints (for `vrv study --resume`): the values stored under `key`, or compute() stored
+// under it.  Empty: compute every time.  The runs below store each finished unit of work (a ray's
+// errors, a grid resolution, a hard case's row) this way, exactly, so a resumed run gives the
+// same bits.
+using StudyCheckpoint = std::function<std::vector<double>(const std::string& key,
+                                                          const std::function<std::vector<double>()>& compute)>;
+
+StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress,
+                            const StudyCheckpoint& checkpoint = {});
 
 // hard_cases: per case the truth (reference at reference_tol), then every (case, method) in
 // parallel, each into its own slot.  quick runs the same cases (they are cheap).  A case passes
 // when every row is finite and, for reference rows, error <= error_estimate + truth's estimate
 // and error_estimate <= tol, and, for discrete rows with max_error, error <= max_error.
-StudyResult run_hard_cases(const StudyDefinition& study, bool progress);
+StudyResult run_hard_cases(const StudyDefinition& study, bool progress,
+                           const StudyCheckpoint& checkpoint = {});
 
 struct StudyFiles {
   std::string errors_csv, orders_csv, orders_md, orders_tex;

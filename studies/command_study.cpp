@@ -1,8 +1,5 @@
 // vrv study: runs a study described by a TOML file (studies/NAME.toml or a path) and writes its
 // tables into OUT/NAME/.  The engine is lib/study.h; this is the command line around it.
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -10,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -22,24 +20,18 @@
 #include <nlohmann/json.hpp>
 
 #include "lib/parallel.h"
-#include "lib/atomic_file.h"
-#include "lib/run_metadata.h"
 #include "lib/study_file.h"
+#include "lib/io/error_line.h"
+#include "studies/engine/checkpoint.h"
+#include "studies/engine/interrupt.h"
+#include "studies/engine/memory_budget.h"
+#include "studies/engine/study_loader.h"
+#include "studies/engine/study_runner.h"
 #include "studies/study_driver.h"
 #include "studies/commands.h"
 
 namespace vrv::cli {
 namespace {
-
-// One line naming the failed checks.
-std::string failures(const std::vector<StudyCheck>& checks) {
-  std::string out;
-  for (const StudyCheck& c : checks)
-    if (!c.pass)
-      out += fmt::format("{}{} (value {:.4g}, bound {:.4g})", out.empty() ? "" : ", ", c.name,
-                         c.value, c.bound);
-  return out;
-}
 
 namespace fs = std::filesystem;
 
@@ -52,56 +44,20 @@ struct StudyOptions {
   bool quiet = false;
   bool no_plots = false;
   bool all = false;
+  bool resume = false;
+  double max_memory_gib = 0;  // 0: default_memory_limit()
 };
 
-// A study file, read and checked: its kind's driver has parsed it into a job.
-struct LoadedStudy {
-  std::string name, kind, description, text, source;
-  StudyJob job;
-};
-
-LoadedStudy load(const fs::path& path) {
-  LoadedStudy s;
-  s.source = path.string();
-  s.text = read_study_text(path);
-  const toml::table doc = parse_study_toml(s.text, s.source);
-  const StudyReader r(s.source);
-  s.kind = r.string(r.require(doc, "kind", ""), "kind");
-  const StudyParse parse = find_study_kind(s.kind);
-  if (!parse)
-    r.fail("kind", fmt::format("unknown kind '{}' (known: {})", s.kind, fmt::join(study_kinds(), ", ")));
-  s.name = doc.contains("name") ? r.string(*doc.get("name"), "name") : path.stem().string();
-  if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos || s.name == "." ||
-      s.name == "..")
-    r.fail("name", fmt::format("'{}' is not a plain directory name", s.name));
-  if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
-  s.job = parse(StudyInput{doc, r, s.name});
-  return s;
+StudyLoadOptions load_options(const StudyOptions& opt) {
+  return {.memory_limit = opt.max_memory_gib * double(1 << 30)};
 }
+
+LoadedStudy load(const fs::path& path, const StudyOptions& opt) { return load_study_file(path, load_options(opt)); }
 
 // The plot script (studies/plot_study.py) next to the study files, and a Python that has
 // matplotlib: $VRV_PYTHON, else Debian's /usr/bin/python3 (python3-matplotlib), else python3.
 fs::path plot_script();
 std::string python();
-
-// Runs the plot script on `dir` (which has plots.json); its messages go to stderr.  Returns its
-// exit status (127 when it could not be started).
-int draw_plots(const fs::path& dir) {
-  const std::string py = python();
-  const std::string script = plot_script().string();
-  const std::string where = dir.string();
-  const pid_t pid = fork();
-  if (pid < 0) return 127;
-  if (pid == 0) {
-    const char* argv[] = {py.c_str(), script.c_str(), where.c_str(), nullptr};
-    execvp(argv[0], const_cast<char* const*>(argv));
-    _exit(127);
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return 127;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-}
 
 // Where studies/NAME.toml are looked for, in order: ./studies, <executable dir>/../studies,
 // $VRV_STUDY_PATH, and the source tree this file was compiled from (__FILE__'s directory).
@@ -147,13 +103,31 @@ fs::path resolve_study(const std::string& arg) {
 
 int run_one(const LoadedStudy& study, const StudyOptions& opt);
 
+// --all: two files with one `name` would overwrite each other's folder; together, the studies'
+// grids are held at once (each driver builds them as it reads its file).
+void check_all(const std::vector<LoadedStudy>& studies, const StudyOptions& opt) {
+  std::map<std::string, std::string> seen;  // name -> file
+  double bytes = 0;
+  const double limit = opt.max_memory_gib > 0 ? opt.max_memory_gib * double(1 << 30) : default_memory_limit();
+  for (const LoadedStudy& s : studies) {
+    if (const auto [it, fresh] = seen.emplace(s.name, s.source); !fresh)
+      throw std::invalid_argument(error_line(s.source, "name", fmt::format(
+          "'{}' is also the name of {} (each study writes its own folder OUT/NAME)", s.name, it->second)));
+    bytes += s.memory_bytes;
+    if (bytes > limit)
+      throw std::invalid_argument(error_line(s.source, "(memory)", fmt::format(
+          "with the studies before it, --all needs about {} for grids, more than the limit of {} "
+          "(raise it with --max-memory GIB, or run the studies one by one)", gibibytes(bytes), gibibytes(limit))));
+  }
+}
+
 int run_study(const StudyOptions& opt) {
   if (opt.list) {
     if (!opt.study.empty()) throw std::invalid_argument("--list: takes no study name");
     for (const auto& [name, path] : find_studies()) {
       std::string desc;
       try {
-        desc = load(path).description;
+        desc = load(path, opt).description;
       } catch (const std::exception& e) {
         desc = std::string("(invalid: ") + e.what() + ")";
       }
@@ -162,17 +136,23 @@ int run_study(const StudyOptions& opt) {
     return 0;
   }
   if (opt.threads < 0) throw std::invalid_argument(fmt::format("--threads: must not be negative, got {}", opt.threads));
+  if (opt.max_memory_gib < 0 || !std::isfinite(opt.max_memory_gib))
+    throw std::invalid_argument(fmt::format("--max-memory: must be a positive number of GiB, got {}", opt.max_memory_gib));
+  // Before any worker thread exists: SIGINT/SIGTERM go to the watcher (studies/engine/interrupt.h).
+  const InterruptGuard interrupts;
   if (opt.all) {
     if (!opt.study.empty()) throw std::invalid_argument("--all: takes no study name");
+    if (opt.resume) throw std::invalid_argument("--resume: give the study NAME to resume, not --all");
     // Every study file is checked before any runs, so a bad file costs no time.
     std::vector<LoadedStudy> studies;
     for (const auto& [name, path] : find_studies()) {
       try {
-        studies.push_back(load(path));
+        studies.push_back(load(path, opt));
       } catch (const StudyFileError& e) {
         throw std::invalid_argument(e.what());
       }
     }
+    check_all(studies, opt);
     int rc = 0;
     for (const LoadedStudy& s : studies) rc = std::max(rc, run_one(s, opt));
     return rc;
@@ -181,78 +161,32 @@ int run_study(const StudyOptions& opt) {
     throw std::invalid_argument("study: give a study NAME or FILE.toml (or --all, --list)");
   LoadedStudy study;
   try {
-    study = load(resolve_study(opt.study));
+    study = load(resolve_study(opt.study), opt);
   } catch (const StudyFileError& e) {
     throw std::invalid_argument(e.what());
   }
   return run_one(study, opt);
 }
 
-// Runs one study and writes its files; 0 when every check passes and the plots were drawn.
+// Runs one study into OUT/NAME (studies/engine/study_runner.h); 0 when every check passes and
+// the plots were drawn.
 int run_one(const LoadedStudy& study, const StudyOptions& opt) {
-  const fs::path dir = fs::path(opt.out) / study.name;
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw std::runtime_error(fmt::format("{}: cannot create the directory{}", dir.string(),
-                                         ec ? ": " + ec.message() : std::string()));
-  const auto start = std::chrono::steady_clock::now();
-  StudyOutcome outcome;
-  {
-    const ThreadLimit limit(opt.threads);
-    outcome = study.job(StudyRun{dir, opt.quick, !opt.quiet});
+  StudyRunOptions run;
+  run.out = opt.out;
+  run.quick = opt.quick;
+  run.progress = !opt.quiet;
+  run.quiet = opt.quiet;
+  run.plots = !opt.no_plots;
+  run.resume = opt.resume;
+  run.threads = opt.threads;
+  run.python = python();
+  run.plot_script = plot_script();
+  const ThreadLimit limit(opt.threads);
+  try {
+    return run_loaded_study(study, run);
+  } catch (const StudyResumeError& e) {
+    throw std::invalid_argument(e.what());
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const bool pass = std::all_of(outcome.checks.begin(), outcome.checks.end(),
-                                [](const StudyCheck& c) { return c.pass; });
-  const CheckTables t = check_tables(study.name, outcome.checks);
-  write_file_atomically(dir / "checks.csv", t.csv);
-  write_file_atomically(dir / "checks.md", t.md);
-  write_file_atomically(dir / "checks.tex", t.tex);
-  nlohmann::ordered_json parameters;
-  parameters["study"] = study.name;
-  parameters["kind"] = study.kind;
-  parameters["file"] = study.source;
-  parameters["description"] = study.description;
-  parameters["quick"] = opt.quick;
-  parameters["threads"] = opt.threads;  // recorded only; no number depends on it
-  parameters["file_text"] = study.text;
-  parameters["run"] = outcome.parameters;
-  nlohmann::json meta = run_metadata(nlohmann::json::parse(parameters.dump()), seconds);
-  meta["pass"] = pass;
-  meta["summary"] = outcome.summary;
-  nlohmann::json checks = nlohmann::json::array();
-  for (const StudyCheck& c : outcome.checks)
-    checks.push_back({{"name", c.name},
-                      {"value", std::isfinite(c.value) ? nlohmann::json(c.value) : nlohmann::json()},
-                      {"bound", std::isfinite(c.bound) ? nlohmann::json(c.bound) : nlohmann::json()},
-                      {"pass", c.pass},
-                      {"detail", c.detail}});
-  meta["checks"] = checks;
-  write_file_atomically(dir / "meta.json", meta.dump(2) + "\n");
-
-  int plots_status = 0;
-  if (!opt.no_plots && fs::exists(dir / "plots.json")) plots_status = draw_plots(dir);
-  nlohmann::ordered_json j;
-  j["study"] = study.name;
-  j["out"] = dir.string();
-  j["pass"] = pass;
-  std::cout << j.dump() << '\n';
-  if (!pass) {
-    std::cerr << fmt::format("vrv study: {}: FAILED: {}\n", study.name, failures(outcome.checks));
-    return 1;
-  }
-  if (plots_status != 0) {
-    std::cerr << fmt::format(
-        "vrv study: {}: plots: {} {} exited with {} (matplotlib: Debian's python3-matplotlib; "
-        "set VRV_PYTHON, or pass --no-plots)\n",
-        study.name, python(), plot_script().string(), plots_status);
-    return 1;
-  }
-  if (!opt.quiet)
-    std::cerr << fmt::format("vrv study: {}: {}; {} checks pass in {:.2f} s; wrote {}\n", study.name,
-                             outcome.summary, outcome.checks.size(), seconds, dir.string());
-  return 0;
 }
 
 fs::path plot_script() {
@@ -278,8 +212,11 @@ void add_study_command(CLI::App& app) {
       "$VRV_STUDY_PATH and the source tree vrv was built from.\n"
       "Writes OUT/NAME/: the study's own tables (CSV, Markdown, LaTeX), images and plots, plus "
       "checks.{csv,md,tex} and meta.json. stdout: one JSON line {\"study\", \"out\", \"pass\"}; "
-      "exit 1 when a check fails or the plots cannot be drawn, 2 for a bad study file.\n"
-      "See docs/studies.md.");
+      "exit 1 when a check fails or the plots cannot be drawn, 2 for a bad study file, 130/143 when "
+      "stopped by SIGINT/SIGTERM.\n"
+      "The run is written to OUT/.NAME.partial/ and replaces OUT/NAME/ in one step when it is "
+      "complete; an interrupted run leaves OUT/NAME/ as it was, and --resume continues it.\n"
+      "See docs/studies.md and docs/robustness.md.");
   cmd->add_option("study", opt->study, "Study NAME (studies/NAME.toml) or FILE.toml");
   cmd->add_flag("--list", opt->list, "List the studies found");
   cmd->add_flag("--all", opt->all, "Run every study found, in name order (results/ is --all --out results)");
@@ -288,6 +225,10 @@ void add_study_command(CLI::App& app) {
   cmd->add_option("--threads", opt->threads, "Threads (default: all cores); results do not depend on it");
   cmd->add_flag("--quiet", opt->quiet, "No progress bar or summary on stderr");
   cmd->add_flag("--no-plots", opt->no_plots, "Do not run the plot script (studies/plot_study.py)");
+  cmd->add_flag("--resume", opt->resume,
+                "Continue an interrupted run of this study from its checkpoints (OUT/.NAME.partial)");
+  cmd->add_option("--max-memory", opt->max_memory_gib,
+                  "GiB the study's grids may take (default: 3/4 of this machine's memory)");
   cmd->callback([opt] {
     const int rc = run_study(*opt);
     if (rc != 0) std::exit(rc);

@@ -6,6 +6,7 @@
 
 #include "lib/atomic_file.h"
 #include "lib/study.h"
+#include "studies/engine/checkpoint.h"
 #include "studies/study_driver.h"
 
 namespace vrv {
@@ -61,7 +62,11 @@ constexpr const char* kGridPlots = R"json({
 StudyJob parse_table_study(const StudyInput& in) {
   StudyDefinition study = definition(in);
   return [study](const StudyRun& run) {
-    const StudyResult result = run_convergence(study, run.quick, run.progress);
+    const StudyResult result = run_convergence(
+        study, run.quick, run.progress,
+        [&run](const std::string& key, const std::function<std::vector<double>()>& compute) {
+          return checkpointed(run.checkpoints, key, compute);
+        });
     write_study_tables(run.dir, study, result);
     StudyOutcome out;
     out.checks = checks_of(study, result);

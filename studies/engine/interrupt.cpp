@@ -58,6 +58,7 @@ bool running(pid_t pid) { return ::kill(pid, 0) == 0 || errno == EPERM; }
 
 std::thread g_watcher;
 sigset_t g_old_mask;
+struct sigaction g_old_int, g_old_term;
 std::atomic<bool> g_shutdown{false};
 
 }  // namespace
@@ -95,6 +96,12 @@ InterruptGuard::InterruptGuard() {
   g_shutdown = false;
   const sigset_t s = stop_signals();
   pthread_sigmask(SIG_BLOCK, &s, &g_old_mask);
+  // A shell starts background jobs with SIGINT ignored; an ignored signal may be dropped before
+  // sigwait sees it, so the disposition goes back to the default (never acted on: blocked).
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  sigaction(SIGINT, &dfl, &g_old_int);
+  sigaction(SIGTERM, &dfl, &g_old_term);
   g_watcher = std::thread([s] {
     int sig = 0;
     while (sigwait(&s, &sig) == 0)
@@ -108,6 +115,8 @@ InterruptGuard::~InterruptGuard() {
   g_shutdown = true;
   pthread_kill(g_watcher.native_handle(), SIGTERM);
   g_watcher.join();
+  sigaction(SIGINT, &g_old_int, nullptr);
+  sigaction(SIGTERM, &g_old_term, nullptr);
   pthread_sigmask(SIG_SETMASK, &g_old_mask, nullptr);
 }
 

@@ -29,7 +29,7 @@ void make_dir(const fs::path& p) {
   if (ec || !fs::is_directory(p)) fail(p, "cannot create the directory", ec ? ec.message() : "not a directory");
 }
 
-void remove_all(const fs::path& p) {
+void remove_tree(const fs::path& p) {
   std::error_code ec;
   fs::remove_all(p, ec);
   if (ec) fail(p, "cannot remove", ec.message());
@@ -50,12 +50,12 @@ StudyStaging::StudyStaging(const fs::path& out, const std::string& name, bool re
     ::close(lock_fd_);
     fail(target_, "cannot write the results", "another vrv study is writing them (" + lock_.string() + ")");
   }
-  remove_all(done_);  // a previous run killed after publishing, before removing the old results
+  remove_tree(done_);  // a previous run killed after publishing, before removing the old results
   resumed_ = resume && fs::is_directory(staging_, ec);
   if (resumed_) {
     remove_temporary_files(staging_, true);
   } else {
-    remove_all(staging_);
+    remove_tree(staging_);
     make_dir(staging_);
   }
 }
@@ -74,7 +74,7 @@ void StudyStaging::publish() {
   if (fs::is_directory(target_, ec)) {
     if (::renameat2(AT_FDCWD, done_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0)
       fail(target_, "cannot publish", std::strerror(errno));
-    remove_all(done_);  // the previous run
+    remove_tree(done_);  // the previous run
   } else {
     fs::rename(done_, target_, ec);
     if (ec) fail(target_, "cannot publish", ec.message());

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "lib/study_file.h"
-#include "studies/engine/study_driver.h"
+#include "studies/engine/study_loader.h"
 #include "tests/fuzz/fuzz_limits.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,0 +1,154 @@
+#include "studies/engine/study_runner.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <mutex>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "lib/atomic_file.h"
+#include "lib/run_metadata.h"
+#include "studies/engine/checkpoint.h"
+#include "studies/engine/interrupt.h"
+#include "studies/engine/staging.h"
+
+namespace vrv {
+namespace fs = std::filesystem;
+namespace {
+
+// One line naming the failed checks.
+std::string failures(const std::vector<StudyCheck>& checks) {
+  std::string out;
+  for (const StudyCheck& c : checks)
+    if (!c.pass)
+      out += fmt::format("{}{} (value {:.4g}, bound {:.4g})", out.empty() ? "" : ", ", c.name,
+                         c.value, c.bound);
+  return out;
+}
+
+// Runs the plot script on `dir` (which has plots.json) in its own process group, which an
+// interruption ends; its messages go to stderr.  Its exit status (127: it could not be started).
+int draw_plots(const StudyRunOptions& opt, const fs::path& dir) {
+  const std::string script = opt.plot_script.string(), where = dir.string();
+  const pid_t pid = fork();
+  if (pid < 0) return 127;
+  if (pid == 0) {
+    ::setpgid(0, 0);
+    unblock_stop_signals();
+    const char* argv[] = {opt.python.c_str(), script.c_str(), where.c_str(), nullptr};
+    execvp(argv[0], const_cast<char* const*>(argv));
+    _exit(127);
+  }
+  ::setpgid(pid, pid);  // also here, so the group exists before an interruption can aim at it
+  set_interrupt_child(pid);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) {
+      status = 127 << 8;
+      break;
+    }
+  set_interrupt_child(0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+nlohmann::json meta_json(const LoadedStudy& study, const StudyRunOptions& opt, const StudyOutcome& outcome,
+                         double seconds, bool pass, const std::string& plots) {
+  nlohmann::ordered_json parameters;
+  parameters["study"] = study.name;
+  parameters["kind"] = study.kind;
+  parameters["file"] = study.source;
+  parameters["description"] = study.description;
+  parameters["quick"] = opt.quick;
+  parameters["threads"] = opt.threads;  // recorded only; no number depends on it
+  parameters["file_text"] = study.text;
+  parameters["run"] = outcome.parameters;
+  nlohmann::json meta = run_metadata(nlohmann::json::parse(parameters.dump()), seconds);
+  meta["pass"] = pass;
+  meta["plots"] = plots;
+  meta["summary"] = outcome.summary;
+  nlohmann::json checks = nlohmann::json::array();
+  for (const StudyCheck& c : outcome.checks)
+    checks.push_back({{"name", c.name},
+                      {"value", std::isfinite(c.value) ? nlohmann::json(c.value) : nlohmann::json()},
+                      {"bound", std::isfinite(c.bound) ? nlohmann::json(c.bound) : nlohmann::json()},
+                      {"pass", c.pass},
+                      {"detail", c.detail}});
+  meta["checks"] = checks;
+  return meta;
+}
+
+}  // namespace
+
+int run_loaded_study(const LoadedStudy& study, const StudyRunOptions& opt) {
+  StudyStaging staging(opt.out, study.name, opt.resume);
+  set_interrupt_cleanup_dir(staging.dir());
+  struct ClearCleanup {
+    ~ClearCleanup() { set_interrupt_cleanup_dir({}); }
+  } clear_cleanup;
+  Checkpoints checkpoints(staging.dir() / "checkpoints",
+                          study.text + (opt.quick ? "\n# --quick" : "\n# full"), staging.resumed());
+
+  const auto start = std::chrono::steady_clock::now();
+  StudyRun run{staging.dir(), opt.quick, opt.progress};
+  run.checkpoints = &checkpoints;
+  const StudyOutcome outcome = study.job(run);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const bool checks_pass = std::all_of(outcome.checks.begin(), outcome.checks.end(),
+                                       [](const StudyCheck& c) { return c.pass; });
+  const CheckTables t = check_tables(study.name, outcome.checks);
+  write_file_atomically(staging.dir() / "checks.csv", t.csv);
+  write_file_atomically(staging.dir() / "checks.md", t.md);
+  write_file_atomically(staging.dir() / "checks.tex", t.tex);
+
+  std::error_code ec;
+  int plots_status = 0;
+  std::string plots = "none";
+  if (fs::exists(staging.dir() / "plots.json", ec)) {
+    if (opt.plots) {
+      plots_status = draw_plots(opt, staging.dir());
+      plots = plots_status == 0 ? "drawn" : fmt::format("failed (exit {})", plots_status);
+    } else {
+      plots = "not drawn (--no-plots)";
+    }
+  }
+  const bool pass = checks_pass && plots_status == 0;
+  write_file_atomically(staging.dir() / "meta.json",
+                        meta_json(study, opt, outcome, seconds, pass, plots).dump(2) + "\n");
+  fs::remove_all(staging.dir() / "checkpoints", ec);  // the published run is the tables alone
+  staging.publish();
+
+  nlohmann::ordered_json j;
+  j["study"] = study.name;
+  j["out"] = staging.target().string();
+  j["pass"] = pass;
+  std::cout << j.dump() << '\n';
+  if (!checks_pass) {
+    std::cerr << fmt::format("vrv study: {}: FAILED: {}\n", study.name, failures(outcome.checks));
+    return 1;
+  }
+  if (plots_status != 0) {
+    std::cerr << fmt::format(
+        "vrv study: {}: plots: {} {} exited with {} (matplotlib: Debian's python3-matplotlib; "
+        "set VRV_PYTHON, or pass --no-plots)\n",
+        study.name, opt.python, opt.plot_script.string(), plots_status);
+    return 1;
+  }
+  if (!opt.quiet)
+    std::cerr << fmt::format("vrv study: {}: {}; {} checks pass in {:.2f} s{}; wrote {}\n", study.name,
+                             outcome.summary, outcome.checks.size(), seconds,
+                             checkpoints.reused() > 0
+                                 ? fmt::format(" (resumed: {} configurations from the interrupted run)",
+                                               checkpoints.reused())
+                                 : std::string(),
+                             staging.target().string());
+  return 0;
+}
+
+}  // namespace vrv
