@@ -78,7 +78,7 @@ void set_interrupt_child(pid_t pid) { g_child = pid; }
 int remove_temporary_files(const std::filesystem::path& dir, bool only_stale) {
   int removed = 0;
   std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir, ec)) {
     const pid_t pid = temporary_pid(e.path().filename().string());
     if (pid == 0 || !e.is_regular_file(ec)) continue;
     const bool mine = pid == ::getpid();

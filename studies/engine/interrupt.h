@@ -35,8 +35,9 @@ void set_interrupt_child(pid_t pid);
 // Held while results are being published: an interruption waits for it.
 std::mutex& publish_mutex();
 
-// Removes *.tmp.<pid> files in `dir` (not recursive) whose process is not running, or all of
-// this process's own; returns how many were removed.
+// Removes *.tmp.<pid> files under `dir` (recursively) whose process is not running, or all of
+// this process's own; returns how many were removed.  (A worker thread may still create one
+// between this and the exit; the next run's stale sweep removes it.)
 int remove_temporary_files(const std::filesystem::path& dir, bool only_stale);
 
 }  // namespace vrv
