@@ -72,9 +72,19 @@ void StudyStaging::publish() {
   fs::rename(staging_, done_, ec);  // from here on, --resume finds nothing stale to continue
   if (ec) fail(staging_, "cannot publish", ec.message());
   if (fs::is_directory(target_, ec)) {
-    if (::renameat2(AT_FDCWD, done_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0)
-      fail(target_, "cannot publish", std::strerror(errno));
-    remove_tree(done_);  // the previous run
+    if (::renameat2(AT_FDCWD, done_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) == 0) {
+      remove_tree(done_);  // the previous run
+      return;
+    }
+    if (errno != EINVAL && errno != ENOSYS) fail(target_, "cannot publish", std::strerror(errno));
+    // A file system without the exchange (NFS, some FUSE): two renames.  Killed between them,
+    // OUT/NAME is missing for a moment and the previous run is in OUT/.NAME.old.
+    const fs::path old = out_ / ("." + target_.filename().string() + ".old");
+    remove_tree(old);
+    fs::rename(target_, old, ec);
+    if (!ec) fs::rename(done_, target_, ec);
+    if (ec) fail(target_, "cannot publish", ec.message());
+    remove_tree(old);
   } else {
     fs::rename(done_, target_, ec);
     if (ec) fail(target_, "cannot publish", ec.message());
