@@ -13,7 +13,7 @@
 
 #include <fmt/format.h>
 
-#include "lib/atomic_file.h"
+#include "lib/io/atomic_file.h"
 
 namespace vrv {
 namespace fs = std::filesystem;
@@ -95,6 +95,13 @@ std::vector<double> Checkpoints::get(const std::string& key,
 std::vector<double> checkpointed(Checkpoints* checkpoints, const std::string& key,
                                  const std::function<std::vector<double>()>& compute) {
   return checkpoints ? checkpoints->get(key, compute) : compute();
+}
+
+StudyCheckpoint checkpoint_function(Checkpoints* checkpoints) {
+  if (!checkpoints) return {};
+  return [checkpoints](const std::string& key, const std::function<std::vector<double>()>& compute) {
+    return checkpoints->get(key, compute);
+  };
 }
 
 }  // namespace vrv

@@ -46,6 +46,12 @@ class Checkpoints {
   int kill_signal_ = 9;
 };
 
+// What a study's computation takes: the values stored under `key`, or compute() stored under it.
+// Empty: compute every time (tests, or a run without checkpoints).
+using StudyCheckpoint = std::function<std::vector<double>(const std::string& key,
+                                                          const std::function<std::vector<double>()>& compute)>;
+StudyCheckpoint checkpoint_function(Checkpoints* checkpoints);  // empty for null
+
 // The stored checkpoints, or none: what a driver's run sees (StudyRun::checkpoints may be null).
 std::vector<double> checkpointed(Checkpoints* checkpoints, const std::string& key,
                                  const std::function<std::vector<double>()>& compute);

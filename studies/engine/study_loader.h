@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <string>
 
-#include "lib/study_file.h"
-#include "studies/study_driver.h"
+#include "lib/io/study_file.h"
+#include "studies/engine/study_driver.h"
 
 namespace vrv {
 

@@ -3,25 +3,35 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <algorithm>
-#include <cerrno>
-#include <chrono>
-#include <cmath>
-#include <iostream>
 #include <mutex>
 
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <chrono>
+#include <cstdlib>
+#include <iostream>
+#include <set>
+#include <stdexcept>
+
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <toml++/toml.h>
 #include <nlohmann/json.hpp>
 
-#include "lib/atomic_file.h"
-#include "lib/run_metadata.h"
+#include "lib/io/atomic_file.h"
+#include "lib/io/run_metadata.h"
+#include "lib/io/study_file.h"
+#include "lib/util/parallel.h"
+
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/interrupt.h"
 #include "studies/engine/staging.h"
 
 namespace vrv {
-namespace fs = std::filesystem;
 namespace {
+
+namespace fs = std::filesystem;
 
 // One line naming the failed checks.
 std::string failures(const std::vector<StudyCheck>& checks) {
@@ -33,16 +43,31 @@ std::string failures(const std::vector<StudyCheck>& checks) {
   return out;
 }
 
+// The plot script (studies/engine/plot_study.py) under the study directories, and a Python that
+// has matplotlib: $VRV_PYTHON, else Debian's /usr/bin/python3 (python3-matplotlib), else python3.
+fs::path plot_script() {
+  for (const fs::path& d : study_dirs())
+    if (std::error_code ec; fs::is_regular_file(d / "engine" / "plot_study.py", ec))
+      return d / "engine" / "plot_study.py";
+  return "studies/engine/plot_study.py";
+}
+
+std::string python() {
+  if (const char* env = std::getenv("VRV_PYTHON"); env && *env) return env;
+  if (std::error_code ec; fs::exists("/usr/bin/python3", ec)) return "/usr/bin/python3";
+  return "python3";
+}
+
 // Runs the plot script on `dir` (which has plots.json) in its own process group, which an
 // interruption ends; its messages go to stderr.  Its exit status (127: it could not be started).
-int draw_plots(const StudyRunOptions& opt, const fs::path& dir) {
-  const std::string script = opt.plot_script.string(), where = dir.string();
+int draw_plots(const fs::path& dir) {
+  const std::string py = python(), script = plot_script().string(), where = dir.string();
   const pid_t pid = fork();
   if (pid < 0) return 127;
   if (pid == 0) {
     ::setpgid(0, 0);
     unblock_stop_signals();
-    const char* argv[] = {opt.python.c_str(), script.c_str(), where.c_str(), nullptr};
+    const char* argv[] = {py.c_str(), script.c_str(), where.c_str(), nullptr};
     execvp(argv[0], const_cast<char* const*>(argv));
     _exit(127);
   }
@@ -86,8 +111,49 @@ nlohmann::json meta_json(const LoadedStudy& study, const StudyRunOptions& opt, c
 
 }  // namespace
 
-int run_loaded_study(const LoadedStudy& study, const StudyRunOptions& opt) {
-  StudyStaging staging(opt.out, study.name, opt.resume);
+std::vector<fs::path> study_dirs() {
+  std::vector<fs::path> dirs{fs::path("studies")};
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) dirs.push_back(exe.parent_path().parent_path() / "studies");
+  if (const char* env = std::getenv("VRV_STUDY_PATH"); env && *env) dirs.emplace_back(env);
+  const fs::path here(__FILE__);  // studies/engine/study_runner.cpp
+  if (here.is_absolute()) dirs.push_back(here.parent_path().parent_path());
+  return dirs;
+}
+
+std::vector<std::pair<std::string, fs::path>> find_studies() {
+  std::vector<std::pair<std::string, fs::path>> found;
+  std::set<std::string> names;
+  for (const fs::path& dir : study_dirs()) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) continue;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+      const fs::path file = e.path() / (e.path().filename().string() + ".toml");
+      if (std::error_code fec; fs::is_regular_file(file, fec)) files.push_back(file);
+    }
+    std::sort(files.begin(), files.end());
+    for (const fs::path& f : files)
+      if (names.insert(f.stem().string()).second) found.emplace_back(f.stem().string(), f);
+  }
+  return found;
+}
+
+fs::path resolve_study(const std::string& arg) {
+  const fs::path p(arg);
+  if (p.extension() == ".toml" || arg.find('/') != std::string::npos) return p;
+  for (const auto& [name, path] : find_studies())
+    if (name == arg) return path;
+  std::string where;
+  for (const fs::path& d : study_dirs()) where += (where.empty() ? "" : ", ") + d.string();
+  throw std::invalid_argument(
+      fmt::format("study: no study named '{}' (looked for {}/{}.toml in {}; see vrv study --list)", arg,
+                  arg, arg, where));
+}
+
+int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
+  StudyStaging staging(fs::path(opt.out), study.name, opt.resume);
   set_interrupt_cleanup_dir(staging.dir());
   struct ClearCleanup {
     ~ClearCleanup() { set_interrupt_cleanup_dir({}); }
@@ -96,9 +162,13 @@ int run_loaded_study(const LoadedStudy& study, const StudyRunOptions& opt) {
                           study.text + (opt.quick ? "\n# --quick" : "\n# full"), staging.resumed());
 
   const auto start = std::chrono::steady_clock::now();
-  StudyRun run{staging.dir(), opt.quick, opt.progress};
-  run.checkpoints = &checkpoints;
-  const StudyOutcome outcome = study.job(run);
+  StudyOutcome outcome;
+  {
+    const ThreadLimit limit(opt.threads);
+    StudyRun run{staging.dir(), opt.quick, !opt.quiet};
+    run.checkpoints = &checkpoints;
+    outcome = study.job(run);
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const bool checks_pass = std::all_of(outcome.checks.begin(), outcome.checks.end(),
                                        [](const StudyCheck& c) { return c.pass; });
@@ -111,8 +181,8 @@ int run_loaded_study(const LoadedStudy& study, const StudyRunOptions& opt) {
   int plots_status = 0;
   std::string plots = "none";
   if (fs::exists(staging.dir() / "plots.json", ec)) {
-    if (opt.plots) {
-      plots_status = draw_plots(opt, staging.dir());
+    if (!opt.no_plots) {
+      plots_status = draw_plots(staging.dir());
       plots = plots_status == 0 ? "drawn" : fmt::format("failed (exit {})", plots_status);
     } else {
       plots = "not drawn (--no-plots)";
@@ -137,7 +207,7 @@ int run_loaded_study(const LoadedStudy& study, const StudyRunOptions& opt) {
     std::cerr << fmt::format(
         "vrv study: {}: plots: {} {} exited with {} (matplotlib: Debian's python3-matplotlib; "
         "set VRV_PYTHON, or pass --no-plots)\n",
-        study.name, opt.python, opt.plot_script.string(), plots_status);
+        study.name, python(), plot_script().string(), plots_status);
     return 1;
   }
   if (!opt.quiet)

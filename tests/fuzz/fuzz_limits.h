@@ -9,7 +9,7 @@
 
 #include <toml++/toml.h>
 
-#include "lib/scene_file.h"
+#include "lib/io/scene_file.h"
 
 namespace vrv::fuzz {
 

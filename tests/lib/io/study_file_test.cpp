@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "lib/scene_file.h"
-#include "lib/study_file.h"
+#include "lib/io/scene_file.h"
+#include "lib/io/study_file.h"
 
 namespace vrv {
 namespace {

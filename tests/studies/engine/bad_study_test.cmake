@@ -12,8 +12,8 @@ function(expect_bad_input name pattern)
   endif()
 endfunction()
 
-file(READ ${SRC}/studies/convergence.toml convergence)
-file(READ ${SRC}/studies/hard-cases.toml hard_cases)
+file(READ ${SRC}/studies/convergence/convergence.toml convergence)
+file(READ ${SRC}/studies/hard-cases/hard-cases.toml hard_cases)
 
 # A step too fine is reported in the file's terms, not as --step.
 string(REGEX REPLACE "\nsteps = [^\n]*" "\nsteps = [1e-300, 0.01]" text "${convergence}")
@@ -53,9 +53,9 @@ if(NOT rc EQUAL 2 OR n GREATER 1200 OR NOT err MATCHES "\\(10000000 bytes\\): un
 endif()
 
 # Two studies with one name in --all would overwrite each other's folder.
-file(MAKE_DIRECTORY ${OUT}/dup/studies)
-file(WRITE ${OUT}/dup/studies/a.toml "name = \"same\"\n${hard_cases}")
-file(WRITE ${OUT}/dup/studies/b.toml "name = \"same\"\n${hard_cases}")
+file(MAKE_DIRECTORY ${OUT}/dup/studies/a ${OUT}/dup/studies/b)
+file(WRITE ${OUT}/dup/studies/a/a.toml "name = \"same\"\n${hard_cases}")
+file(WRITE ${OUT}/dup/studies/b/b.toml "name = \"same\"\n${hard_cases}")
 execute_process(COMMAND ${VRV} study --all --quick --out ${OUT}/dup/out WORKING_DIRECTORY ${OUT}/dup
   RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 2 OR NOT err MATCHES "b.toml: name: 'same' is also the name of .*a.toml")

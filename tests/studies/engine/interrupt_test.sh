@@ -32,12 +32,12 @@ resume_matches() {  # FILE NAME KILL_AFTER TABLES...
   [ ! -e "$out/$name.b/.$name.partial" ] || fail "$name: staging folder left after publishing"
 }
 
-resume_matches "$src/studies/hard-cases.toml" hard-cases 5 cases.csv cases.md cases.tex checks.csv checks.md checks.tex
+resume_matches "$src/studies/hard-cases/hard-cases.toml" hard-cases 5 cases.csv cases.md cases.tex checks.csv checks.md checks.tex
 resume_matches "$src/tests/studies/engine/tiny-convergence.toml" tiny-convergence 2 \
   errors.csv orders.csv grid_errors.csv grid_orders.csv checks.csv
 
 # 2. SIGTERM midway.
-VRV_TEST_KILL_AFTER_CHECKPOINTS=5:15 study "$src/studies/hard-cases.toml" --quick --out "$out/hard-cases.b"
+VRV_TEST_KILL_AFTER_CHECKPOINTS=5:15 study "$src/studies/hard-cases/hard-cases.toml" --quick --out "$out/hard-cases.b"
 rc=$?
 [ $rc -eq 143 ] || fail "SIGTERM: exit $rc, not 143"
 diff -r "$out/hard-cases.a/hard-cases" "$out/hard-cases.b/hard-cases" -x meta.json > /dev/null || fail "SIGTERM changed the results"
