@@ -1,5 +1,7 @@
 #include "lib/io/scene_file.h"
 
+#include "lib/io/error_line.h"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -69,11 +71,9 @@ class Reader {
  public:
   explicit Reader(std::string_view source) : source_(source) {}
 
+  // Keys, strings and file names may carry line breaks or be megabytes long: one short line.
   [[noreturn]] void fail(std::string_view path, std::string_view reason) const {
-    std::string msg = fmt::format("{}: {}: {}", source_, path, reason);
-    // Keys, strings and file names may carry line breaks; the message stays one line.
-    std::replace_if(msg.begin(), msg.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-    throw SceneFileError(msg);
+    throw SceneFileError(error_line(source_, path, reason));
   }
 
   void check_keys(const toml::table& t, std::string_view path,
@@ -376,8 +376,9 @@ std::optional<Camera> read_camera(const Reader& r, const toml::table* t) {
   try {
     validate(c);
   } catch (const CameraError& e) {
-    // A fan's width may have been given as rays.
-    const std::string_view key = e.field() == "width" && t->contains("rays") ? "rays" : e.field();
+    // A fan's width may have been given as rays.  A string, not a view: the conditional makes a
+    // temporary std::string, which a view would outlive (AddressSanitizer: stack use after scope).
+    const std::string key = e.field() == "width" && t->contains("rays") ? "rays" : e.field();
     r.fail(child("camera", key), e.reason());
   }
   return c;
@@ -428,13 +429,21 @@ std::optional<std::size_t> overlong_dotted_key(std::string_view text) {
   return std::nullopt;
 }
 
+}  // namespace
+
+std::optional<std::string> toml_nesting_problem(std::string_view text) {
+  const auto at = overlong_dotted_key(text);
+  if (!at) return std::nullopt;
+  const auto line = 1 + std::count(text.begin(), text.begin() + *at, '\n');
+  const auto column = *at - (text.rfind('\n', *at) + 1) + 1;  // npos + 1 wraps to 0
+  return fmt::format("line {}, column {}: key nested too deeply (more than {} dots)", line, column,
+                     kMaxDotsPerRun);
+}
+
+namespace {
+
 toml::table parse_toml(const Reader& r, std::string_view text, std::string_view source_name) {
-  if (const auto at = overlong_dotted_key(text)) {
-    const auto line = 1 + std::count(text.begin(), text.begin() + *at, '\n');
-    const auto column = *at - (text.rfind('\n', *at) + 1) + 1;  // npos + 1 wraps to 0
-    r.fail("(syntax)", fmt::format("line {}, column {}: key nested too deeply (more than {} dots)",
-                                   line, column, kMaxDotsPerRun));
-  }
+  if (const auto problem = toml_nesting_problem(text)) r.fail("(syntax)", *problem);
   try {
     return toml::parse(text, source_name);
   } catch (const toml::parse_error& e) {

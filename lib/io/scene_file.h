@@ -4,6 +4,8 @@
 // Strict on purpose: unknown keys, wrong types, non-finite numbers and out-of-range values
 // are errors, never silently replaced by defaults; only documented optional keys default.
 #include <filesystem>
+#include <optional>
+#include <string>
 #include <stdexcept>
 #include <string_view>
 
@@ -22,6 +24,11 @@ class SceneFileError : public std::runtime_error {
 Scene parse_scene(std::string_view toml_text, std::string_view source_name);
 // Reads and parses the file; an unreadable file is a SceneFileError naming it.
 Scene load_scene(const std::filesystem::path& path);
+
+// toml++ recurses once per key nesting level, so a dotted key of tens of thousands of parts
+// would overflow the stack: every TOML reader (scene and study files) calls this before parsing.
+// "line L, column C: key nested too deeply (...)" when `text` has such a key, else nullopt.
+std::optional<std::string> toml_nesting_problem(std::string_view text);
 
 // The built-in Marschner-Lobb scene as TOML text, and parsed.
 std::string_view default_scene_toml();

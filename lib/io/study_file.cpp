@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "lib/io/error_line.h"
 #include "lib/io/scene_file.h"
 
 namespace vrv {
@@ -28,7 +29,7 @@ std::string one_line(std::string s) {
 }
 
 void StudyReader::fail(std::string_view key, std::string_view reason) const {
-  throw StudyFileError(one_line(fmt::format("{}: {}: {}", source_, key, reason)));
+  throw StudyFileError(error_line(source_, key, reason));
 }
 
 void StudyReader::check_keys(const toml::table& t, std::string_view path,
@@ -118,11 +119,21 @@ Vec3 StudyReader::vec3(const toml::table& t, std::string_view key, std::string_v
   return v;
 }
 
+double StudyReader::order_tolerance(const toml::node& n, std::string_view path) const {
+  const double tol = number(n, path);
+  if (!(tol > 0 && tol <= kMaxOrderTolerance))
+    fail(path, fmt::format("must be in (0, {:g}] (a wider band cannot tell order 1 from order 2), "
+                           "got {:g}", kMaxOrderTolerance, tol));
+  return tol;
+}
+
 std::string StudyReader::child(std::string_view path, std::string_view key) {
   return path.empty() ? std::string(key) : fmt::format("{}.{}", path, key);
 }
 
 toml::table parse_study_toml(std::string_view text, std::string_view source_name) {
+  if (const auto problem = toml_nesting_problem(text))
+    StudyReader(source_name).fail("(syntax)", *problem);
   try {
     return toml::parse(text, source_name);
   } catch (const toml::parse_error& e) {
@@ -146,11 +157,35 @@ std::string read_study_text(const std::filesystem::path& path) {
   return text.str();
 }
 
+namespace {
+
+// scene = "FILE": a scene file, relative to the study file's folder; its errors are quoted whole.
+Scene read_scene_file(const StudyReader& r, const std::string& at, const std::string& name,
+                      std::string& toml_text) {
+  const std::filesystem::path file =
+      std::filesystem::path(r.source()).parent_path() / std::filesystem::path(name);
+  std::error_code ec;
+  if (name.empty() || !std::filesystem::is_regular_file(file, ec))
+    r.fail(at, fmt::format("'{}' is not a scene file (a path relative to the study file: {})", name,
+                           file.string()));
+  toml_text = read_study_text(file);
+  try {
+    return parse_scene(toml_text, file.string());
+  } catch (const SceneFileError& e) {
+    throw StudyFileError(error_line(r.source(), at, e.what()));
+  }
+}
+
+}  // namespace
+
 Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
                        std::string& toml_text) {
   const std::string at = StudyReader::child(path, "scene");
-  const toml::table& scene = r.table(r.require(parent, "scene", path), at);
-  toml_text = scene_to_toml(scene);
+  const toml::node& node = r.require(parent, "scene", path);
+  if (const auto* name = node.as_string()) return read_scene_file(r, at, name->get(), toml_text);
+  if (!node.is_table())
+    r.fail(at, "expected a [scene] table or the path of a scene file (relative to the study file)");
+  toml_text = scene_to_toml(*node.as_table());
   constexpr std::string_view marker = "\x01scene\x01";
   try {
     return parse_scene(toml_text, marker);

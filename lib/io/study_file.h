@@ -25,6 +25,8 @@ class StudyFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+inline constexpr double kMaxOrderTolerance = 0.5;
+
 // Newlines replaced by spaces: error messages stay one line.
 std::string one_line(std::string s);
 
@@ -50,6 +52,9 @@ class StudyReader {
   std::vector<double> numbers(const toml::table& t, std::string_view key, std::string_view path,
                               double lo, double hi) const;
   Vec3 vec3(const toml::table& t, std::string_view key, std::string_view path) const;
+  // A gate's band on |observed order - expected order|: in (0, kMaxOrderTolerance].  A wider band
+  // cannot tell order 1 from order 2, and tolerance = 1e308 made a gate pass whatever happened.
+  double order_tolerance(const toml::node& n, std::string_view path) const;
   static std::string child(std::string_view path, std::string_view key);
 
  private:
@@ -62,7 +67,9 @@ toml::table parse_study_toml(std::string_view text, std::string_view source_name
 std::string read_study_text(const std::filesystem::path& path);
 
 // The [scene] table under `parent` (at `path`): the usual scene tables, parsed by parse_scene, its
-// keys reported as <path>.scene.<key>; its TOML text goes to `toml_text`.
+// keys reported as <path>.scene.<key>; its TOML text goes to `toml_text`.  Or `scene = "FILE"`:
+// a scene file, relative to the study file's folder (its own errors name it); its text goes to
+// `toml_text`.
 Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
                        std::string& toml_text);
 

@@ -1,6 +1,9 @@
 // vrv study: runs a study (studies/NAME/NAME.toml or a path) and writes its tables into
 // OUT/NAME/.  The engine is studies/engine/study_runner.h; this is the command line around it.
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
@@ -10,8 +13,13 @@
 
 #include <fmt/format.h>
 
+#include "lib/io/error_line.h"
 #include "lib/io/study_file.h"
 #include "studies/cli/commands.h"
+#include "studies/engine/checkpoint.h"
+#include "studies/engine/interrupt.h"
+#include "studies/engine/memory_budget.h"
+#include "studies/engine/study_loader.h"
 #include "studies/engine/study_runner.h"
 
 namespace vrv::cli {
@@ -21,8 +29,43 @@ struct StudyOptions {
   std::string study;
   bool list = false;
   bool all = false;
+  double max_memory_gib = 0;  // 0: default_memory_limit()
   StudyRunOptions run;
 };
+
+double memory_limit(const StudyOptions& opt) {
+  return opt.max_memory_gib > 0 ? opt.max_memory_gib * double(1 << 30) : default_memory_limit();
+}
+
+LoadedStudy load(const std::filesystem::path& path, const StudyOptions& opt) {
+  return load_study_file(path, {.memory_limit = memory_limit(opt)});
+}
+
+// --all: two files with one `name` would overwrite each other's folder; together, the studies'
+// grids are held at once (each driver builds them as it reads its file).
+void check_all(const std::vector<LoadedStudy>& studies, const StudyOptions& opt) {
+  std::map<std::string, std::string> seen;  // name -> file
+  double bytes = 0;
+  const double limit = memory_limit(opt);
+  for (const LoadedStudy& s : studies) {
+    if (const auto [it, fresh] = seen.emplace(s.name, s.source); !fresh)
+      throw std::invalid_argument(error_line(s.source, "name", fmt::format(
+          "'{}' is also the name of {} (each study writes its own folder OUT/NAME)", s.name, it->second)));
+    bytes += s.memory_bytes;
+    if (bytes > limit)
+      throw std::invalid_argument(error_line(s.source, "(memory)", fmt::format(
+          "with the studies before it, --all needs about {} for grids, more than the limit of {} "
+          "(raise it with --max-memory GIB, or run the studies one by one)", gibibytes(bytes), gibibytes(limit))));
+  }
+}
+
+int run_one(const LoadedStudy& study, const StudyOptions& opt) {
+  try {
+    return run_study_job(study, opt.run);
+  } catch (const StudyResumeError& e) {
+    throw std::invalid_argument(e.what());
+  }
+}
 
 int run_study(const StudyOptions& opt) {
   if (opt.list) {
@@ -30,7 +73,7 @@ int run_study(const StudyOptions& opt) {
     for (const auto& [name, path] : find_studies()) {
       std::string desc;
       try {
-        desc = load_study_file(path).description;
+        desc = load(path, opt).description;
       } catch (const std::exception& e) {
         desc = std::string("(invalid: ") + e.what() + ")";
       }
@@ -40,30 +83,36 @@ int run_study(const StudyOptions& opt) {
   }
   if (opt.run.threads < 0)
     throw std::invalid_argument(fmt::format("--threads: must not be negative, got {}", opt.run.threads));
+  if (opt.max_memory_gib < 0 || !std::isfinite(opt.max_memory_gib))
+    throw std::invalid_argument(fmt::format("--max-memory: must be a positive number of GiB, got {}", opt.max_memory_gib));
+  // Before any worker thread exists: SIGINT/SIGTERM go to the watcher (studies/engine/interrupt.h).
+  const InterruptGuard interrupts;
   if (opt.all) {
     if (!opt.study.empty()) throw std::invalid_argument("--all: takes no study name");
+    if (opt.run.resume) throw std::invalid_argument("--resume: give the study NAME to resume, not --all");
     // Every study file is checked before any runs, so a bad file costs no time.
     std::vector<LoadedStudy> studies;
     for (const auto& [name, path] : find_studies()) {
       try {
-        studies.push_back(load_study_file(path));
+        studies.push_back(load(path, opt));
       } catch (const StudyFileError& e) {
         throw std::invalid_argument(e.what());
       }
     }
+    check_all(studies, opt);
     int rc = 0;
-    for (const LoadedStudy& s : studies) rc = std::max(rc, run_study_job(s, opt.run));
+    for (const LoadedStudy& s : studies) rc = std::max(rc, run_one(s, opt));
     return rc;
   }
   if (opt.study.empty())
     throw std::invalid_argument("study: give a study NAME or FILE.toml (or --all, --list)");
   LoadedStudy study;
   try {
-    study = load_study_file(resolve_study(opt.study));
+    study = load(resolve_study(opt.study), opt);
   } catch (const StudyFileError& e) {
     throw std::invalid_argument(e.what());
   }
-  return run_study_job(study, opt.run);
+  return run_one(study, opt);
 }
 
 }  // namespace
@@ -77,8 +126,11 @@ void add_study_command(CLI::App& app) {
       "$VRV_STUDY_PATH and the source tree vrv was built from.\n"
       "Writes OUT/NAME/: the study's own tables (CSV, Markdown, LaTeX), images and plots, plus "
       "checks.{csv,md,tex} and meta.json. stdout: one JSON line {\"study\", \"out\", \"pass\"}; "
-      "exit 1 when a check fails or the plots cannot be drawn, 2 for a bad study file.\n"
-      "See docs/studies.md.");
+      "exit 1 when a check fails or the plots cannot be drawn, 2 for a bad study file, 130/143 when "
+      "stopped by SIGINT/SIGTERM.\n"
+      "The run is written to OUT/.NAME.partial/ and replaces OUT/NAME/ in one step when it is "
+      "complete; an interrupted run leaves OUT/NAME/ as it was, and --resume continues it.\n"
+      "See docs/studies.md and docs/robustness.md.");
   cmd->add_option("study", opt->study, "Study NAME (studies/NAME/NAME.toml) or FILE.toml");
   cmd->add_flag("--list", opt->list, "List the studies found");
   cmd->add_flag("--all", opt->all, "Run every study found, in name order (results/ is --all --out results)");
@@ -87,6 +139,10 @@ void add_study_command(CLI::App& app) {
   cmd->add_option("--threads", opt->run.threads, "Threads (default: all cores); results do not depend on it");
   cmd->add_flag("--quiet", opt->run.quiet, "No progress bar or summary on stderr");
   cmd->add_flag("--no-plots", opt->run.no_plots, "Do not run the plot script (studies/engine/plot_study.py)");
+  cmd->add_flag("--resume", opt->run.resume,
+                "Continue an interrupted run of this study from its checkpoints (OUT/.NAME.partial)");
+  cmd->add_option("--max-memory", opt->max_memory_gib,
+                  "GiB the study's grids may take (default: 3/4 of this machine's memory)");
   cmd->callback([opt] {
     const int rc = run_study(*opt);
     if (rc != 0) std::exit(rc);

@@ -25,6 +25,7 @@ namespace {
 
 constexpr long kMaxRays = 1'000'000;
 constexpr std::size_t kMaxSteps = 64;
+constexpr double kMaxSamplesPerRay = 1e8;  // per method and ray, as for every study method (study_file)
 
 std::vector<int> read_resolutions(const StudyReader& r, const toml::table& t, std::string_view key) {
   const std::string at = StudyReader::child("grid_refinement", key);
@@ -56,6 +57,11 @@ void read_grid_refinement(const StudyReader& r, const toml::table& doc, StudyDef
     r.fail("grid_refinement.steps_per_cell", fmt::format("must be in [0.01, 10], got {}", s.grid_steps_per_cell));
 }
 
+std::vector<double> stored(const StudyCheckpoint& checkpoint, const std::string& key,
+                           const std::function<std::vector<double>()>& compute) {
+  return checkpoint ? checkpoint(key, compute) : compute();
+}
+
 }  // namespace
 
 StudyDefinition read_convergence_study(const StudyInput& in) {
@@ -67,10 +73,7 @@ StudyDefinition read_convergence_study(const StudyInput& in) {
   s.source = r.source();
   s.name = in.name;
   if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
-  if (doc.contains("tolerance")) {
-    s.tolerance = r.number(*doc.get("tolerance"), "tolerance");
-    if (!(s.tolerance > 0)) r.fail("tolerance", fmt::format("must be positive, got {}", s.tolerance));
-  }
+  if (doc.contains("tolerance")) s.tolerance = r.order_tolerance(*doc.get("tolerance"), "tolerance");
   if (doc.contains("reference_tol")) {
     s.reference_tol = r.number(*doc.get("reference_tol"), "reference_tol");
     if (!(s.reference_tol > 0))
@@ -120,6 +123,11 @@ StudyDefinition read_convergence_study(const StudyInput& in) {
     const std::string path = fmt::format("sampling.steps[{}]", i);
     const double h = r.number(*sa->get(i), path);
     if (!(h > 0)) r.fail(path, fmt::format("must be positive, got {}", h));
+    // Here, not at run time (where it would be reported as --step): a cap on the work per ray.
+    const double samples = s.scene.box.extent().norm() / h;
+    if (samples > kMaxSamplesPerRay)
+      r.fail(path, fmt::format("step {:g} takes about {:.3g} samples per ray (at most {:g})", h, samples,
+                               kMaxSamplesPerRay));
     if (std::find(s.steps.begin(), s.steps.end(), h) != s.steps.end())
       r.fail(path, fmt::format("step {} is listed twice", h));
     s.steps.push_back(h);
@@ -153,12 +161,41 @@ StudyDefinition load_study(const std::filesystem::path& path) {
 
 namespace {
 
+// The errors [method][ray] of "reference" and each rule on one node grid of `resolution`^3.
+std::vector<double> grid_errors(const StudyDefinition& study, const AnalyticField& source,
+                                const std::vector<Ray>& rays, const std::vector<double>& truth,
+                                int resolution, Progress& bar) {
+  const std::size_t n = rays.size(), M = study.methods.size() + 1;
+  std::vector<double> error(M * n);
+  const GridField grid = make_grid(study.scene.box, source, {resolution, resolution, resolution},
+                                   GridLayout::node, Interpolation::trilinear);
+  const double cell = study.scene.box.extent().maxCoeff() / (resolution - 1);
+  std::vector<DiscreteRaycaster<GridField>> casters;
+  for (const StudyMethod& m : study.methods) {
+    DiscreteConfig c;
+    c.rule = m.rule;
+    c.sampling.strategy = study.strategy;
+    c.sampling.step = study.grid_steps_per_cell * cell;
+    casters.emplace_back(grid, study.scene.box, study.scene.transfer, study.scene.background, c);
+  }
+  parallel_for_index(static_cast<long>(n), [&](long i) {
+    const Ray& ray = rays[static_cast<std::size_t>(i)];
+    const double t = truth[static_cast<std::size_t>(i)];
+    double* e = &error[static_cast<std::size_t>(i)];
+    e[0] = std::abs(integrate_reference(grid, study.scene.box, study.scene.transfer,
+                                        study.scene.background, ray, {study.reference_tol}).value - t);
+    for (std::size_t m = 1; m < M; ++m) e[m * n] = std::abs(casters[m - 1].cast(ray).value - t);
+    bar.advance();
+  });
+  return error;
+}
+
 // Error of each method on node grids of increasing resolution against the analytic reference:
 // "reference" is the continuous integral through the trilinear grid (the reconstruction error
 // alone); each rule runs at steps_per_cell x cell, so its error mixes both discretisations and
 // its expected order is the smaller of the two.
 void refine_grid(const StudyDefinition& study, bool quick, const std::vector<Ray>& rays,
-                 bool progress, StudyResult& result) {
+                 bool progress, const StudyCheckpoint& checkpoint, StudyResult& result) {
   const std::vector<int>& res = quick ? study.quick_grid_resolutions : study.grid_resolutions;
   const auto& source = std::visit(
       [](const auto& f) -> AnalyticField {
@@ -167,35 +204,22 @@ void refine_grid(const StudyDefinition& study, bool quick, const std::vector<Ray
       },
       study.scene.field);
   const std::size_t n = rays.size(), M = study.methods.size() + 1, R = res.size();
-  std::vector<double> truth(n);
-  parallel_for_index(static_cast<long>(n), [&](long i) {
-    truth[static_cast<std::size_t>(i)] =
-        integrate_reference(study.scene, rays[static_cast<std::size_t>(i)], {study.reference_tol}).value;
+  const std::vector<double> truth = stored(checkpoint, "grid_truth", [&] {
+    std::vector<double> t(n);
+    parallel_for_index(static_cast<long>(n), [&](long i) {
+      t[static_cast<std::size_t>(i)] =
+          integrate_reference(study.scene, rays[static_cast<std::size_t>(i)], {study.reference_tol}).value;
+    });
+    return t;
   });
   std::vector<double> error(R * M * n);  // [resolution][method][ray]
   Progress bar("study " + study.name + " (grids)", static_cast<long>(R * n), progress);
   for (std::size_t k = 0; k < R; ++k) {
-    Scene grid_scene = study.scene;
-    const GridField grid = make_grid(study.scene.box, source, {res[k], res[k], res[k]}, GridLayout::node,
-                                     Interpolation::trilinear);
-    const double cell = study.scene.box.extent().maxCoeff() / (res[k] - 1);
-    std::vector<DiscreteRaycaster<GridField>> casters;
-    for (const StudyMethod& m : study.methods) {
-      DiscreteConfig c;
-      c.rule = m.rule;
-      c.sampling.strategy = study.strategy;
-      c.sampling.step = study.grid_steps_per_cell * cell;
-      casters.emplace_back(grid, study.scene.box, study.scene.transfer, study.scene.background, c);
-    }
-    parallel_for_index(static_cast<long>(n), [&](long i) {
-      const Ray& ray = rays[static_cast<std::size_t>(i)];
-      const double t = truth[static_cast<std::size_t>(i)];
-      double* e = &error[(k * M) * n + static_cast<std::size_t>(i)];
-      e[0] = std::abs(integrate_reference(grid, study.scene.box, study.scene.transfer,
-                                          study.scene.background, ray, {study.reference_tol}).value - t);
-      for (std::size_t m = 1; m < M; ++m) e[m * n] = std::abs(casters[m - 1].cast(ray).value - t);
-      bar.advance();
+    // One resolution is one checkpoint: its M x n errors.
+    const std::vector<double> errors_k = stored(checkpoint, fmt::format("grid_{}", res[k]), [&] {
+      return grid_errors(study, source, rays, truth, res[k], bar);
     });
+    std::copy(errors_k.begin(), errors_k.end(), error.begin() + static_cast<std::ptrdiff_t>(k * M * n));
   }
   bar.finish();
   for (std::size_t m = 0; m < M; ++m) {
@@ -223,7 +247,8 @@ void refine_grid(const StudyDefinition& study, bool quick, const std::vector<Ray
 
 }  // namespace
 
-StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress) {
+StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress,
+                            const StudyCheckpoint& checkpoint) {
   const long n = quick ? study.quick_count : study.count;
   const std::vector<Ray> rays = study_rays(study.scene.box, n, study.seed);
   const std::size_t M = study.methods.size(), S = study.steps.size();
@@ -247,14 +272,23 @@ StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progr
       }
     Progress bar("study " + study.name, n, progress);
     parallel_for_index(n, [&](long i) {
-      const Ray& ray = rays[static_cast<std::size_t>(i)];
-      const double reference = integrate_reference(field, study.scene.box, study.scene.transfer,
-                                                   study.scene.background, ray,
-                                                   {study.reference_tol}).value;
+      // One ray is one checkpoint: its errors, then its sample counts (exact as doubles).
+      const std::vector<double> v = stored(checkpoint, fmt::format("ray_{}", i), [&] {
+        const Ray& ray = rays[static_cast<std::size_t>(i)];
+        const double reference = integrate_reference(field, study.scene.box, study.scene.transfer,
+                                                     study.scene.background, ray,
+                                                     {study.reference_tol}).value;
+        std::vector<double> out(2 * per_ray);
+        for (std::size_t k = 0; k < per_ray; ++k) {
+          const DiscreteResult d = casters[k].cast(ray);
+          out[k] = std::abs(d.value - reference);
+          out[per_ray + k] = static_cast<double>(d.samples);
+        }
+        return out;
+      });
       for (std::size_t k = 0; k < per_ray; ++k) {
-        const DiscreteResult d = casters[k].cast(ray);
-        error[static_cast<std::size_t>(i) * per_ray + k] = std::abs(d.value - reference);
-        samples[static_cast<std::size_t>(i) * per_ray + k] = d.samples;
+        error[static_cast<std::size_t>(i) * per_ray + k] = v[k];
+        samples[static_cast<std::size_t>(i) * per_ray + k] = static_cast<long>(v[per_ray + k]);
       }
       bar.advance();
     });
@@ -285,7 +319,7 @@ StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progr
     result.pass = result.pass && o.pass;
     result.orders.push_back(o);
   }
-  if (!study.grid_resolutions.empty()) refine_grid(study, quick, rays, progress, result);
+  if (!study.grid_resolutions.empty()) refine_grid(study, quick, rays, progress, checkpoint, result);
   return result;
 }
 

@@ -6,6 +6,7 @@
 // studies/convergence/convergence.toml and docs/studies.md.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "lib/discrete_raycast.h"
 #include "lib/io/study_file.h"
 #include "lib/scene.h"
+#include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
 
 namespace vrv {
@@ -91,7 +93,8 @@ struct StudyResult {
 
 // Runs the study with parallel_for_index over rays (respects any ThreadLimit alive); the result
 // does not depend on the number of threads.  progress: a Progress bar on stderr.
-StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress);
+StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress,
+                            const StudyCheckpoint& checkpoint = {});
 
 struct StudyFiles {
   std::string errors_csv, orders_csv, orders_md, orders_tex;

@@ -4,6 +4,7 @@
 
 #include "lib/io/atomic_file.h"
 #include "studies/convergence/convergence.h"
+#include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
 
 namespace vrv {
@@ -50,7 +51,8 @@ constexpr const char* kGridPlots = R"json({
 StudyJob parse_convergence(const StudyInput& in) {
   StudyDefinition study = read_convergence_study(in);
   return [study](const StudyRun& run) {
-    const StudyResult result = run_convergence(study, run.quick, run.progress);
+    const StudyResult result =
+        run_convergence(study, run.quick, run.progress, checkpoint_function(run.checkpoints));
     write_study_tables(run.dir, study, result);
     StudyOutcome out;
     out.checks = checks_of(study, result);

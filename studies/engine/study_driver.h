@@ -29,10 +29,14 @@ struct StudyInput {
   std::string name;
 };
 
+class Checkpoints;  // studies/engine/checkpoint.h
+
 struct StudyRun {
   std::filesystem::path dir;  // exists; write every file with write_file_atomically
   bool quick = false;         // the --quick variant (tests, CI): under a minute on two cores
   bool progress = false;      // a progress bar on stderr is welcome
+  // Where a driver stores each finished configuration (checkpointed(), for --resume); may be null.
+  Checkpoints* checkpoints = nullptr;
 };
 
 // One invariant the study checked: `value` compared with `bound` (pass is decided by the driver,

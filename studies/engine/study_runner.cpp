@@ -3,6 +3,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <mutex>
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -21,6 +23,10 @@
 #include "lib/io/run_metadata.h"
 #include "lib/io/study_file.h"
 #include "lib/util/parallel.h"
+
+#include "studies/engine/checkpoint.h"
+#include "studies/engine/interrupt.h"
+#include "studies/engine/staging.h"
 
 namespace vrv {
 namespace {
@@ -52,45 +58,58 @@ std::string python() {
   return "python3";
 }
 
-// Runs the plot script on `dir` (which has plots.json); its messages go to stderr.  Returns its
-// exit status (127 when it could not be started).
+// Runs the plot script on `dir` (which has plots.json) in its own process group, which an
+// interruption ends; its messages go to stderr.  Its exit status (127: it could not be started).
 int draw_plots(const fs::path& dir) {
-  const std::string py = python();
-  const std::string script = plot_script().string();
-  const std::string where = dir.string();
+  const std::string py = python(), script = plot_script().string(), where = dir.string();
   const pid_t pid = fork();
   if (pid < 0) return 127;
   if (pid == 0) {
+    ::setpgid(0, 0);
+    unblock_stop_signals();
     const char* argv[] = {py.c_str(), script.c_str(), where.c_str(), nullptr};
     execvp(argv[0], const_cast<char* const*>(argv));
     _exit(127);
   }
+  ::setpgid(pid, pid);  // also here, so the group exists before an interruption can aim at it
+  set_interrupt_child(pid);
   int status = 0;
   while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return 127;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+    if (errno != EINTR) {
+      status = 127 << 8;
+      break;
+    }
+  set_interrupt_child(0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+nlohmann::json meta_json(const LoadedStudy& study, const StudyRunOptions& opt, const StudyOutcome& outcome,
+                         double seconds, bool pass, const std::string& plots) {
+  nlohmann::ordered_json parameters;
+  parameters["study"] = study.name;
+  parameters["kind"] = study.kind;
+  parameters["file"] = study.source;
+  parameters["description"] = study.description;
+  parameters["quick"] = opt.quick;
+  parameters["threads"] = opt.threads;  // recorded only; no number depends on it
+  parameters["file_text"] = study.text;
+  parameters["run"] = outcome.parameters;
+  nlohmann::json meta = run_metadata(nlohmann::json::parse(parameters.dump()), seconds);
+  meta["pass"] = pass;
+  meta["plots"] = plots;
+  meta["summary"] = outcome.summary;
+  nlohmann::json checks = nlohmann::json::array();
+  for (const StudyCheck& c : outcome.checks)
+    checks.push_back({{"name", c.name},
+                      {"value", std::isfinite(c.value) ? nlohmann::json(c.value) : nlohmann::json()},
+                      {"bound", std::isfinite(c.bound) ? nlohmann::json(c.bound) : nlohmann::json()},
+                      {"pass", c.pass},
+                      {"detail", c.detail}});
+  meta["checks"] = checks;
+  return meta;
 }
 
 }  // namespace
-
-LoadedStudy load_study_file(const fs::path& path) {
-  LoadedStudy s;
-  s.source = path.string();
-  s.text = read_study_text(path);
-  const toml::table doc = parse_study_toml(s.text, s.source);
-  const StudyReader r(s.source);
-  s.kind = r.string(r.require(doc, "kind", ""), "kind");
-  const StudyParse parse = find_study_kind(s.kind);
-  if (!parse)
-    r.fail("kind", fmt::format("unknown kind '{}' (known: {})", s.kind, fmt::join(study_kinds(), ", ")));
-  s.name = doc.contains("name") ? r.string(*doc.get("name"), "name") : path.stem().string();
-  if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos || s.name == "." ||
-      s.name == "..")
-    r.fail("name", fmt::format("'{}' is not a plain directory name", s.name));
-  if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
-  s.job = parse(StudyInput{doc, r, s.name});
-  return s;
-}
 
 std::vector<fs::path> study_dirs() {
   std::vector<fs::path> dirs{fs::path("studies")};
@@ -134,55 +153,53 @@ fs::path resolve_study(const std::string& arg) {
 }
 
 int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
-  const fs::path dir = fs::path(opt.out) / study.name;
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw std::runtime_error(fmt::format("{}: cannot create the directory{}", dir.string(),
-                                         ec ? ": " + ec.message() : std::string()));
+  StudyStaging staging(fs::path(opt.out), study.name, opt.resume);
+  set_interrupt_cleanup_dir(staging.dir());
+  struct ClearCleanup {
+    ~ClearCleanup() { set_interrupt_cleanup_dir({}); }
+  } clear_cleanup;
+  Checkpoints checkpoints(staging.dir() / "checkpoints",
+                          study.text + (opt.quick ? "\n# --quick" : "\n# full"), staging.resumed());
+
   const auto start = std::chrono::steady_clock::now();
   StudyOutcome outcome;
   {
     const ThreadLimit limit(opt.threads);
-    outcome = study.job(StudyRun{dir, opt.quick, !opt.quiet});
+    StudyRun run{staging.dir(), opt.quick, !opt.quiet};
+    run.checkpoints = &checkpoints;
+    outcome = study.job(run);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const bool pass = std::all_of(outcome.checks.begin(), outcome.checks.end(),
-                                [](const StudyCheck& c) { return c.pass; });
+  const bool checks_pass = std::all_of(outcome.checks.begin(), outcome.checks.end(),
+                                       [](const StudyCheck& c) { return c.pass; });
   const CheckTables t = check_tables(study.name, outcome.checks);
-  write_file_atomically(dir / "checks.csv", t.csv);
-  write_file_atomically(dir / "checks.md", t.md);
-  write_file_atomically(dir / "checks.tex", t.tex);
-  nlohmann::ordered_json parameters;
-  parameters["study"] = study.name;
-  parameters["kind"] = study.kind;
-  parameters["file"] = study.source;
-  parameters["description"] = study.description;
-  parameters["quick"] = opt.quick;
-  parameters["threads"] = opt.threads;  // recorded only; no number depends on it
-  parameters["file_text"] = study.text;
-  parameters["run"] = outcome.parameters;
-  nlohmann::json meta = run_metadata(nlohmann::json::parse(parameters.dump()), seconds);
-  meta["pass"] = pass;
-  meta["summary"] = outcome.summary;
-  nlohmann::json checks = nlohmann::json::array();
-  for (const StudyCheck& c : outcome.checks)
-    checks.push_back({{"name", c.name},
-                      {"value", std::isfinite(c.value) ? nlohmann::json(c.value) : nlohmann::json()},
-                      {"bound", std::isfinite(c.bound) ? nlohmann::json(c.bound) : nlohmann::json()},
-                      {"pass", c.pass},
-                      {"detail", c.detail}});
-  meta["checks"] = checks;
-  write_file_atomically(dir / "meta.json", meta.dump(2) + "\n");
+  write_file_atomically(staging.dir() / "checks.csv", t.csv);
+  write_file_atomically(staging.dir() / "checks.md", t.md);
+  write_file_atomically(staging.dir() / "checks.tex", t.tex);
 
+  std::error_code ec;
   int plots_status = 0;
-  if (!opt.no_plots && fs::exists(dir / "plots.json")) plots_status = draw_plots(dir);
+  std::string plots = "none";
+  if (fs::exists(staging.dir() / "plots.json", ec)) {
+    if (!opt.no_plots) {
+      plots_status = draw_plots(staging.dir());
+      plots = plots_status == 0 ? "drawn" : fmt::format("failed (exit {})", plots_status);
+    } else {
+      plots = "not drawn (--no-plots)";
+    }
+  }
+  const bool pass = checks_pass && plots_status == 0;
+  write_file_atomically(staging.dir() / "meta.json",
+                        meta_json(study, opt, outcome, seconds, pass, plots).dump(2) + "\n");
+  fs::remove_all(staging.dir() / "checkpoints", ec);  // the published run is the tables alone
+  staging.publish();
+
   nlohmann::ordered_json j;
   j["study"] = study.name;
-  j["out"] = dir.string();
+  j["out"] = staging.target().string();
   j["pass"] = pass;
   std::cout << j.dump() << '\n';
-  if (!pass) {
+  if (!checks_pass) {
     std::cerr << fmt::format("vrv study: {}: FAILED: {}\n", study.name, failures(outcome.checks));
     return 1;
   }
@@ -194,8 +211,13 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
     return 1;
   }
   if (!opt.quiet)
-    std::cerr << fmt::format("vrv study: {}: {}; {} checks pass in {:.2f} s; wrote {}\n", study.name,
-                             outcome.summary, outcome.checks.size(), seconds, dir.string());
+    std::cerr << fmt::format("vrv study: {}: {}; {} checks pass in {:.2f} s{}; wrote {}\n", study.name,
+                             outcome.summary, outcome.checks.size(), seconds,
+                             checkpoints.reused() > 0
+                                 ? fmt::format(" (resumed: {} configurations from the interrupted run)",
+                                               checkpoints.reused())
+                                 : std::string(),
+                             staging.target().string());
   return 0;
 }
 

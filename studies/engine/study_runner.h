@@ -10,17 +10,9 @@
 #include <vector>
 
 #include "studies/engine/study_driver.h"
+#include "studies/engine/study_loader.h"  // LoadedStudy, load_study_file
 
 namespace vrv {
-
-// A study file, read and checked: its kind's driver has parsed it into a job.
-struct LoadedStudy {
-  std::string name, kind, description, text, source;
-  StudyJob job;
-};
-
-// Throws StudyFileError (one line naming the file and key) for a bad file.
-LoadedStudy load_study_file(const std::filesystem::path& path);
 
 // Where studies are looked for, in order: ./studies, <executable dir>/../studies,
 // $VRV_STUDY_PATH, and the source tree this file was compiled from.
@@ -36,14 +28,19 @@ std::filesystem::path resolve_study(const std::string& arg);
 
 struct StudyRunOptions {
   bool quick = false;          // the study's --quick variant
-  std::string out = "results";  // results go into OUT/NAME/
+  std::string out = "results";  // results go into OUT/NAME/ (staged in OUT/.NAME.partial/)
   int threads = 0;             // 0: all cores; no number depends on it
   bool quiet = false;          // no progress bar or summary on stderr
   bool no_plots = false;       // do not run plot_study.py
+  bool resume = false;         // continue an interrupted run from its checkpoints
 };
 
-// Runs one study and writes its files; 0 when every check passes and the plots were drawn,
-// 1 otherwise (one line on stderr naming the failed checks or the plot script).
+// Runs one study into its staging folder (staging.h) with checkpoints (checkpoint.h), writes
+// checks.{csv,md,tex}, draws the plots (a child process that an interruption ends), writes
+// meta.json (pass only when every check passed and the plots were drawn) and publishes the folder
+// in one step.  0 when every check passes and the plots were drawn, 1 otherwise (one line on
+// stderr naming the failed checks or the plot script).  Throws std::runtime_error (one line)
+// when an output cannot be written, StudyResumeError for a --resume that does not match.
 int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt);
 
 }  // namespace vrv

@@ -2,6 +2,7 @@
 // runs the cases, writes cases.{csv,md,tex} and one check per (case, method).
 #include <fmt/format.h>
 
+#include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
 #include "studies/hard-cases/hard_cases.h"
 
@@ -19,7 +20,7 @@ std::vector<StudyCheck> checks_of(const HardCasesResult& result) {
 StudyJob parse_hard_cases(const StudyInput& in) {
   HardCasesStudy study = read_hard_cases_study(in);
   return [study](const StudyRun& run) {
-    const HardCasesResult result = run_hard_cases(study, run.progress);
+    const HardCasesResult result = run_hard_cases(study, run.progress, checkpoint_function(run.checkpoints));
     write_hard_case_tables(run.dir, study, result);
     StudyOutcome out;
     out.checks = checks_of(result);

@@ -87,7 +87,14 @@ HardCasesStudy load_hard_cases_study(const std::filesystem::path& path) {
   return parse_hard_cases_study(read_study_text(path), path.string(), path.stem().string());
 }
 
-HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress) {
+namespace {
+std::vector<double> stored(const StudyCheckpoint& checkpoint, const std::string& key,
+                           const std::function<std::vector<double>()>& compute) {
+  return checkpoint ? checkpoint(key, compute) : compute();
+}
+}  // namespace
+
+HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress, const StudyCheckpoint& checkpoint) {
   const std::size_t C = study.cases.size();
   std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (case, method)
   for (std::size_t c = 0; c < C; ++c)
@@ -97,8 +104,12 @@ HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress) {
   Progress bar("study " + study.name, static_cast<long>(C + jobs.size()), progress);
   parallel_for_index(static_cast<long>(C), [&](long i) {
     const HardCase& hc = study.cases[static_cast<std::size_t>(i)];
-    truth[static_cast<std::size_t>(i)] =
-        integrate_reference(hc.scene, make_ray(hc.origin, hc.direction), {study.reference_tol});
+    const std::vector<double> v = stored(checkpoint, fmt::format("truth_{}", i), [&] {
+      const ReferenceResult r = integrate_reference(hc.scene, make_ray(hc.origin, hc.direction), {study.reference_tol});
+      return std::vector<double>{r.value, r.error_estimate};
+    });
+    truth[static_cast<std::size_t>(i)].value = v[0];
+    truth[static_cast<std::size_t>(i)].error_estimate = v[1];
     bar.advance();
   });
   parallel_for_index(static_cast<long>(jobs.size()), [&](long j) {
@@ -110,17 +121,19 @@ HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress) {
     row.case_name = hc.name;
     row.method = method.label;
     row.reference = method.reference;
-    if (method.reference) {
-      const ReferenceResult r = integrate_reference(hc.scene, ray, {method.tol});
-      row.value = r.value;
-      row.bound = r.error_estimate;
-      row.samples = r.evaluations;
-    } else {
+    // One (case, method) is one checkpoint: value, bound, work.
+    const std::vector<double> v = stored(checkpoint, fmt::format("case_{}_{}", c, m), [&] {
+      if (method.reference) {
+        const ReferenceResult r = integrate_reference(hc.scene, ray, {method.tol});
+        return std::vector<double>{r.value, r.error_estimate, static_cast<double>(r.evaluations)};
+      }
       const DiscreteResult d = discrete_raycast(hc.scene, ray, method.config);
-      row.value = d.value;
-      row.bound = method.max_error.value_or(std::numeric_limits<double>::quiet_NaN());
-      row.samples = d.samples;
-    }
+      return std::vector<double>{d.value, method.max_error.value_or(std::numeric_limits<double>::quiet_NaN()),
+                                 static_cast<double>(d.samples)};
+    });
+    row.value = v[0];
+    row.bound = v[1];
+    row.samples = static_cast<long>(v[2]);
     bar.advance();
   });
   bar.finish();

@@ -12,6 +12,7 @@
 
 #include "lib/io/study_file.h"
 #include "lib/scene.h"
+#include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
 
 namespace vrv {
@@ -72,7 +73,9 @@ HardCasesStudy load_hard_cases_study(const std::filesystem::path& path);
 // into its own slot.  quick runs the same cases (they are cheap).  A case passes when every row
 // is finite and, for reference rows, error <= error_estimate + truth's estimate and
 // error_estimate <= tol, and, for discrete rows with max_error, error <= max_error.
-HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress);
+// checkpoint (studies/engine/checkpoint.h): each case's truth and each (case, method) row.
+HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress,
+                               const StudyCheckpoint& checkpoint = {});
 
 struct HardCaseFiles {
   std::string cases_csv, cases_md, cases_tex;

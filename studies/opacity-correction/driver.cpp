@@ -159,7 +159,7 @@ OpacityStudy read_study(const StudyInput& in) {
   s.b_fit_mean = r.number(r.require(b, "fit_mean_N5", "bounds"), "bounds.fit_mean_N5");
   s.b_comparable = r.number(r.require(b, "comparable", "bounds"), "bounds.comparable");
   s.b_plateau = r.number(r.require(b, "plateau", "bounds"), "bounds.plateau");
-  s.b_order = r.number(r.require(b, "order_tolerance", "bounds"), "bounds.order_tolerance");
+  s.b_order = r.order_tolerance(r.require(b, "order_tolerance", "bounds"), "bounds.order_tolerance");
   s.b_reference = r.number(r.require(b, "reference", "bounds"), "bounds.reference");
   return s;
 }

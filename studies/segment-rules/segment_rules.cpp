@@ -116,7 +116,7 @@ SegmentRulesStudy read_study(const StudyInput& in) {
   st.strategy = *parsed;
   st.reference_tol = r.number(r.require(images, "reference_tol", "images"), "images.reference_tol");
   if (!(st.reference_tol > 0)) r.fail("images.reference_tol", "must be > 0");
-  st.order_tolerance = r.number(r.require(images, "tolerance", "images"), "images.tolerance");
+  st.order_tolerance = r.order_tolerance(r.require(images, "tolerance", "images"), "images.tolerance");
   st.rules = read_rules(r, images);
   const toml::array& renders = r.array(r.require(in.doc, "render", ""), "render");
   for (std::size_t i = 0; i < renders.size(); ++i) {

@@ -1,0 +1,107 @@
+#include "studies/engine/checkpoint.h"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "lib/io/atomic_file.h"
+
+namespace vrv {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr std::string_view kIdentityFile = "identity.txt";
+
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string fingerprint(std::string_view identity) {
+  // FNV-1a, 64 bits: a stable digest (std::hash is not guaranteed stable across builds).
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (const unsigned char c : identity) h = (h ^ c) * 0x100000001b3ull;
+  return fmt::format("{:016x} {}\n", h, identity.size());
+}
+
+}  // namespace
+
+Checkpoints::Checkpoints(const fs::path& dir, std::string_view identity, bool resume) : dir_(dir) {
+  std::error_code ec;
+  const std::string mine = fingerprint(identity);
+  if (resume && fs::exists(dir_ / kIdentityFile, ec) && read_all(dir_ / kIdentityFile) != mine)
+    throw StudyResumeError(fmt::format("{}: --resume: the study file or --quick differs from the "
+                                       "interrupted run's; run without --resume",
+                                       dir_.parent_path().string()));
+  fs::create_directories(dir_, ec);
+  if (ec) throw std::runtime_error(fmt::format("{}: cannot create: {}", dir_.string(), ec.message()));
+  write_file_atomically(dir_ / kIdentityFile, mine);
+  // Test hook (tests/studies/engine/interrupt_test.sh): "N" or "N:SIGNAL" sends SIGKILL (or the
+  // signal) to this process once N configurations are computed, a deterministic "midway".
+  if (const char* hook = std::getenv("VRV_TEST_KILL_AFTER_CHECKPOINTS")) {
+    char* end = nullptr;
+    kill_after_ = std::strtol(hook, &end, 10);
+    if (*end == ':') kill_signal_ = static_cast<int>(std::strtol(end + 1, nullptr, 10));
+  }
+}
+
+std::optional<std::vector<double>> Checkpoints::find(const std::string& key) const {
+  std::ifstream in(dir_ / (key + ".txt"));
+  if (!in) return std::nullopt;
+  std::vector<double> values;
+  std::string word;
+  while (in >> word) {
+    if (word == "end") return values;  // written last: a complete checkpoint
+    char* end = nullptr;
+    values.push_back(std::strtod(word.c_str(), &end));
+    if (*end != '\0') return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+void Checkpoints::store(const std::string& key, const std::vector<double>& values) {
+  std::string text;
+  for (const double v : values) text += fmt::format("{:a}\n", v);  // exact; nan, inf as words
+  text += "end\n";
+  write_file_atomically(dir_ / (key + ".txt"), text);
+}
+
+std::vector<double> Checkpoints::get(const std::string& key,
+                                     const std::function<std::vector<double>()>& compute) {
+  for (const char c : key)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
+      throw std::logic_error("checkpoint key '" + key + "' has a character other than [A-Za-z0-9_.-]");
+  if (auto stored = find(key)) {
+    ++reused_;
+    return *stored;
+  }
+  std::vector<double> values = compute();
+  store(key, values);
+  if (++computed_ == kill_after_ && kill_after_ > 0) ::kill(::getpid(), kill_signal_);
+  return values;
+}
+
+std::vector<double> checkpointed(Checkpoints* checkpoints, const std::string& key,
+                                 const std::function<std::vector<double>()>& compute) {
+  return checkpoints ? checkpoints->get(key, compute) : compute();
+}
+
+StudyCheckpoint checkpoint_function(Checkpoints* checkpoints) {
+  if (!checkpoints) return {};
+  return [checkpoints](const std::string& key, const std::function<std::vector<double>()>& compute) {
+    return checkpoints->get(key, compute);
+  };
+}
+
+}  // namespace vrv

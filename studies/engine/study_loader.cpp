@@ -1,0 +1,42 @@
+#include "studies/engine/study_loader.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <toml++/toml.h>
+
+#include "studies/engine/memory_budget.h"
+
+namespace vrv {
+
+LoadedStudy load_study_text(std::string text, const std::string& source, const std::string& default_name,
+                            const StudyLoadOptions& options) {
+  LoadedStudy s;
+  s.source = source;
+  s.text = std::move(text);
+  const toml::table doc = parse_study_toml(s.text, s.source);
+  const StudyReader r(s.source);
+  s.kind = r.string(r.require(doc, "kind", ""), "kind");
+  const StudyParse parse = find_study_kind(s.kind);
+  if (!parse)
+    r.fail("kind", fmt::format("unknown kind '{}' (known: {})", s.kind, fmt::join(study_kinds(), ", ")));
+  s.name = doc.contains("name") ? r.string(*doc.get("name"), "name") : default_name;
+  if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos || s.name == "." ||
+      s.name == ".." || s.name.front() == '.')
+    r.fail("name", fmt::format("'{}' is not a plain directory name", s.name));
+  if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
+  // Before the driver reads the file: drivers build their grids as they read.
+  const double limit = options.memory_limit > 0 ? options.memory_limit : default_memory_limit();
+  const StudyMemory memory = estimate_study_memory(doc);
+  if (memory.bytes > limit)
+    r.fail("(memory)", fmt::format("its grids need {}, more than the limit of {} (raise it with "
+                                   "--max-memory GIB)", describe(memory), gibibytes(limit)));
+  s.memory_bytes = memory.bytes;
+  s.job = parse(StudyInput{doc, r, s.name});
+  return s;
+}
+
+LoadedStudy load_study_file(const std::filesystem::path& path, const StudyLoadOptions& options) {
+  return load_study_text(read_study_text(path), path.string(), path.stem().string(), options);
+}
+
+}  // namespace vrv

@@ -1,0 +1,29 @@
+#pragma once
+// A study file, read and checked before anything runs: the common keys (kind, name, description),
+// the memory budget (memory_budget.h), then its kind's driver parses the rest into a job.  Every
+// problem is a StudyFileError, one line naming the file and key (exit 2).
+#include <filesystem>
+#include <string>
+
+#include "lib/io/study_file.h"
+#include "studies/engine/study_driver.h"
+
+namespace vrv {
+
+struct StudyLoadOptions {
+  double memory_limit = 0;  // bytes the study's grids may take; 0: default_memory_limit()
+};
+
+struct LoadedStudy {
+  std::string name, kind, description, text, source;
+  StudyJob job;
+  double memory_bytes = 0;  // the estimate of its grids (memory_budget.h)
+};
+
+// `source` names the file in messages and anchors relative paths (scene = "FILE"); `default_name`
+// is the study's name when the file has no `name` key (its stem).
+LoadedStudy load_study_text(std::string text, const std::string& source, const std::string& default_name,
+                            const StudyLoadOptions& options = {});
+LoadedStudy load_study_file(const std::filesystem::path& path, const StudyLoadOptions& options = {});
+
+}  // namespace vrv

@@ -1,0 +1,147 @@
+// Staging, publishing and checkpoints of a study run (studies/engine/staging, checkpoint).
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "studies/engine/checkpoint.h"
+#include "studies/engine/interrupt.h"
+#include "studies/engine/staging.h"
+
+namespace vrv {
+namespace {
+namespace fs = std::filesystem;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("vrv_staging_test_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(StudyStaging, PublishReplacesThePreviousRunWhole) {
+  const fs::path out = fresh_dir("publish");
+  fs::create_directories(out / "s");
+  std::ofstream(out / "s" / "old.csv") << "old";
+  {
+    StudyStaging st(out, "s", false);
+    EXPECT_EQ(st.dir(), out / ".s.partial");
+    std::ofstream(st.dir() / "new.csv") << "new";
+    // Until published, the previous run is what the folder holds.
+    EXPECT_EQ(read(out / "s" / "old.csv"), "old");
+    st.publish();
+  }
+  EXPECT_FALSE(fs::exists(out / "s" / "old.csv"));
+  EXPECT_EQ(read(out / "s" / "new.csv"), "new");
+  EXPECT_FALSE(fs::exists(out / ".s.partial"));
+  EXPECT_FALSE(fs::exists(out / ".s.done"));
+  EXPECT_FALSE(fs::exists(out / ".s.lock"));
+}
+
+TEST(StudyStaging, AnUnpublishedRunLeavesTheResultsAndItsCheckpoints) {
+  const fs::path out = fresh_dir("unpublished");
+  fs::create_directories(out / "s");
+  std::ofstream(out / "s" / "old.csv") << "old";
+  {
+    StudyStaging st(out, "s", false);
+    std::ofstream(st.dir() / "part.txt") << "1";
+  }
+  EXPECT_EQ(read(out / "s" / "old.csv"), "old");
+  {
+    StudyStaging st(out, "s", true);  // --resume continues it
+    EXPECT_TRUE(st.resumed());
+    EXPECT_TRUE(fs::exists(st.dir() / "part.txt"));
+  }
+  {
+    StudyStaging st(out, "s", false);  // a fresh run starts empty
+    EXPECT_FALSE(st.resumed());
+    EXPECT_FALSE(fs::exists(st.dir() / "part.txt"));
+  }
+}
+
+TEST(StudyStaging, StaleLeftoversAreRemoved) {
+  const fs::path out = fresh_dir("stale");
+  fs::create_directories(out / ".s.done");  // killed between publishing and removing the old run
+  fs::create_directories(out / ".s.partial");
+  std::ofstream(out / ".s.partial" / "t.csv.tmp.999999999") << "x";  // no such process
+  std::ofstream(out / ".s.partial" / "keep.txt") << "x";
+  StudyStaging st(out, "s", true);
+  EXPECT_FALSE(fs::exists(out / ".s.done"));
+  EXPECT_FALSE(fs::exists(st.dir() / "t.csv.tmp.999999999"));
+  EXPECT_TRUE(fs::exists(st.dir() / "keep.txt"));
+}
+
+TEST(StudyStaging, TwoRunsOfOneStudyAreRefused) {
+  const fs::path out = fresh_dir("lock");
+  StudyStaging first(out, "s", false);
+  try {
+    StudyStaging second(out, "s", false);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("another vrv study is writing them"), std::string::npos) << e.what();
+  }
+}
+
+TEST(StudyStaging, ResultsPathThatIsAFileIsRefused) {
+  const fs::path out = fresh_dir("file");
+  std::ofstream(out / "s") << "x";
+  EXPECT_THROW(StudyStaging(out, "s", false), std::runtime_error);
+}
+
+TEST(Checkpoints, StoreExactlyAndReuseOnResume) {
+  const fs::path dir = fresh_dir("checkpoints") / "checkpoints";
+  const std::vector<double> v{0.1, -0.0, 5e-324, 1e308, std::numeric_limits<double>::infinity(),
+                              std::numeric_limits<double>::quiet_NaN()};
+  int calls = 0;
+  auto compute = [&] { ++calls; return v; };
+  {
+    Checkpoints c(dir, "file text; quick", false);
+    c.get("a_1", compute);
+    EXPECT_EQ(c.computed(), 1);
+  }
+  Checkpoints c(dir, "file text; quick", true);
+  const std::vector<double> back = c.get("a_1", compute);
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(c.reused(), 1);
+  ASSERT_EQ(back.size(), v.size());
+  for (std::size_t i = 0; i + 1 < v.size(); ++i) {
+    EXPECT_EQ(back[i], v[i]);
+    EXPECT_EQ(std::signbit(back[i]), std::signbit(v[i]));
+  }
+  EXPECT_TRUE(std::isnan(back.back()));
+  EXPECT_THROW(c.get("a/b", compute), std::logic_error);
+}
+
+TEST(Checkpoints, ResumingAnotherFileOrVariantIsRefused) {
+  const fs::path dir = fresh_dir("identity") / "checkpoints";
+  { Checkpoints c(dir, "text A", false); }
+  EXPECT_THROW(Checkpoints(dir, "text B", true), StudyResumeError);
+  EXPECT_NO_THROW(Checkpoints(dir, "text B", false));  // a fresh run takes the folder over
+}
+
+TEST(Interrupt, OnlyStaleTemporaryFilesAreRemoved) {
+  const fs::path d = fresh_dir("tmpfiles");
+  std::ofstream(d / "a.csv.tmp.999999999") << "x";                                 // dead process
+  std::ofstream(d / "b.pdf.tmp.999999998.pdf") << "x";                             // the plot script's
+  std::ofstream(d / ("c.csv.tmp." + std::to_string(::getppid()))) << "x";          // a live process
+  std::ofstream(d / "d.csv") << "x";
+  EXPECT_EQ(remove_temporary_files(d, true), 2);
+  EXPECT_TRUE(fs::exists(d / ("c.csv.tmp." + std::to_string(::getppid()))));
+  EXPECT_TRUE(fs::exists(d / "d.csv"));
+}
+
+}  // namespace
+}  // namespace vrv
