@@ -3,6 +3,7 @@
 
     xvfb-run -a /usr/bin/python3 vtk_render.py EXPORT_DIR OUT_DIR [--mapper fixed|gpu] H [H ...]
         -> OUT_DIR/<mapper>_H<H>.png  (8-bit grey, row 0 at the top, one per sample distance)
+           OUT_DIR/fixed15_H<H>.tiff   (fixed-point mapper only: its own 15-bit ray-cast image)
            OUT_DIR/<mapper>_steps.json (the steps, the mapper, VTK's version, what was set)
 
 What is set, and nothing else (VTK's defaults otherwise):
@@ -18,7 +19,15 @@ What is set, and nothing else (VTK's defaults otherwise):
 The framebuffer is 8-bit RGBA (VTK 9.1 has no float read-back for either mapper's final image),
 read with vtkWindowToImageFilter, whose row 0 is the bottom: it is flipped to vrv's row 0 = top.
 The red channel is written (the colour is grey; the script checks that r = g = b).
+
+The fixed-point mapper casts its rays into an image of its own, 15-bit fixed point (unsigned short,
+1.0 = 32767, colour premultiplied by opacity), and then draws that image into the window as a
+texture (vtkOpenGLRayCastImageDisplayHelper). VTK's Python wrapping returns that image's pointer
+only as a string ("_<hex address>_p_void"), so it is read with ctypes, copied at once, placed at
+its origin in the viewport and written as float32 v / 32767 (exact: 15 bits fit a float).
+That separates the ray casting from the display step.
 """
+import ctypes
 import json
 import sys
 from pathlib import Path
@@ -94,6 +103,34 @@ def grab(window, size):
     return pixels[::-1]  # vtkImageData row 0 is the bottom; vrv's is the top
 
 
+def ray_cast_image(mapper, size):
+    """The fixed-point mapper's own ray-cast image as (height, width) float, row 0 at the top."""
+    image = mapper.GetRayCastImage()
+    pointer = image.GetImage()  # "_<hex>_p_void"
+    address = int(pointer[1:].split("_")[0], 16)
+    mx, my = image.GetImageMemorySize()
+    ux, uy = image.GetImageInUseSize()
+    ox, oy = image.GetImageOrigin()
+    if image.GetImageSampleDistance() != 1.0 or tuple(image.GetImageViewportSize()) != size:
+        sys.exit("vtk_render.py: the ray-cast image is not one ray per pixel")
+    memory = np.ctypeslib.as_array((ctypes.c_ushort * (mx * my * 4)).from_address(address))
+    rgba = memory.reshape(my, mx, 4)[:uy, :ux].astype(np.float64) / 32767.0
+    full = np.zeros((size[1], size[0], 4))
+    full[oy:oy + uy, ox:ox + ux] = rgba
+    if not (np.array_equal(full[..., 0], full[..., 1]) and np.array_equal(full[..., 0], full[..., 2])):
+        sys.exit("vtk_render.py: r, g, b of the ray-cast image differ in a grey rendering")
+    return full[::-1, :, 0]
+
+
+def write(path, pixels, fmt):
+    spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], 1, fmt)
+    writer = oiio.ImageOutput.create(str(path))
+    if not writer or not writer.open(str(path), spec) or not writer.write_image(np.ascontiguousarray(pixels[..., None])):
+        sys.exit(f"vtk_render.py: {path}: {oiio.geterror()}")
+    writer.close()
+    print(path, flush=True)
+
+
 def main(argv):
     mapper_kind = "fixed"
     if "--mapper" in argv:
@@ -114,20 +151,20 @@ def main(argv):
         if not (np.array_equal(rgb[..., 0], rgb[..., 1]) and np.array_equal(rgb[..., 0], rgb[..., 2])):
             sys.exit(f"vtk_render.py: H = {h}: r, g, b differ in a grey rendering")
         name = f"{mapper_kind}_H{h:g}.png"
-        spec = oiio.ImageSpec(size[0], size[1], 1, "uint8")
-        writer = oiio.ImageOutput.create(str(out / name))
-        if not writer.open(str(out / name), spec) or not writer.write_image(np.ascontiguousarray(rgb[..., :1])):
-            sys.exit(f"vtk_render.py: {out / name}: {oiio.geterror()}")
-        writer.close()
+        write(out / name, rgb[..., 0], "uint8")
         files.append(name)
-        print(out / name, flush=True)
+        if mapper_kind == "fixed":
+            name = f"fixed15_H{h:g}.tiff"
+            write(out / name, ray_cast_image(mapper, size).astype(np.float32), "float")
+            files.append(name)
     meta = {
         "vtk_version": vtk.vtkVersion.GetVTKVersion(),
         "mapper": mapper.GetClassName(),
-        "renderer": window.ReportCapabilities().splitlines()[:3] if mapper_kind == "gpu" else "CPU",
+        "opengl": [l.strip() for l in window.ReportCapabilities().splitlines() if "OpenGL renderer" in l or "OpenGL version" in l],
         "steps": steps,
         "files": files,
         "framebuffer": "8-bit RGB via vtkWindowToImageFilter, flipped to row 0 at the top, red channel",
+        "ray_cast_image": "fixed15_*.tiff: the fixed-point mapper's 15-bit image, float32 v / 32767" if mapper_kind == "fixed" else None,
         "export": str(export),
     }
     (out / f"{mapper_kind}_steps.json").write_text(json.dumps(meta, indent=2) + "\n")
