@@ -99,6 +99,18 @@ def main(argv):
         local = [math.log(a / b) / math.log(g / k) for a, b, g, k in zip(rms, rms[1:], steps, steps[1:])]
         lines.append(f"- {region}: RMS {rms[0]:.3g} at h = {steps[0]:g} to {rms[-1]:.3g} at h = {steps[-1]:g}, "
                      f"order {slope(steps, rms):.3f}, local orders " + ", ".join(f"{q:.2f}" for q in local))
+    # Where the finest image's error sits, and the orientation check (a flip makes it far worse).
+    fine, e = pictures[-1], pictures[-1] - ref
+    rms = lambda a: math.sqrt(np.mean((a - ref) ** 2))
+    lines.append(f"\nFinest image (h = {steps[-1]:g}): RMS {rms(fine):.3g} as read, {rms(fine[::-1]):.3g} with rows "
+                 f"flipped, {rms(fine[:, ::-1]):.3g} with columns flipped.")
+    rows_over, counts = np.unique(np.argwhere(np.abs(e) > 0.03)[:, 0], return_counts=True)
+    busiest = np.argsort(counts)[::-1][:3]
+    lines.append(f"Pixels with |e| > 0.03: {int(counts.sum())}; busiest rows (y: count): "
+                 + ", ".join(f"{rows_over[k]}: {counts[k]}" for k in busiest))
+    largest = np.argsort(np.abs(e).ravel())[::-1][:5]
+    lines.append("Largest |e| (x, y: image / reference): " + "; ".join(
+        f"{k % e.shape[1]}, {k // e.shape[1]}: {fine.flat[k]:.3f} / {ref.flat[k]:.3f}" for k in largest))
     prefix.with_suffix(".md").write_text("\n".join(lines) + "\n")
     csv = ["figure,step,image,vrv,numpy,relative_difference"]
     csv += [f"{r['figure']},{r['step']},{r['image']},{r['vrv']!r},{r['numpy']!r},{r['relative_difference']!r}"
