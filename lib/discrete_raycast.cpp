@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "lib/enum_names.h"
+#include "lib/util/enum_names.h"
 
 namespace vrv {
 namespace {

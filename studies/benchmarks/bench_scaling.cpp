@@ -1,6 +1,6 @@
 // How time grows with image size, refinement level and grid size, and what a grid costs in
 // memory: the measured points behind the scaling tables (and fitted exponents) of
-// results/performance.md, which studies/performance_report.py writes.
+// results/performance.md, which studies/benchmarks/performance_report.py writes.
 //   build/bench_scaling [--benchmark_filter=...]
 //
 // Every render runs its pixels on all threads with parallel_for_index (TBB's default), so the
@@ -43,10 +43,10 @@
 
 #include "lib/camera.h"
 #include "lib/discrete_raycast.h"
-#include "lib/parallel.h"
+#include "lib/util/parallel.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
-#include "lib/scene_file.h"
+#include "lib/io/scene_file.h"
 
 namespace {
 

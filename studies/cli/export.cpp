@@ -18,13 +18,13 @@
 
 #include <fmt/format.h>
 
-#include "lib/atomic_file.h"
+#include "lib/io/atomic_file.h"
 #include "lib/io/camera_export.h"
 #include "lib/io/transfer_export.h"
 #include "lib/io/volume_export.h"
 #include "lib/scene_hash.h"
-#include "studies/cli_support.h"
-#include "studies/commands.h"
+#include "studies/cli/cli_support.h"
+#include "studies/cli/commands.h"
 
 namespace vrv::cli {
 namespace {

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <limits>
 
-#include "lib/image_io.h"
+#include "lib/io/image_io.h"
 
 namespace vrv {
 namespace {

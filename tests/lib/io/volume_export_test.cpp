@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "lib/scene_file.h"
+#include "lib/io/scene_file.h"
 
 namespace vrv {
 namespace {
