@@ -8,7 +8,7 @@
 #include "lib/parallel.h"
 #include "lib/progress.h"
 #include "lib/reference_integrator.h"
-#include "lib/study.h"
+#include "lib/order_estimate.h"
 #include "studies/study_segment_rules.h"
 
 namespace vrv {
@@ -88,7 +88,7 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
       means.push_back(row.mean_error);
       out.rows.push_back(row);
     }
-    out.observed.push_back(observed_order(steps, means));
+    out.fits.push_back(estimate_order(steps, means));
     Image map(camera.width, camera.height);
     for (long i = 0; i < n; ++i) {
       const auto pixel = static_cast<std::size_t>(i);
