@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "lib/discrete_raycast.h"
+#include "lib/order_estimate.h"
 #include "lib/scene.h"
 #include "lib/study_file.h"
 
@@ -53,7 +54,9 @@ struct StudyDefinition {
   long count = 64;            // rays
   long quick_count = 8;       // rays with --quick
   std::uint64_t seed = 1;
-  double tolerance = 0.25;    // on |observed - expected|
+  // |observed - expected| <= max(margin x c_1 x SE, floor) (lib/order_estimate.h); the file's
+  // `order_tolerance = { margin, floor }`, else these.
+  OrderTolerance order_tolerance{2, 0.05};
   double reference_tol = 1e-13;  // hard_cases: the tolerance of the "truth" each error is against
   // Convergence under grid refinement ([grid_refinement], optional): the analytic field sampled
   // on node grids of these resolutions (cubic, trilinear), each method's error against the
@@ -94,12 +97,14 @@ struct GridOrderRow {
   std::string method;
   double expected = 0, observed = 0;
   bool pass = false;
+  OrderEstimate fit{};  // observed = fit.order, with its spread
 };
 
 struct OrderRow {
   SegmentRule rule;
   double expected = 0, observed = 0;
   bool pass = false;
+  OrderEstimate fit{};
 };
 
 // One row of a hard-cases study: one method on one case.

@@ -202,6 +202,11 @@ int run_one(const LoadedStudy& study, const StudyOptions& opt) {
     const ThreadLimit limit(opt.threads);
     outcome = study.job(StudyRun{dir, opt.quick, !opt.quiet});
   }
+  for (StudyCheck& c : outcome.checks)  // a check must say where its bound comes from
+    if (c.kind == CheckKind::unlabelled) {
+      c.pass = false;
+      c.detail += " [no kind: a check is derived, regression or identity]";
+    }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const bool pass = std::all_of(outcome.checks.begin(), outcome.checks.end(),
                                 [](const StudyCheck& c) { return c.pass; });
@@ -227,6 +232,7 @@ int run_one(const LoadedStudy& study, const StudyOptions& opt) {
                       {"value", std::isfinite(c.value) ? nlohmann::json(c.value) : nlohmann::json()},
                       {"bound", std::isfinite(c.bound) ? nlohmann::json(c.bound) : nlohmann::json()},
                       {"pass", c.pass},
+                      {"kind", check_kind_name(c.kind)},
                       {"detail", c.detail}});
   meta["checks"] = checks;
   write_file_atomically(dir / "meta.json", meta.dump(2) + "\n");

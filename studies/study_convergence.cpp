@@ -1,5 +1,6 @@
 // The two table-driven kinds of lib/study.h as study drivers: "convergence" (observed against
 // expected orders, Etiene et al. TVCG 2014) and "hard_cases" (stability cases).
+#include <cmath>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -20,16 +21,24 @@ StudyDefinition definition(const StudyInput& in) {
 std::vector<StudyCheck> checks_of(const StudyDefinition& study, const StudyResult& result) {
   std::vector<StudyCheck> checks;
   for (const OrderRow& o : result.orders)
-    checks.push_back({fmt::format("order {}", segment_rule_name(o.rule)), o.observed, o.expected,
-                      o.pass,
-                      fmt::format("observed order within {:g} of the expected", study.tolerance)});
+    checks.push_back(order_check(fmt::format("order {}", segment_rule_name(o.rule)), o.fit, o.expected,
+                                 study.order_tolerance));
   for (const GridOrderRow& o : result.grid_orders)
-    checks.push_back({fmt::format("grid order {}", o.method), o.observed, o.expected, o.pass,
-                      fmt::format("observed order under grid refinement within {:g} of the expected",
-                                  study.tolerance)});
-  for (const CaseRow& r : result.cases)
-    checks.push_back({fmt::format("{} / {}", r.case_name, r.method), r.error, r.bound, r.pass,
-                      r.finite ? "error against the reference within the bound" : "value not finite"});
+    checks.push_back(order_check(fmt::format("grid order {}", o.method), o.fit, o.expected, study.order_tolerance));
+  // Hard cases: a row with a bound (the reference's own estimate, or a stated max_error whose
+  // derivation is next to it in the study file) checks the error against it; a row without one
+  // is a finiteness check only, and says so.
+  for (const CaseRow& r : result.cases) {
+    const bool bounded = std::isfinite(r.bound);
+    std::string detail = !r.finite  ? std::string("value not finite")
+                         : r.reference ? "error against the truth within the reference's own estimate (+ the truth's), "
+                                         "estimate within its tol"
+                         : bounded     ? "error against the reference within the stated max_error (derived in the file)"
+                                       : fmt::format("finiteness only: no error bound stated (error {:.3g}, recorded "
+                                                     "in cases.csv)", r.error);
+    checks.push_back({fmt::format("{} / {}{}", r.case_name, r.method, bounded || !r.finite ? "" : ": finite"),
+                      r.error, r.bound, r.pass, std::move(detail), CheckKind::derived});
+  }
   return checks;
 }
 

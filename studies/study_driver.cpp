@@ -56,14 +56,15 @@ StudyCheck order_check(std::string name, const OrderEstimate& fit, double expect
 }
 
 CheckTables check_tables(const std::string& study_name, const std::vector<StudyCheck>& checks) {
-  Table t({"check", "value", "bound", "pass", "detail"});
+  Table t({"check", "value", "bound", "pass", "kind", "detail"});
   t.allow_missing("value");
   t.allow_missing("bound");
   t.set_format("value", "{:.4g}");
   t.set_format("bound", "{:.4g}");
   long failed = 0;
   for (const StudyCheck& c : checks) {
-    t.add_row({c.name, c.value, c.bound, std::string(c.pass ? "true" : "false"), c.detail});
+    t.add_row({c.name, c.value, c.bound, std::string(c.pass ? "true" : "false"), std::string(check_kind_name(c.kind)),
+               c.detail});
     failed += c.pass ? 0 : 1;
   }
   LatexStyle style;
