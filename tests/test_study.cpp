@@ -131,13 +131,16 @@ TEST(Study, GridRefinementIsExactForARampAndSecondOrderForMarschnerLobb) {
       EXPECT_LT(row.max_error, 1e-12) << row.resolution;
     }
 
+  // From 33 nodes on: at 17 the reconstruction of fM = 2 is not yet asymptotic, and with two rays
+  // its slope is off by 0.13 on points that lie on a line (SE 0.004), which no spread can excuse.
   const StudyDefinition ml = parse_study(
-      valid_study() + "[grid_refinement]\nresolutions = [17, 33, 65]\n", "ml.toml", "ml");
+      valid_study() + "[grid_refinement]\nresolutions = [33, 65, 129]\n", "ml.toml", "ml");
   const StudyResult smooth = run_convergence(ml, false, false);
   ASSERT_EQ(smooth.grid_orders.size(), 2u);
   EXPECT_EQ(smooth.grid_orders[0].method, "reference");
   // Within the tolerance derived from each fit's spread (lib/order_estimate.h).
-  EXPECT_TRUE(order_matches(smooth.grid_orders[0].fit, 2, ml.order_tolerance)) << smooth.grid_orders[0].observed;
+  EXPECT_TRUE(order_matches(smooth.grid_orders[0].fit, 2, ml.order_tolerance))
+      << smooth.grid_orders[0].observed << ", SE " << smooth.grid_orders[0].fit.standard_error;
   EXPECT_TRUE(order_matches(smooth.grid_orders[1].fit, 1, ml.order_tolerance))  // riemann at half a cell
       << smooth.grid_orders[1].observed;
 }
