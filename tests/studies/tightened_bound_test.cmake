@@ -1,7 +1,7 @@
 # A study gate can fail: runs `vrv study` (--quick) on a copy of a study file with one bound
 # tightened past the value the study measures, and expects exit 1 with the named check among the
 # failures on stderr.  Run by CTest as study.<name>.tightened (label study).
-#   -DVRV=<vrv> -DSTUDY=<studies/NAME.toml> -DOUT=<scratch dir>
+#   -DVRV=<vrv> -DSTUDY=<studies/NAME/NAME.toml> -DOUT=<scratch dir>
 #   -DFROM=<text in the file> -DTO=<its replacement> -DCHECK=<regex naming the failing check>
 foreach(var VRV STUDY OUT FROM TO CHECK)
   if(NOT DEFINED ${var})

@@ -1,0 +1,51 @@
+// Study kind "hard_cases" (studies/hard-cases/hard_cases.h) as a study driver: reads the file,
+// runs the cases, writes cases.{csv,md,tex} and one check per (case, method).
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "studies/engine/study_driver.h"
+#include "studies/hard-cases/hard_cases.h"
+
+namespace vrv {
+namespace {
+
+std::vector<StudyCheck> checks_of(const HardCasesResult& result) {
+  std::vector<StudyCheck> checks;
+  // A row with a bound (the reference's own estimate, or a stated max_error whose derivation is
+  // next to it in the study file) checks the error against it; a row without one is a
+  // finiteness check only, and says so.
+  for (const CaseRow& r : result.cases) {
+    const bool bounded = std::isfinite(r.bound);
+    std::string detail = !r.finite  ? std::string("value not finite")
+                         : r.reference ? "error against the truth within the reference's own estimate (+ the truth's), "
+                                         "estimate within its tol"
+                         : bounded     ? "error against the reference within the stated max_error (derived in the file)"
+                                       : fmt::format("finiteness only: no error bound stated (error {:.3g}, recorded "
+                                                     "in cases.csv)", r.error);
+    checks.push_back({fmt::format("{} / {}{}", r.case_name, r.method, bounded || !r.finite ? "" : ": finite"),
+                      r.error, r.bound, r.pass, std::move(detail), CheckKind::derived});
+  }
+  return checks;
+}
+
+StudyJob parse_hard_cases(const StudyInput& in) {
+  HardCasesStudy study = read_hard_cases_study(in);
+  return [study](const StudyRun& run) {
+    const HardCasesResult result = run_hard_cases(study, run.progress);
+    write_hard_case_tables(run.dir, study, result);
+    StudyOutcome out;
+    out.checks = checks_of(result);
+    out.parameters = hard_cases_parameters(study, run.quick, 0);
+    out.parameters["cases_summary"] = case_summary_json(result);
+    out.summary = fmt::format("{} cases", result.case_summary.size());
+    return out;
+  };
+}
+
+const RegisterStudyKind kHardCases{"hard_cases", parse_hard_cases};
+
+}  // namespace
+}  // namespace vrv
