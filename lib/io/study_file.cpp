@@ -351,4 +351,16 @@ nlohmann::json method_json(const StudyMethodSpec& m) {
   return nlohmann::json::parse(j.dump());
 }
 
+OrderTolerance read_order_tolerance(const StudyReader& r, const toml::table& parent, std::string_view path) {
+  const std::string at = StudyReader::child(path, "order_tolerance");
+  const toml::table& t = r.table(r.require(parent, "order_tolerance", path), at);
+  r.check_keys(t, at, {"margin", "floor"});
+  OrderTolerance o;
+  o.margin = r.number(r.require(t, "margin", at), StudyReader::child(at, "margin"));
+  o.floor = r.number(r.require(t, "floor", at), StudyReader::child(at, "floor"));
+  if (!(o.margin > 0)) r.fail(StudyReader::child(at, "margin"), "must be > 0");
+  if (!(o.floor >= 0)) r.fail(StudyReader::child(at, "floor"), "must be >= 0");
+  return o;
+}
+
 }  // namespace vrv

@@ -15,6 +15,7 @@
 
 #include "lib/discrete_raycast.h"
 #include "lib/geometry.h"
+#include "lib/order_estimate.h"
 #include "lib/scene.h"
 
 namespace vrv {
@@ -93,5 +94,8 @@ bool step_based(Strategy st);
 std::string method_label(const StudyMethodSpec& m);
 // The method as JSON (for meta.json parameters).
 nlohmann::json method_json(const StudyMethodSpec& m);
+
+// `order_tolerance = { margin = M, floor = F }` under `parent` (lib/order_estimate.h): M > 0, F >= 0.
+OrderTolerance read_order_tolerance(const StudyReader& r, const toml::table& parent, std::string_view path);
 
 }  // namespace vrv

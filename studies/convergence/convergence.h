@@ -15,6 +15,7 @@
 
 #include "lib/discrete_raycast.h"
 #include "lib/io/study_file.h"
+#include "lib/order_estimate.h"
 #include "lib/scene.h"
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
@@ -38,7 +39,9 @@ struct StudyDefinition {
   long count = 64;            // rays
   long quick_count = 8;       // rays with --quick
   std::uint64_t seed = 1;
-  double tolerance = 0.25;    // on |observed - expected|
+  // |observed - expected| <= max(margin x c_1 x SE, floor) (lib/order_estimate.h); the file's
+  // `order_tolerance = { margin, floor }`, else these.
+  OrderTolerance order_tolerance{2, 0.05};
   double reference_tol = 1e-13;  // the tolerance of the reference each error is against
   // Convergence under grid refinement ([grid_refinement], optional): the analytic field sampled
   // on node grids of these resolutions (cubic, trilinear), each method's error against the
@@ -74,12 +77,14 @@ struct GridOrderRow {
   std::string method;
   double expected = 0, observed = 0;
   bool pass = false;
+  OrderEstimate fit{};  // observed = fit.order, with its spread
 };
 
 struct OrderRow {
   SegmentRule rule;
   double expected = 0, observed = 0;
   bool pass = false;
+  OrderEstimate fit{};
 };
 
 struct StudyResult {

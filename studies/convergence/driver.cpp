@@ -13,13 +13,10 @@ namespace {
 std::vector<StudyCheck> checks_of(const StudyDefinition& study, const StudyResult& result) {
   std::vector<StudyCheck> checks;
   for (const OrderRow& o : result.orders)
-    checks.push_back({fmt::format("order {}", segment_rule_name(o.rule)), o.observed, o.expected,
-                      o.pass,
-                      fmt::format("observed order within {:g} of the expected", study.tolerance)});
+    checks.push_back(order_check(fmt::format("order {}", segment_rule_name(o.rule)), o.fit, o.expected,
+                                 study.order_tolerance));
   for (const GridOrderRow& o : result.grid_orders)
-    checks.push_back({fmt::format("grid order {}", o.method), o.observed, o.expected, o.pass,
-                      fmt::format("observed order under grid refinement within {:g} of the expected",
-                                  study.tolerance)});
+    checks.push_back(order_check(fmt::format("grid order {}", o.method), o.fit, o.expected, study.order_tolerance));
   return checks;
 }
 

@@ -1,6 +1,7 @@
 #include "studies/engine/study_driver.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include <fmt/format.h>
@@ -20,6 +21,16 @@ RegisterStudyKind::RegisterStudyKind(std::string kind, StudyParse parse) {
   registry().emplace(std::move(kind), parse);
 }
 
+std::string_view check_kind_name(CheckKind kind) {
+  switch (kind) {
+    case CheckKind::derived: return "derived";
+    case CheckKind::regression: return "regression";
+    case CheckKind::identity: return "identity";
+    case CheckKind::unlabelled: break;
+  }
+  return "unlabelled";
+}
+
 StudyParse find_study_kind(std::string_view kind) {
   const auto it = registry().find(kind);
   return it == registry().end() ? nullptr : it->second;
@@ -31,15 +42,29 @@ std::vector<std::string> study_kinds() {
   return out;
 }
 
+StudyCheck order_check(std::string name, const OrderEstimate& fit, double expected, const OrderTolerance& tolerance) {
+  const double bound = order_tolerance(fit, tolerance);
+  std::string detail =
+      fit.points < 3
+          ? fmt::format("observed {:.4f}, expected {:g}: {} steps give the fit no spread to derive a "
+                        "tolerance from (needs 3)", fit.order, expected, fit.points)
+          : fmt::format("observed {:.4f}, expected {:g}, SE {:.2g} over {} steps: |observed - expected| <= "
+                        "max({:g} x {:.2f} x SE, {:g})", fit.order, expected, fit.standard_error, fit.points,
+                        tolerance.margin, fit.bias_factor, tolerance.floor);
+  return {std::move(name), std::abs(fit.order - expected), bound, order_matches(fit, expected, tolerance),
+          std::move(detail), CheckKind::derived};
+}
+
 CheckTables check_tables(const std::string& study_name, const std::vector<StudyCheck>& checks) {
-  Table t({"check", "value", "bound", "pass", "detail"});
+  Table t({"check", "value", "bound", "pass", "kind", "detail"});
   t.allow_missing("value");
   t.allow_missing("bound");
   t.set_format("value", "{:.4g}");
   t.set_format("bound", "{:.4g}");
   long failed = 0;
   for (const StudyCheck& c : checks) {
-    t.add_row({c.name, c.value, c.bound, std::string(c.pass ? "true" : "false"), c.detail});
+    t.add_row({c.name, c.value, c.bound, std::string(c.pass ? "true" : "false"), std::string(check_kind_name(c.kind)),
+               c.detail});
     failed += c.pass ? 0 : 1;
   }
   LatexStyle style;

@@ -18,6 +18,7 @@
 #include <toml++/toml.h>
 
 #include "lib/io/study_file.h"
+#include "lib/order_estimate.h"
 
 namespace vrv {
 
@@ -39,6 +40,15 @@ struct StudyRun {
   Checkpoints* checkpoints = nullptr;
 };
 
+// Where a check's bound comes from (docs/studies.md, "Three kinds of check"):
+//   derived     from theory or from the fit's own spread (a regression in the code can trip it);
+//   regression  a measured maximum rounded up: the study file says so next to the number, with
+//               the measurement and the command that made it;
+//   identity    true by construction, kept as a sanity check (it cannot show a finding).
+// `unlabelled` is refused by `vrv study`: every check must say which it is.
+enum class CheckKind { unlabelled, derived, regression, identity };
+std::string_view check_kind_name(CheckKind kind);
+
 // One invariant the study checked: `value` compared with `bound` (pass is decided by the driver,
 // e.g. value <= bound, or |value - expected| <= tolerance); `detail` says what was compared.
 struct StudyCheck {
@@ -47,6 +57,7 @@ struct StudyCheck {
   double bound = 0;
   bool pass = false;
   std::string detail;
+  CheckKind kind = CheckKind::unlabelled;
 };
 
 struct StudyOutcome {
@@ -65,6 +76,10 @@ struct RegisterStudyKind {
 // nullptr when no driver has that kind.
 StudyParse find_study_kind(std::string_view kind);
 std::vector<std::string> study_kinds();  // sorted
+
+// An observed order against the expected one, the tolerance derived from the fit's spread
+// (lib/order_estimate.h): value |observed - expected|, bound the tolerance, kind derived.
+StudyCheck order_check(std::string name, const OrderEstimate& fit, double expected, const OrderTolerance& tolerance);
 
 // The drivers' common output: tables from the checks.
 struct CheckTables {

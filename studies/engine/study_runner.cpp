@@ -104,6 +104,7 @@ nlohmann::json meta_json(const LoadedStudy& study, const StudyRunOptions& opt, c
                       {"value", std::isfinite(c.value) ? nlohmann::json(c.value) : nlohmann::json()},
                       {"bound", std::isfinite(c.bound) ? nlohmann::json(c.bound) : nlohmann::json()},
                       {"pass", c.pass},
+                      {"kind", check_kind_name(c.kind)},
                       {"detail", c.detail}});
   meta["checks"] = checks;
   return meta;
@@ -169,6 +170,11 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
     run.checkpoints = &checkpoints;
     outcome = study.job(run);
   }
+  for (StudyCheck& c : outcome.checks)  // a check must say where its bound comes from
+    if (c.kind == CheckKind::unlabelled) {
+      c.pass = false;
+      c.detail += " [no kind: a check is derived, regression or identity]";
+    }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const bool checks_pass = std::all_of(outcome.checks.begin(), outcome.checks.end(),
                                        [](const StudyCheck& c) { return c.pass; });

@@ -153,14 +153,13 @@ OpacityStudy read_study(const StudyInput& in) {
 
   const toml::table& b = r.table(r.require(doc, "bounds", ""), "bounds");
   r.check_keys(b, "bounds", {"identity", "quadratic_exact_N2", "fit_mean_N5", "comparable", "plateau",
-                                 "order_tolerance", "reference"});
+                             "order_tolerance"});
   s.b_identity = r.number(r.require(b, "identity", "bounds"), "bounds.identity");
   s.b_quadratic = r.number(r.require(b, "quadratic_exact_N2", "bounds"), "bounds.quadratic_exact_N2");
   s.b_fit_mean = r.number(r.require(b, "fit_mean_N5", "bounds"), "bounds.fit_mean_N5");
   s.b_comparable = r.number(r.require(b, "comparable", "bounds"), "bounds.comparable");
   s.b_plateau = r.number(r.require(b, "plateau", "bounds"), "bounds.plateau");
-  s.b_order = r.order_tolerance(r.require(b, "order_tolerance", "bounds"), "bounds.order_tolerance");
-  s.b_reference = r.number(r.require(b, "reference", "bounds"), "bounds.reference");
+  s.order_tolerance = read_order_tolerance(r, b, "bounds");
   return s;
 }
 

@@ -34,7 +34,8 @@ struct OpacityStudy {
   int repeats = 1, quick_repeats = 1, timing_w = 0, timing_h = 0, timing_qw = 0, timing_qh = 0;
   int render_repeats = 1, quick_render_repeats = 1;
   double paper_correction = 0, paper_overall = 0;
-  double b_identity = 0, b_quadratic = 0, b_fit_mean = 0, b_comparable = 0, b_plateau = 0, b_order = 0, b_reference = 0;
+  double b_identity = 0, b_quadratic = 0, b_fit_mean = 0, b_comparable = 0, b_plateau = 0;
+  OrderTolerance order_tolerance;
 };
 
 // Every key checked; throws StudyFileError (one line naming file and key).

@@ -24,12 +24,12 @@ void write_table(const std::filesystem::path& dir, const std::string& stem, cons
   write_file_atomically(dir / (stem + ".tex"), t.to_latex({caption, "tab:opacity-" + stem, {}}));
 }
 
-StudyCheck at_most(std::string name, double value, double bound, std::string detail) {
-  return {std::move(name), value, bound, value <= bound, std::move(detail)};
+StudyCheck at_most(CheckKind kind, std::string name, double value, double bound, std::string detail) {
+  return {std::move(name), value, bound, value <= bound, std::move(detail), kind};
 }
 
-StudyCheck holds(std::string name, bool ok, std::string detail) {
-  return {std::move(name), ok ? 1.0 : 0.0, 1.0, ok, std::move(detail)};
+StudyCheck holds(CheckKind kind, std::string name, bool ok, std::string detail) {
+  return {std::move(name), ok ? 1.0 : 0.0, 1.0, ok, std::move(detail), kind};
 }
 
 std::string read_loadavg() {
@@ -67,11 +67,11 @@ void voxel_part(const OpacityStudy& s, const StudyRun& run, StudyOutcome& out) {
     t.add_row({name_of(c), static_cast<long>(N), r[c].opacity, r[c].intensity, lee ? r[c].p : kMissing});
   }
   write_table(run.dir, "voxel", t, "Fig.~4: one voxel, resultant opacity and intensity ($\\alpha = C = D/255$)");
-  out.checks.push_back(at_most("Fig. 4: lee_newman opacity = unit opacity", std::fabs(r[Correction::lee_newman].opacity - unit),
+  out.checks.push_back(at_most(CheckKind::identity, "Fig. 4: lee_newman opacity = unit opacity", std::fabs(r[Correction::lee_newman].opacity - unit),
                                s.b_identity, "|composited opacity - D_unit/255|: eq. 9 by construction"));
-  out.checks.push_back(holds("Fig. 4: none over-composites", r[Correction::none].opacity > unit && r[Correction::none].intensity > unit * unit,
+  out.checks.push_back(holds(CheckKind::derived, "Fig. 4: none over-composites", r[Correction::none].opacity > unit && r[Correction::none].intensity > unit * unit,
                              "uncorrected opacity and intensity above the unit sample's (paper's behaviour 1)"));
-  out.checks.push_back(holds("Fig. 4: corrections limit over-composition",
+  out.checks.push_back(holds(CheckKind::derived, "Fig. 4: corrections limit over-composition",
                              r[Correction::lacroute].opacity < r[Correction::none].opacity &&
                                  r[Correction::lee_newman].opacity < r[Correction::none].opacity &&
                                  r[Correction::lacroute].intensity < r[Correction::none].intensity &&
@@ -129,12 +129,12 @@ void surfaces_part(const OpacityStudy& s, const StudyRun& run, StudyOutcome& out
       const double g[2] = {x, y};
       quad = std::max(quad, std::fabs(lee_newman_quadratic_p(g, x) - lee_newman_p(g, x)));
     }
-  out.checks.push_back(at_most("Fig. 3: lee_newman opacity = first sample's", lee_id, s.b_identity,
+  out.checks.push_back(at_most(CheckKind::identity, "Fig. 3: lee_newman opacity = first sample's", lee_id, s.b_identity,
                                "max over 256^2 pairs |opacity - a/255| (eq. 9)"));
-  out.checks.push_back(at_most("Fig. 3: lacroute exact on homogeneous pairs", lac_diag, s.b_identity,
+  out.checks.push_back(at_most(CheckKind::identity, "Fig. 3: lacroute exact on homogeneous pairs", lac_diag, s.b_identity,
                                "max over a = b |opacity - a/255| (eq. 5)"));
-  out.checks.push_back(at_most("Fig. 3: none opacity = 1 - (1-a)(1-b)", none_id, s.b_identity, "max over 256^2 pairs"));
-  out.checks.push_back(at_most("quadratic fit exact at N = 2", quad, s.b_quadratic,
+  out.checks.push_back(at_most(CheckKind::identity, "Fig. 3: none opacity = 1 - (1-a)(1-b)", none_id, s.b_identity, "max over 256^2 pairs"));
+  out.checks.push_back(at_most(CheckKind::identity, "quadratic fit exact at N = 2", quad, s.b_quadratic,
                                "max over 256^2 pairs |p_quadratic - p_exact| (eq. 10 is quadratic)"));
 }
 
@@ -166,10 +166,10 @@ void fit_part(const OpacityStudy& s, const StudyRun& run, StudyOutcome& out) {
   add_fit_row(t, fmt::format("ML render groups ({}x{})", cam.width, cam.height), s.render_N, rendered);
   t.add_row({std::string("paper: lobster CT 120x120x34"), 5L, kMissing, 0.0031, 0.012, 0.0009, kMissing});
   write_table(run.dir, "fit", t, "Sec.~4.4: $|p_\\mathrm{quadratic} - p_\\mathrm{exact}|$");
-  out.checks.push_back(holds("fit: every p_quadratic in [0, 1]", in_unit && ramps.all_in_unit && rendered.all_in_unit,
+  out.checks.push_back(holds(CheckKind::derived, "fit: every p_quadratic in [0, 1]", in_unit && ramps.all_in_unit && rendered.all_in_unit,
                              "finite and in [0, 1] on every set"));
   if (!std::isnan(mean5))
-    out.checks.push_back(at_most("fit: mean error, random 8-bit, N = 5", mean5, s.b_fit_mean, "paper (lobster): 0.0031"));
+    out.checks.push_back(at_most(CheckKind::regression, "fit: mean error, random 8-bit, N = 5", mean5, s.b_fit_mean, "paper (lobster): 0.0031"));
   out.parameters["fit_render_groups"] = rendered.groups;
 }
 
@@ -245,21 +245,20 @@ std::map<Correction, double> render_part(const OpacityStudy& s, const StudyRun& 
       if (methods[k].correction != Correction::schulze) line.add_row({static_cast<long>(x), methods[k].label, v.methods[k][i]});
   }
   write_file_atomically(run.dir / "scanline.csv", line.to_csv());
-  out.checks.push_back(at_most("render: values finite", static_cast<double>(nonfinite), 0, "non-finite pixels"));
-  out.checks.push_back(at_most("render: reference error estimate", v.worst_estimate, s.b_reference,
-                               fmt::format("worst per-pixel error estimate of the analytic integral (tol {:g})",
-                                           s.scenes.reference_tol)));
+  out.checks.push_back(at_most(CheckKind::derived, "render: values finite", static_cast<double>(nonfinite), 0, "non-finite pixels"));
+  out.checks.push_back(at_most(CheckKind::derived, "render: reference error estimate", v.worst_estimate, s.scenes.reference_tol,
+                               "worst per-pixel error estimate of the analytic integral, against the tolerance it was asked for"));
   for (bool centred : s.placements) {
     const double lac = mean[{centred, Correction::lacroute}], lee = mean[{centred, Correction::lee_newman}],
                  none = mean[{centred, Correction::none}];
     const std::string p = placement_name(centred);
-    out.checks.push_back(at_most(fmt::format("render ({}): lacroute and lee_newman comparable", p), std::fabs(lac - lee) / lac,
+    out.checks.push_back(at_most(CheckKind::regression, fmt::format("render ({}): lacroute and lee_newman comparable", p), std::fabs(lac - lee) / lac,
                                  s.b_comparable, "|lacroute - lee_newman| / lacroute, mean pixel difference (paper: 0.0895 vs 0.0894)"));
     if (centred)
-      out.checks.push_back(holds("render (centred): none worse than both corrections", none > lac && none > lee,
+      out.checks.push_back(holds(CheckKind::derived, "render (centred): none worse than both corrections", none > lac && none > lee,
                                  fmt::format("mean pixel difference none {:.4f} > lacroute {:.4f}, lee_newman {:.4f}", none, lac, lee)));
     else
-      out.checks.push_back(holds("render (first): the half-step shift, corrected N = 5 worse than unit sampling",
+      out.checks.push_back(holds(CheckKind::derived, "render (first): the half-step shift, corrected N = 5 worse than unit sampling",
                                  lac > unit_mean && lee > unit_mean,
                                  fmt::format("mean pixel difference lacroute {:.4f}, lee_newman {:.4f} > unit {:.4f} (none {:.4f})",
                                              lac, lee, unit_mean, none)));
@@ -291,26 +290,24 @@ void sweep_part(const OpacityStudy& s, const StudyRun& run, StudyOutcome& out) {
     }
     const std::string p = placement_name(centred);
     const auto plateau = [&](Correction c) { return std::fabs(e[c][last] / e[c][prev] - 1); };
-    out.checks.push_back(holds(fmt::format("sweep ({}): none diverges as N grows", p),
+    out.checks.push_back(holds(CheckKind::derived, fmt::format("sweep ({}): none diverges as N grows", p),
                                e[Correction::none][last] > e[Correction::none][first],
                                fmt::format("none: mean error at N = {} above N = {}", last, first)));
     if (centred) {
       std::vector<double> h, err;
       for (int N : s.sweep_N) h.push_back(1.0 / N), err.push_back(e[Correction::lacroute][N]);
-      const double order = observed_order(h, err);
-      out.checks.push_back({"sweep (centred): lacroute converges, order 2 in 1/N", order, 2.0,
-                            std::fabs(order - 2) <= s.b_order,
-                            fmt::format("least-squares slope of log error against log(1/N), within {}", s.b_order)});
-      out.checks.push_back(at_most("sweep (centred): lee_newman stalls", plateau(Correction::lee_newman), s.b_plateau,
+      out.checks.push_back(order_check("sweep (centred): lacroute converges, order 2 in 1/N", estimate_order(h, err), 2.0,
+                                       s.order_tolerance));
+      out.checks.push_back(at_most(CheckKind::derived, "sweep (centred): lee_newman stalls", plateau(Correction::lee_newman), s.b_plateau,
                                    fmt::format("|e(N = {}) / e(N = {}) - 1|: its target is the unit sample's transparency", last, prev)));
     } else {
-      out.checks.push_back(at_most("sweep (first): lacroute stalls", plateau(Correction::lacroute), s.b_plateau,
+      out.checks.push_back(at_most(CheckKind::derived, "sweep (first): lacroute stalls", plateau(Correction::lacroute), s.b_plateau,
                                    fmt::format("|e(N = {}) / e(N = {}) - 1|: the (N-1)H/(2N) shift of the oversamples", last, prev)));
     }
   }
   write_table(run.dir, "sweep", t, fmt::format("Mean $|I_N - I|$ over {} rays against the continuous integral", rays.size()));
-  out.checks.push_back(holds("sweep: values finite", finite, "every correction, placement and N"));
-  out.checks.push_back(at_most("sweep: N = 1 changes nothing", n1, 0, "max |value - value uncorrected| at N = 1"));
+  out.checks.push_back(holds(CheckKind::derived, "sweep: values finite", finite, "every correction, placement and N"));
+  out.checks.push_back(at_most(CheckKind::identity, "sweep: N = 1 changes nothing", n1, 0, "max |value - value uncorrected| at N = 1"));
   out.parameters["sweep_rays"] = static_cast<long>(rays.size());
 }
 
@@ -355,7 +352,7 @@ std::map<Correction, double> timing_part(const OpacityStudy& s, const StudyRun& 
                               {"repeats", repeats}, {"render_repeats", render_repeats}};
   if (has_q(s)) {
     const double rc = alone[Correction::lacroute] / alone[q], rw = whole[Correction::lacroute] / whole[q];
-    out.checks.push_back(holds("timing: ratios finite and positive (machine-dependent)",
+    out.checks.push_back(holds(CheckKind::identity, "timing: ratios finite and positive (machine-dependent)",
                                std::isfinite(rc) && rc > 0 && std::isfinite(rw) && rw > 0,
                                fmt::format("lacroute/quadratic: correction {:.2f} (paper {}), render {:.2f} (paper {})",
                                            rc, s.paper_correction, rw, s.paper_overall)));

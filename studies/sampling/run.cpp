@@ -68,11 +68,14 @@ void compare(const std::vector<RayValue>& a, const std::vector<RayValue>& b, Ide
   }
 }
 
+// Every bound of this study follows from theory (the reasons are next to them in sampling.toml):
+// tolerances of the reference, rounding allowances of exact identities, orders of first-order
+// placements, and which listing keeps or drops corner rays.
 StudyCheck at_most(std::string name, double value, double bound, std::string detail) {
-  return {std::move(name), value, bound, value <= bound, std::move(detail)};
+  return {std::move(name), value, bound, value <= bound, std::move(detail), CheckKind::derived};
 }
 StudyCheck at_least(std::string name, double value, double bound, std::string detail) {
-  return {std::move(name), value, bound, value >= bound, std::move(detail)};
+  return {std::move(name), value, bound, value >= bound, std::move(detail), CheckKind::derived};
 }
 
 }  // namespace

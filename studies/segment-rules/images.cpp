@@ -9,6 +9,7 @@
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
 #include "lib/metrics.h"
+#include "lib/order_estimate.h"
 #include "studies/segment-rules/segment_rules.h"
 
 namespace vrv {
@@ -88,7 +89,7 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
       means.push_back(row.mean_error);
       out.rows.push_back(row);
     }
-    out.observed.push_back(observed_order(steps, means));
+    out.fits.push_back(estimate_order(steps, means));
     Image map(camera.width, camera.height);
     for (long i = 0; i < n; ++i) {
       const auto pixel = static_cast<std::size_t>(i);

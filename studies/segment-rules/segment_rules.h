@@ -12,6 +12,7 @@
 
 #include "lib/camera.h"
 #include "lib/io/image_io.h"
+#include "lib/order_estimate.h"
 #include "lib/sampling.h"
 #include "lib/scene.h"
 #include "lib/segment_rule.h"
@@ -73,7 +74,7 @@ struct ImageErrorRow {
 
 struct RenderResult {
   std::vector<ImageErrorRow> rows;            // rule-major, steps in order
-  std::vector<double> observed;               // per rule
+  std::vector<OrderEstimate> fits;                 // per rule: observed order and its spread
   std::vector<Image> error_maps;              // per rule: discrete - reference at map_step
   Image reference;
   long hit_pixels = 0;

@@ -1,7 +1,9 @@
 #pragma once
 // Speed against error (kind "speed_vs_error"): every method at every refinement on one ray set,
-// its error against the reference at reference_tol and its single-thread time per ray; the
-// Pareto front; and per target error the cheapest configuration of each method reaching it.
+// its error against an independent truth (the test suite's long-double integrator, which shares
+// no code with the reference integrator it also scores; the reference at reference_tol is checked
+// against it) and its single-thread time per ray; the Pareto front; and per target error the
+// cheapest configuration of each method reaching it.
 // See docs/study-speed-vs-error.md.
 #include <optional>
 #include <string>

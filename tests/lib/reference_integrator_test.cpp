@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -332,23 +333,57 @@ TEST(ReferenceIntegratorOracle, LinearRampClosedForms) {
   }
 }
 
+// A ramp seen through a cell-layout grid: the node values sit at the cell centres, so trilinear
+// interpolation is the ramp inside the centres' box and, in the outer half cells, the ramp at
+// the point clamped onto that box (the clamp of the grid's coordinates).  Its kinks are the
+// clamp planes.
+class ClampedRampLD final : public ind::FieldLD {
+ public:
+  ClampedRampLD(const LinearRamp& ramp, const Box& box, const std::array<int, 3>& cells) : ramp_(ramp) {
+    for (int a = 0; a < 3; ++a) {
+      const LD half = (static_cast<LD>(box.max[a]) - box.min[a]) / (2 * cells[a]);
+      lo_[a] = box.min[a] + half;
+      hi_[a] = box.max[a] - half;
+    }
+  }
+  LD value(const ind::P3& p, const ind::P3&) const override {
+    LD v = ramp_.offset;
+    for (int a = 0; a < 3; ++a) v += static_cast<LD>(ramp_.gradient[a]) * std::clamp(p[a], lo_[a], hi_[a]);
+    return v;
+  }
+  void structural_breaks(const ind::P3& o, const ind::P3& d, LD t0, LD t1, std::vector<LD>& out) const override {
+    for (int a = 0; a < 3; ++a)
+      for (LD plane : {lo_[a], hi_[a]})
+        if (d[a] != 0)
+          if (const LD t = (plane - o[a]) / d[a]; t > t0 && t < t1) out.push_back(t);
+  }
+
+ private:
+  LinearRamp ramp_;
+  LD lo_[3], hi_[3];
+};
+
 TEST(ReferenceIntegratorOracle, TrilinearGridReproducesRamp) {
   // Trilinear interpolation reproduces a linear field; the grid path (planes, cells, clamp)
-  // must then agree with the ramp path.
+  // must then agree with the ramp path: the ramp itself for node layout, the ramp clamped onto
+  // the cell centres' box for cell layout (written independently above).
   const LinearRamp ramp{{0.3, 0.2, -0.1}, 0.5};
-  const ind::LinearRampLD ref(ramp.gradient, 0.5L);
+  const std::array<int, 3> res{5, 4, 6};
+  const ind::LinearRampLD node_ref(ramp.gradient, 0.5L);
+  const ClampedRampLD cell_ref(ramp, kBox, res);
   for (auto layout : {GridLayout::node, GridLayout::cell}) {
-    const GridField grid = make_grid(kBox, ramp, {5, 4, 6}, layout, Interpolation::trilinear);
+    const GridField grid = make_grid(kBox, ramp, {res[0], res[1], res[2]}, layout, Interpolation::trilinear);
     const ind::GridLD gref(grid);
+    const ind::FieldLD& ref = layout == GridLayout::node ? static_cast<const ind::FieldLD&>(node_ref) : cell_ref;
     for (const auto& spec : random_rays(3, 7)) {
       const ind::Result a =
           ind::independent_integral(gref, kBox, tf_general(), 0, spec.origin, spec.direction);
       const ind::Result b =
           ind::independent_integral(ref, kBox, tf_general(), 0, spec.origin, spec.direction);
-      if (layout == GridLayout::node)
-        EXPECT_NEAR(static_cast<double>(a.value), static_cast<double>(b.value), 1e-14);
-      else  // the clamp makes the outer half cells differ; only check it is sane
-        EXPECT_TRUE(std::isfinite(static_cast<double>(a.value)));
+      EXPECT_TRUE(a.hit) << (layout == GridLayout::node ? "node" : "cell");
+      EXPECT_GT(a.value, 0) << (layout == GridLayout::node ? "node" : "cell");
+      EXPECT_NEAR(static_cast<double>(a.value), static_cast<double>(b.value), 1e-14)
+          << (layout == GridLayout::node ? "node" : "cell");
     }
   }
 }
@@ -454,6 +489,8 @@ TEST(ReferenceIntegratorMarschnerLobb, MeanEvaluations) {
             << 1e3 * seconds / static_cast<double>(rays.size())
             << " ms per ray, including a fork)\n";
   RecordProperty("mean_evaluations", std::to_string(mean));
+  // Regression bound, not derived: measured 257.4 evaluations per ray (this test's output), the
+  // bound leaves room for the (machine-independent) work to grow 2.3x before it trips.
   EXPECT_LE(mean, 600);
 }
 
@@ -502,6 +539,9 @@ TEST(ReferenceIntegratorHard, OpticalDepthInThousands) {
     EXPECT_TRUE(r->stopped_early) << describe(spec);
     EXPECT_LE(r->optical_depth, static_cast<double>(ref.optical_depth)) << describe(spec);
     EXPECT_GT(static_cast<double>(ref.optical_depth), 1000) << describe(spec);
+    // Regression bound on the work, not derived: measured at most 396 evaluations on these rays
+    // (this test's output, "[ depth x2000 ]"); a ray that stops paying once the rest cannot
+    // matter stays far below it, one that integrates the opaque remainder does not.
     EXPECT_LT(r->evaluations, 5000) << describe(spec);
     // Carried to the exit, the depth is the whole depth and the value the same.
     ReferenceOptions whole{kTol};
@@ -564,6 +604,9 @@ TEST(ReferenceIntegratorHard, RayWhereTheFieldIsNearZero) {
                      {-0.62336032826786514, -0.69731403074862053, -0.35380085311215842}};
   const auto r = check_ray(kML, kMLRef, tf_general(), 0, spec);
   ASSERT_TRUE(r);
+  std::cout << "[ near-zero field ] evaluations " << r->evaluations << "\n";
+  // Regression bound on the work, not derived: measured 66 evaluations; the failure it guards
+  // against took the 1e6-evaluation work cap.
   EXPECT_LT(r->evaluations, 2000);
 }
 

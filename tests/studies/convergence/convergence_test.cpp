@@ -24,7 +24,8 @@ TEST(ConvergenceStudy, ConvergenceQuickPassesWithObservedOrdersWithinTolerance) 
   ASSERT_EQ(r.orders.size(), 5u);
   ASSERT_EQ(r.errors.size(), 5u * study.steps.size());
   for (const OrderRow& o : r.orders) {
-    EXPECT_NEAR(o.observed, o.expected, study.tolerance) << segment_rule_name(o.rule);
+    EXPECT_TRUE(order_matches(o.fit, o.expected, study.order_tolerance))
+        << segment_rule_name(o.rule) << ": " << o.observed << ", SE " << o.fit.standard_error;
     EXPECT_TRUE(o.pass) << segment_rule_name(o.rule);
   }
   EXPECT_TRUE(r.pass);
@@ -124,13 +125,18 @@ TEST(ConvergenceStudy, GridRefinementIsExactForARampAndSecondOrderForMarschnerLo
       EXPECT_LT(row.max_error, 1e-12) << row.resolution;
     }
 
+  // From 33 nodes on: at 17 the reconstruction of fM = 2 is not yet asymptotic, and with two rays
+  // its slope is off by 0.13 on points that lie on a line (SE 0.004), which no spread can excuse.
   const StudyDefinition ml = parse_study(
-      valid_study() + "[grid_refinement]\nresolutions = [17, 33, 65]\n", "ml.toml", "ml");
+      valid_study() + "[grid_refinement]\nresolutions = [33, 65, 129]\n", "ml.toml", "ml");
   const StudyResult smooth = run_convergence(ml, false, false);
   ASSERT_EQ(smooth.grid_orders.size(), 2u);
   EXPECT_EQ(smooth.grid_orders[0].method, "reference");
-  EXPECT_NEAR(smooth.grid_orders[0].observed, 2, 0.25);
-  EXPECT_NEAR(smooth.grid_orders[1].observed, 1, 0.25);  // riemann at half a cell: first order
+  // Within the tolerance derived from each fit's spread (lib/order_estimate.h).
+  EXPECT_TRUE(order_matches(smooth.grid_orders[0].fit, 2, ml.order_tolerance))
+      << smooth.grid_orders[0].observed << ", SE " << smooth.grid_orders[0].fit.standard_error;
+  EXPECT_TRUE(order_matches(smooth.grid_orders[1].fit, 1, ml.order_tolerance))  // riemann at half a cell
+      << smooth.grid_orders[1].observed;
 }
 
 }  // namespace
