@@ -358,8 +358,10 @@ OrderTolerance read_order_tolerance(const StudyReader& r, const toml::table& par
   OrderTolerance o;
   o.margin = r.number(r.require(t, "margin", at), StudyReader::child(at, "margin"));
   o.floor = r.number(r.require(t, "floor", at), StudyReader::child(at, "floor"));
-  if (!(o.margin > 0)) r.fail(StudyReader::child(at, "margin"), "must be > 0");
-  if (!(o.floor >= 0)) r.fail(StudyReader::child(at, "floor"), "must be >= 0");
+  // Bounded, so that no file can make an order gate that always passes: a margin of 10 standard
+  // errors, or a floor of half an order, is already far past any honest tolerance.
+  if (!(o.margin > 0 && o.margin <= 10)) r.fail(StudyReader::child(at, "margin"), "must be in (0, 10]");
+  if (!(o.floor >= 0 && o.floor <= 0.5)) r.fail(StudyReader::child(at, "floor"), "must be in [0, 0.5]");
   return o;
 }
 

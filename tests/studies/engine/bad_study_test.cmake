@@ -21,9 +21,9 @@ file(WRITE ${OUT}/fine.toml "${text}")
 expect_bad_input(fine_step "fine.toml: sampling.steps\\[0\\]: step 1e-300 takes about .* samples per ray" study ${OUT}/fine.toml --quick)
 
 # A gate's tolerance is bounded.
-string(REPLACE "tolerance = 0.25" "tolerance = 1e308" text "${convergence}")
+string(REPLACE "floor = 0.05" "floor = 1e308" text "${convergence}")
 file(WRITE ${OUT}/wide.toml "${text}")
-expect_bad_input(wide_tolerance "wide.toml: tolerance: must be in \\(0, 0.5\\]" study ${OUT}/wide.toml --quick)
+expect_bad_input(wide_tolerance "wide.toml: order_tolerance.floor: must be in \\[0, 0.5\\]" study ${OUT}/wide.toml --quick)
 
 # scene = "FILE" is a scene file next to the study file; a missing one is named.
 file(WRITE ${OUT}/nofile.toml "kind = \"hard_cases\"\n[[case]]\nname = \"a\"\nscene = \"my.toml\"\norigin = [-3, 0, 0]\ndirection = [1, 0, 0]\n[[case.method]]\nmethod = \"reference\"\ntol = 1e-10\n")
