@@ -28,18 +28,24 @@ def cli(*args):
     return p.returncode, p.stdout, p.stderr.strip().removeprefix("vrv: error: ")
 
 
-def vec(v):
-    return ",".join(repr(float(x)) for x in v)
+def cli_rays(tmp_path, *args):
+    """`vrv ray --rays FILE ARGS` over RAYS (one process): one parsed JSON line per ray."""
+    path = tmp_path / "rays.jsonl"
+    path.write_text("".join(json.dumps({"origin": o, "direction": d}) + "\n" for o, d in RAYS))
+    code, out, err = cli("ray", "--rays", str(path), *args)
+    assert code == 0, err
+    return [json.loads(line) for line in out.splitlines()]
 
 
-def test_reference_is_bitwise_vrv_ray_json():
-    origins = np.array([o for o, _ in RAYS], dtype=float)
-    directions = np.array([d for _, d in RAYS], dtype=float)
-    r = vrv.Scene.default().reference(origins, directions, tol=1e-10)
-    for i, (o, d) in enumerate(RAYS):
-        code, out, err = cli("ray", f"--origin={vec(o)}", f"--direction={vec(d)}", "--tol", "1e-10", "--json")
-        assert code == 0, err
-        line = json.loads(out)
+ORIGINS = np.array([o for o, _ in RAYS], dtype=float)
+DIRECTIONS = np.array([d for _, d in RAYS], dtype=float)
+
+
+def test_reference_is_bitwise_vrv_ray_json(tmp_path):
+    r = vrv.Scene.default().reference(ORIGINS, DIRECTIONS, tol=1e-10)
+    lines = cli_rays(tmp_path, "--tol", "1e-10")
+    assert len(lines) == len(RAYS)
+    for i, line in enumerate(lines):
         assert r["value"][i] == line["value"]
         assert r["error_estimate"][i] == line["error_estimate"]
         assert r["evaluations"][i] == line["evaluations"]
@@ -51,16 +57,12 @@ def test_reference_is_bitwise_vrv_ray_json():
             assert np.isnan(r["t_entry"][i]) and np.isnan(r["t_exit"][i])
 
 
-def test_discrete_is_bitwise_vrv_ray_method():
-    origins = np.array([o for o, _ in RAYS], dtype=float)
-    directions = np.array([d for _, d in RAYS], dtype=float)
+def test_discrete_is_bitwise_vrv_ray_method(tmp_path):
     options = dict(method="alpha", strategy="vtk", step=0.01, oversample=2, correction="lacroute")
-    r = vrv.Scene.default().discrete(origins, directions, **options)
-    flags = [f"--{k}={v}" for k, v in options.items()]
-    for i, (o, d) in enumerate(RAYS):
-        code, out, err = cli("ray", f"--origin={vec(o)}", f"--direction={vec(d)}", *flags, "--json")
-        assert code == 0, err
-        line = json.loads(out)
+    r = vrv.Scene.default().discrete(ORIGINS, DIRECTIONS, **options)
+    lines = cli_rays(tmp_path, *[f"--{k}={v}" for k, v in options.items()])
+    assert len(lines) == len(RAYS)
+    for i, line in enumerate(lines):
         assert (r["value"][i], r["samples"][i]) == (line["value"], line["samples"])
 
 
