@@ -13,7 +13,7 @@ namespace {
 
 const std::vector<double> kSteps{0.08, 0.04, 0.02, 0.01};
 
-struct Setup {
+struct Scenario {
   vrv::Scene scene = vrv::default_scene();
   vrv::Camera camera = vrv::scene_camera(scene, 24, 24);
   vrv::ValueImage reference = vrv::render_reference_image(scene, camera, {1e-10});
@@ -28,7 +28,7 @@ double rms_error(const vrv::ValueImage& image, const vrv::ValueImage& reference)
 
 // Least-squares slope of log(RMS error) against log(step).
 template <class Render>
-double observed_order(const Setup& s, Render render) {
+double observed_order(const Scenario& s, Render render) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   for (double h : kSteps) {
     const double x = std::log(h), y = std::log(rms_error(render(s.scene, s.camera, h), s.reference));
@@ -39,13 +39,13 @@ double observed_order(const Setup& s, Render render) {
 }
 
 TEST(ExampleRenderer, ConvergesAtSecondOrder) {
-  const Setup s;
+  const Scenario s;
   EXPECT_NEAR(observed_order(s, example::render), 2.0, 0.2);
   EXPECT_LT(rms_error(example::render(s.scene, s.camera, 0.01), s.reference), 1e-4);
 }
 
 TEST(ExampleRenderer, PlantedHalfStepOffsetIsCaught) {
-  const Setup s;
+  const Scenario s;
   EXPECT_NEAR(observed_order(s, example_planted::render), 1.0, 0.2);
 }
 
