@@ -1,0 +1,80 @@
+#include "studies/cli/discrete_options.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace vrv::cli {
+namespace {
+
+template <class T, class Parse>
+T parse_choice(const std::string& text, const char* option, Parse&& parse, const char* choices) {
+  const auto value = parse(text);
+  if (!value)
+    throw std::invalid_argument(fmt::format("{}: unknown value '{}' (one of {})", option, text, choices));
+  return *value;
+}
+
+}  // namespace
+
+void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
+  cmd.add_option("--method", opt.method,
+                 "Discrete raycast: riemann | alpha | trapezoid | exact_linear | moreland "
+                 "(omit for the reference integrator)");
+  cmd.add_option("--strategy", opt.strategy,
+                 "Sample placement: eye | entry | entry_exit | entry_exit_corner (default) | step | vtk | inviwo");
+  cmd.add_option("--rate", opt.rate, "Samples per voxel (eye, entry, entry_exit, entry_exit_corner; default 1)");
+  cmd.add_option("--step", opt.step, "World step H (step, vtk, inviwo; --step alone implies --strategy step)");
+  cmd.add_option("--oversample", opt.oversample, "Oversampling factor N dividing the unit step")
+      ->capture_default_str();
+  cmd.add_flag("--centred-oversamples", opt.centred_oversamples,
+               "Put the N oversamples at the centres of the unit step's N parts (default: from the unit sample on)");
+  cmd.add_option("--correction", opt.correction,
+                 "Opacity correction (alpha method): none | lacroute | schulze | lee_newman | lee_newman_quadratic")
+      ->capture_default_str();
+  cmd.add_option("--termination", opt.termination, "Early ray termination at this accumulated opacity (off by default)");
+  cmd.add_option("--skip", opt.skip, "Skip samples whose opacity is below this (off by default)");
+  cmd.add_option("--compositing", opt.compositing, "front_to_back | back_to_front")->capture_default_str();
+  cmd.add_option("--classification", opt.classification, "post | pre (grid fields)")->capture_default_str();
+  cmd.add_option("--precision", opt.precision, "double | float")->capture_default_str();
+}
+
+std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene) {
+  if (opt.method.empty()) return std::nullopt;
+  DiscreteConfig c;
+  c.rule = parse_choice<SegmentRule>(opt.method, "--method", parse_segment_rule,
+                                     "riemann, alpha, trapezoid, exact_linear, moreland");
+  const std::string strategy = opt.strategy.value_or(opt.step ? "step" : "entry_exit_corner");
+  c.sampling.strategy = parse_choice<Strategy>(strategy, "--strategy", parse_strategy,
+                                               "eye, entry, entry_exit, entry_exit_corner, step, vtk, inviwo");
+  const bool step_based = c.sampling.strategy == Strategy::step || c.sampling.strategy == Strategy::vtk ||
+                          c.sampling.strategy == Strategy::inviwo;
+  if (step_based && !opt.step)
+    throw std::invalid_argument(fmt::format("--step: strategy {} needs --step H", strategy));
+  if (!step_based && opt.step)
+    throw std::invalid_argument(fmt::format("--step: strategy {} takes --rate, not --step", strategy));
+  if (step_based && opt.rate)
+    throw std::invalid_argument("--rate: a step-based strategy takes --step, not --rate");
+  c.sampling.rate = opt.rate.value_or(1.0);
+  c.sampling.step = opt.step.value_or(0.0);
+  c.sampling.dims = scene.dims;
+  c.oversample = opt.oversample;
+  c.centred_oversamples = opt.centred_oversamples;
+  c.correction = parse_choice<Correction>(opt.correction, "--correction", parse_correction,
+                                          "none, lacroute, schulze, lee_newman, lee_newman_quadratic");
+  c.termination = opt.termination;
+  c.skip_below = opt.skip;
+  if (opt.compositing == "front_to_back") c.compositing = Compositing::front_to_back;
+  else if (opt.compositing == "back_to_front") c.compositing = Compositing::back_to_front;
+  else throw std::invalid_argument(fmt::format("--compositing: unknown value '{}' (front_to_back or back_to_front)", opt.compositing));
+  if (opt.classification == "post") c.classification = Classification::post;
+  else if (opt.classification == "pre") c.classification = Classification::pre;
+  else throw std::invalid_argument(fmt::format("--classification: unknown value '{}' (post or pre)", opt.classification));
+  if (opt.precision == "double") c.precision = Precision::double_precision;
+  else if (opt.precision == "float") c.precision = Precision::single_precision;
+  else throw std::invalid_argument(fmt::format("--precision: unknown value '{}' (double or float)", opt.precision));
+  validate(c, std::holds_alternative<GridField>(scene.field));
+  return c;
+}
+
+}  // namespace vrv::cli
