@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "lib/parallel.h"
+#include "lib/util/parallel.h"
 
 namespace vrv {
 

@@ -22,7 +22,7 @@
 #include "lib/geometry.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
-#include "lib/scene_file.h"
+#include "lib/io/scene_file.h"
 
 namespace vrv {
 

@@ -17,7 +17,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include "lib/vrv.h"
-#include "studies/discrete_options.h"
+#include "studies/cli/discrete_options.h"
 
 namespace py = pybind11;
 
