@@ -80,6 +80,7 @@ py::dict reference(const Scene& scene, const Points& origins, const Points& dire
   out["t_entry"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_entry : nan; });
   out["t_exit"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_exit : nan; });
   out["optical_depth"] = filled<double>(shape, n, [&](auto i) { return r[i].optical_depth; });
+  out["tolerance_met"] = filled<bool>(shape, n, [&](auto i) { return r[i].tolerance_met; });
   return out;
 }
 
@@ -209,7 +210,7 @@ PYBIND11_MODULE(vrv, m) {
       .def_property_readonly("background", [](const Scene& s) { return s.background; })
       .def("reference", &reference, py::arg("origins"), py::arg("directions"), py::arg("tol") = 1e-12,
            "Reference values along rays (arrays of shape (..., 3)): a dict of arrays value, "
-           "error_estimate, evaluations, hit, t_entry, t_exit (NaN on a miss), optical_depth")
+           "error_estimate, evaluations, hit, t_entry, t_exit (NaN on a miss), optical_depth, tolerance_met")
       .def("discrete", &discrete, py::arg("origins"), py::arg("directions"),
            "A discrete raycast along rays: method=..., and the options of `vrv ray` "
            "(strategy, rate, step, oversample, correction, ...); a dict of arrays value, samples")

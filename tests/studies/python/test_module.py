@@ -79,7 +79,7 @@ def test_arrays_of_any_shape():
     image = scene.render(width=7, height=5, tol=1e-8)
     assert image.shape == (5, 7)
     np.testing.assert_allclose(image, r["value"], rtol=0, atol=1e-12)
-    assert np.all(r["error_estimate"] <= 1e-8)
+    assert np.all(r["error_estimate"] <= 1e-8) and np.all(r["tolerance_met"])
 
 
 def test_scene_from_toml_and_file(tmp_path):
