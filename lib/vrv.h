@@ -1,0 +1,69 @@
+#pragma once
+// vrv as a library: the one header a renderer's tests include (installed as <vrv/vrv.h>).
+//
+//   #include <vrv/vrv.h>
+//   const vrv::Scene scene = vrv::load_scene("scene.toml");       // or parse_scene(text, name),
+//                                                                   // or vrv::default_scene()
+//   const auto ref = vrv::render_reference_image(scene, vrv::scene_camera(scene));
+//   const auto mine = my_renderer(scene, 0.01);                    // your image, same camera
+//
+// Every number here is the one the command line gives: reference_values() on a ray is bitwise
+// `vrv ray --json` on it; render_reference_image() and render_discrete_image() are `vrv render`
+// before its float EXR.  Batches run in parallel (TBB); each ray writes its own slot, so results do not
+// depend on the thread count.  Bad input throws: SceneFileError (file and key) from the
+// scene loaders, std::invalid_argument (option and reason) for a bad ray, camera or
+// DiscreteConfig, with the one-line messages the command line prints.
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "lib/camera.h"
+#include "lib/discrete_raycast.h"
+#include "lib/geometry.h"
+#include "lib/reference_integrator.h"
+#include "lib/scene.h"
+#include "lib/io/scene_file.h"
+
+namespace vrv {
+
+// The camera `vrv render` uses for the scene: its [camera] table, else default_camera(box),
+// with the width and height overridden when given.  Throws std::invalid_argument with the
+// command line's message ("--width: ...", "[camera]: camera.fov: ...") when it is invalid.
+Camera scene_camera(const Scene& scene, std::optional<int> width = std::nullopt,
+                    std::optional<int> height = std::nullopt);
+
+// Throws std::invalid_argument ("--tol: ...") unless options.tol is positive and finite.
+void validate(const ReferenceOptions& options);
+
+// The ray through every pixel, row-major from the top-left (index y * width + x): the rays
+// render_reference_image() and render_discrete_image() cast.  Throws CameraError (invalid camera).
+std::vector<Ray> camera_rays(const Camera& camera);
+
+// The reference along each ray (ReferenceOptions::tol is absolute on I; validated).
+std::vector<ReferenceResult> reference_values(const Scene& scene, std::span<const Ray> rays,
+                                              const ReferenceOptions& options = {});
+// The same into caller-owned storage (out.size() == rays.size()), e.g. a numpy array's rows.
+void reference_values(const Scene& scene, std::span<const Ray> rays,
+                      const ReferenceOptions& options, std::span<ReferenceResult> out);
+
+// The discrete raycast `config` describes along each ray.  Throws std::invalid_argument
+// (naming the option) when validate(config, grid field) refuses it.  As on the command line,
+// rate-based strategies count voxels of config.sampling.dims: set it to scene.dims.
+std::vector<DiscreteResult> discrete_values(const Scene& scene, std::span<const Ray> rays,
+                                            const DiscreteConfig& config);
+
+// One value per pixel in double (row-major, row 0 at the top), and what it cost.
+struct ValueImage {
+  int width = 0, height = 0;
+  std::vector<double> values;
+  long work = 0;                  // field evaluations (reference) or samples (discrete)
+  double max_error_estimate = 0;  // reference: the largest per-pixel estimate; discrete: 0
+  double at(int x, int y) const { return values[static_cast<std::size_t>(y) * width + x]; }
+};
+
+ValueImage render_reference_image(const Scene& scene, const Camera& camera,
+                           const ReferenceOptions& options = {});
+ValueImage render_discrete_image(const Scene& scene, const Camera& camera,
+                                 const DiscreteConfig& config);
+
+}  // namespace vrv

@@ -1,0 +1,223 @@
+// `import vrv`: the C++ API (lib/vrv.h) for Python, numpy arrays in and out.
+//
+// Rays are arrays of shape (..., 3); results keep the leading shape.  The work runs with the GIL
+// released, in parallel over rays (TBB), and every number is the one `vrv ray --json` prints.
+// Bad input raises with the command line's one-line message: ValueError for bad values,
+// FileNotFoundError / IsADirectoryError / PermissionError for scene files that cannot be read.
+#include <cerrno>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include "lib/vrv.h"
+#include "studies/cli/discrete_options.h"
+
+namespace py = pybind11;
+
+namespace vrv::python {
+namespace {
+
+using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// The leading shape of an (..., 3) array; ValueError naming the argument otherwise.
+std::vector<py::ssize_t> leading_shape(const Points& a, const char* name) {
+  if (a.ndim() < 1 || a.shape(a.ndim() - 1) != 3)
+    throw std::invalid_argument(fmt::format("{}: expected an array of shape (..., 3)", name));
+  return {a.shape(), a.shape() + a.ndim() - 1};
+}
+
+std::vector<Ray> make_rays(const Points& origins, const Points& directions) {
+  const auto shape = leading_shape(origins, "origins");
+  if (leading_shape(directions, "directions") != shape)
+    throw std::invalid_argument("directions: shape differs from the origins' shape");
+  const std::size_t n = origins.size() / 3;
+  const double* o = origins.data();
+  const double* d = directions.data();
+  std::vector<Ray> rays(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    try {
+      rays[i] = make_ray(Vec3(o[3 * i], o[3 * i + 1], o[3 * i + 2]),
+                         Vec3(d[3 * i], d[3 * i + 1], d[3 * i + 2]));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(fmt::format("rays[{}]: {}", i, e.what()));
+    }
+  }
+  return rays;
+}
+
+template <class T>
+py::array_t<T> filled(const std::vector<py::ssize_t>& shape, std::size_t n, auto&& get) {
+  py::array_t<T> a(shape);
+  T* p = a.mutable_data();
+  for (std::size_t i = 0; i < n; ++i) p[i] = get(i);
+  return a;
+}
+
+py::dict reference(const Scene& scene, const Points& origins, const Points& directions, double tol) {
+  const std::vector<Ray> rays = make_rays(origins, directions);
+  const ReferenceOptions options{tol};
+  validate(options);
+  std::vector<ReferenceResult> r(rays.size());
+  {
+    py::gil_scoped_release release;
+    reference_values(scene, rays, options, r);
+  }
+  const auto shape = leading_shape(origins, "origins");
+  const std::size_t n = r.size();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  py::dict out;
+  out["value"] = filled<double>(shape, n, [&](auto i) { return r[i].value; });
+  out["error_estimate"] = filled<double>(shape, n, [&](auto i) { return r[i].error_estimate; });
+  out["evaluations"] = filled<long>(shape, n, [&](auto i) { return r[i].evaluations; });
+  out["hit"] = filled<bool>(shape, n, [&](auto i) { return r[i].hit; });
+  out["t_entry"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_entry : nan; });
+  out["t_exit"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_exit : nan; });
+  out["optical_depth"] = filled<double>(shape, n, [&](auto i) { return r[i].optical_depth; });
+  out["tolerance_met"] = filled<bool>(shape, n, [&](auto i) { return r[i].tolerance_met; });
+  return out;
+}
+
+// The discrete options as keyword arguments named as on the command line (--method ->
+// method=...), turned into a DiscreteConfig by the command line's own parser.
+std::optional<DiscreteConfig> discrete_config(const Scene& scene, const py::kwargs& kw) {
+  cli::DiscreteOptions o;
+  for (const auto& [key, value] : kw) {
+    const std::string k = py::str(key);
+    if (value.is_none()) continue;
+    if (k == "method") o.method = py::cast<std::string>(value);
+    else if (k == "strategy") o.strategy = py::cast<std::string>(value);
+    else if (k == "rate") o.rate = py::cast<double>(value);
+    else if (k == "step") o.step = py::cast<double>(value);
+    else if (k == "oversample") o.oversample = py::cast<int>(value);
+    else if (k == "centred_oversamples") o.centred_oversamples = py::cast<bool>(value);
+    else if (k == "correction") o.correction = py::cast<std::string>(value);
+    else if (k == "termination") o.termination = py::cast<double>(value);
+    else if (k == "skip") o.skip = py::cast<double>(value);
+    else if (k == "compositing") o.compositing = py::cast<std::string>(value);
+    else if (k == "classification") o.classification = py::cast<std::string>(value);
+    else if (k == "precision") o.precision = py::cast<std::string>(value);
+    else throw py::type_error(fmt::format("unexpected keyword argument '{}'", k));
+  }
+  const bool method_given = !o.method.empty();
+  auto config = cli::discrete_config(o, scene);
+  if (!method_given && kw.size() > 0)
+    for (const auto& [key, value] : kw)
+      if (!value.is_none() && py::str(key).cast<std::string>() != "method")
+        throw std::invalid_argument(fmt::format(
+            "--{}: applies to a discrete raycast only (give method=...)", py::str(key).cast<std::string>()));
+  return config;
+}
+
+py::dict discrete(const Scene& scene, const Points& origins, const Points& directions,
+                  const py::kwargs& kw) {
+  const auto config = discrete_config(scene, kw);
+  if (!config) throw std::invalid_argument("--method: required (riemann, alpha, trapezoid, exact_linear, moreland)");
+  const std::vector<Ray> rays = make_rays(origins, directions);
+  std::vector<DiscreteResult> r;
+  {
+    py::gil_scoped_release release;
+    r = discrete_values(scene, rays, *config);
+  }
+  const auto shape = leading_shape(origins, "origins");
+  py::dict out;
+  out["value"] = filled<double>(shape, r.size(), [&](auto i) { return r[i].value; });
+  out["samples"] = filled<long>(shape, r.size(), [&](auto i) { return r[i].samples; });
+  return out;
+}
+
+// (height, width) values of the scene's camera: the reference without `method`, else the
+// discrete raycast the keywords describe.
+py::array_t<double> render(const Scene& scene, double tol, std::optional<int> width,
+                           std::optional<int> height, const py::kwargs& kw) {
+  const auto config = discrete_config(scene, kw);
+  const Camera camera = scene_camera(scene, width, height);
+  const ReferenceOptions options{tol};
+  if (!config) validate(options);
+  ValueImage image;
+  {
+    py::gil_scoped_release release;
+    image = config ? render_discrete_image(scene, camera, *config) : render_reference_image(scene, camera, options);
+  }
+  py::array_t<double> a({image.height, image.width});
+  std::copy(image.values.begin(), image.values.end(), a.mutable_data());
+  return a;
+}
+
+// Camera rays as (origins, directions), each of shape (height, width, 3).
+py::tuple rays(const Scene& scene, std::optional<int> width, std::optional<int> height) {
+  const Camera camera = scene_camera(scene, width, height);
+  const std::vector<Ray> r = camera_rays(camera);
+  py::array_t<double> o({camera.height, camera.width, 3}), d({camera.height, camera.width, 3});
+  double* po = o.mutable_data();
+  double* pd = d.mutable_data();
+  for (std::size_t i = 0; i < r.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      po[3 * i + k] = r[i].origin[k];
+      pd[3 * i + k] = r[i].direction[k];
+    }
+  return py::make_tuple(o, d);
+}
+
+// A scene file that cannot be read raises the OSError Python uses for that reason, with the
+// loader's message; any other problem in it is a ValueError.
+Scene from_file(const std::filesystem::path& path) {
+  try {
+    return load_scene(path);
+  } catch (const SceneFileError& e) {
+    std::error_code ec;
+    PyObject* type = PyExc_ValueError;
+    if (!std::filesystem::exists(path, ec)) type = PyExc_FileNotFoundError;
+    else if (std::filesystem::is_directory(path, ec)) type = PyExc_IsADirectoryError;
+    else if (std::string(e.what()).find("cannot open") != std::string::npos) type = PyExc_PermissionError;
+    PyErr_SetString(type, e.what());
+    throw py::error_already_set();
+  }
+}
+
+py::dict box(const Scene& scene) {
+  py::dict d;
+  d["min"] = py::make_tuple(scene.box.min[0], scene.box.min[1], scene.box.min[2]);
+  d["max"] = py::make_tuple(scene.box.max[0], scene.box.max[1], scene.box.max[2]);
+  return d;
+}
+
+}  // namespace
+}  // namespace vrv::python
+
+PYBIND11_MODULE(vrv, m) {
+  using namespace vrv;
+  using namespace vrv::python;
+  m.doc() = "vrv: the emission-absorption integral to near machine precision, and discrete "
+            "raycasts measured against it (docs/library.md)";
+  py::register_exception<SceneFileError>(m, "SceneFileError", PyExc_ValueError);
+
+  py::class_<Scene>(m, "Scene", "A vrv scene: volume box, field, transfer function, background, camera")
+      .def_static("from_file", &from_file, py::arg("path"), "Load a scene file (TOML)")
+      .def_static("from_toml", [](const std::string& text, const std::string& name) {
+                    return parse_scene(text, name);
+                  }, py::arg("text"), py::arg("name") = "<toml>",
+                  "Parse scene TOML text; `name` labels error messages")
+      .def_static("default", &default_scene, "The embedded Marschner-Lobb scene (`vrv ray` without --scene)")
+      .def_property_readonly("box", &box, "{'min': (x, y, z), 'max': (x, y, z)}")
+      .def_property_readonly("dims", [](const Scene& s) { return s.dims; })
+      .def_property_readonly("background", [](const Scene& s) { return s.background; })
+      .def("reference", &reference, py::arg("origins"), py::arg("directions"), py::arg("tol") = 1e-12,
+           "Reference values along rays (arrays of shape (..., 3)): a dict of arrays value, "
+           "error_estimate, evaluations, hit, t_entry, t_exit (NaN on a miss), optical_depth, tolerance_met")
+      .def("discrete", &discrete, py::arg("origins"), py::arg("directions"),
+           "A discrete raycast along rays: method=..., and the options of `vrv ray` "
+           "(strategy, rate, step, oversample, correction, ...); a dict of arrays value, samples")
+      .def("render", &render, py::arg("tol") = 1e-12, py::arg("width") = py::none(),
+           py::arg("height") = py::none(),
+           "The scene camera's image as a (height, width) float64 array: the reference, or with "
+           "method=... the discrete raycast (options as for `discrete`)")
+      .def("rays", &rays, py::arg("width") = py::none(), py::arg("height") = py::none(),
+           "The scene camera's rays: (origins, directions), each (height, width, 3)");
+}

@@ -1,0 +1,161 @@
+"""`import vrv` (studies/python/module.cpp): arrays in and out, the command line's numbers and
+messages.  Run by CTest as `python` with PYTHONPATH at the built module and VRV_EXE at the
+program."""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import vrv
+import numpy_raycaster
+
+VRV = os.environ.get("VRV_EXE", "vrv")
+
+RAYS = [  # origin, direction: through the middle, oblique, from inside, a miss, a corner
+    ((-3, 0.5, 0), (1, 0, 0)),
+    ((-3, 0.2, 0.1), (1, 0.1, -0.05)),
+    ((0.1, 0.2, 0.3), (0.3, -1, 2)),
+    ((-3, 5, 0), (1, 0, 0)),
+    ((-2, -2, -2), (1, 1, 1)),
+]
+
+
+def cli(*args):
+    """stdout of `vrv ARGS`, or the one-line error (without 'vrv: error: ') and exit code."""
+    p = subprocess.run([VRV, *args], capture_output=True, text=True)
+    return p.returncode, p.stdout, p.stderr.strip().removeprefix("vrv: error: ")
+
+
+def cli_rays(tmp_path, *args):
+    """`vrv ray --rays FILE ARGS` over RAYS (one process): one parsed JSON line per ray."""
+    path = tmp_path / "rays.jsonl"
+    path.write_text("".join(json.dumps({"origin": o, "direction": d}) + "\n" for o, d in RAYS))
+    code, out, err = cli("ray", "--rays", str(path), *args)
+    assert code == 0, err
+    return [json.loads(line) for line in out.splitlines()]
+
+
+ORIGINS = np.array([o for o, _ in RAYS], dtype=float)
+DIRECTIONS = np.array([d for _, d in RAYS], dtype=float)
+
+
+def test_reference_is_bitwise_vrv_ray_json(tmp_path):
+    r = vrv.Scene.default().reference(ORIGINS, DIRECTIONS, tol=1e-10)
+    lines = cli_rays(tmp_path, "--tol", "1e-10")
+    assert len(lines) == len(RAYS)
+    for i, line in enumerate(lines):
+        assert r["value"][i] == line["value"]
+        assert r["error_estimate"][i] == line["error_estimate"]
+        assert r["evaluations"][i] == line["evaluations"]
+        assert r["optical_depth"][i] == line["optical_depth"]
+        assert bool(r["hit"][i]) == (line["t_entry"] is not None)
+        if line["t_entry"] is not None:
+            assert (r["t_entry"][i], r["t_exit"][i]) == (line["t_entry"], line["t_exit"])
+        else:
+            assert np.isnan(r["t_entry"][i]) and np.isnan(r["t_exit"][i])
+
+
+def test_discrete_is_bitwise_vrv_ray_method(tmp_path):
+    options = dict(method="alpha", strategy="vtk", step=0.01, oversample=2, correction="lacroute")
+    r = vrv.Scene.default().discrete(ORIGINS, DIRECTIONS, **options)
+    lines = cli_rays(tmp_path, *[f"--{k}={v}" for k, v in options.items()])
+    assert len(lines) == len(RAYS)
+    for i, line in enumerate(lines):
+        assert (r["value"][i], r["samples"][i]) == (line["value"], line["samples"])
+
+
+def test_arrays_of_any_shape():
+    scene = vrv.Scene.default()
+    origins, directions = scene.rays(width=7, height=5)
+    assert origins.shape == directions.shape == (5, 7, 3)
+    r = scene.reference(origins, directions, tol=1e-8)
+    assert r["value"].shape == (5, 7) and r["evaluations"].dtype == np.int64
+    one = scene.reference(origins[2, 3], directions[2, 3], tol=1e-8)
+    assert one["value"].shape == () and one["value"] == r["value"][2, 3]
+    empty = scene.reference(np.zeros((0, 3)), np.zeros((0, 3)))
+    assert empty["value"].shape == (0,)
+    image = scene.render(width=7, height=5, tol=1e-8)
+    assert image.shape == (5, 7)
+    np.testing.assert_allclose(image, r["value"], rtol=0, atol=1e-12)
+    assert np.all(r["error_estimate"] <= 1e-8) and np.all(r["tolerance_met"])
+
+
+def test_scene_from_toml_and_file(tmp_path):
+    text = """
+[volume]
+min = [-1.0, -1.0, -1.0]
+max = [1.0, 1.0, 1.0]
+[field]
+kind = "linear_ramp"
+gradient = [0.5, 0.0, 0.0]
+offset = 0.5
+[transfer]
+emission = [[0.0, 0.0], [1.0, 1.0]]
+extinction = [[0.0, 0.0], [1.0, 0.5]]
+"""
+    path = tmp_path / "ramp.toml"
+    path.write_text(text)
+    a = vrv.Scene.from_toml(text)
+    b = vrv.Scene.from_file(str(path))
+    assert a.box == {"min": (-1.0, -1.0, -1.0), "max": (1.0, 1.0, 1.0)}
+    o, d = np.array([[-3.0, 0.1, 0.2]]), np.array([[1.0, 0.0, 0.0]])
+    assert a.reference(o, d)["value"][0] == b.reference(o, d)["value"][0]
+    assert a.reference(o, d)["evaluations"][0] == 2  # linear along the ray: one exact panel
+
+
+@pytest.mark.parametrize("call, args, error", [
+    (lambda: vrv.Scene.from_file("no/such/scene.toml"), ["--scene", "no/such/scene.toml"], FileNotFoundError),
+    (lambda: vrv.Scene.from_file("/"), ["--scene", "/"], IsADirectoryError),
+    (lambda: vrv.Scene.default().reference([0, 0, -3], [0, 0, 1], tol=-1), ["--tol", "-1"], ValueError),
+    (lambda: vrv.Scene.default().discrete([0, 0, -3], [0, 0, 1], method="alpah"), ["--method", "alpah"], ValueError),
+    (lambda: vrv.Scene.default().discrete([0, 0, -3], [0, 0, 1], method="riemann", correction="lacroute"),
+     ["--method", "riemann", "--correction", "lacroute"], ValueError),
+    (lambda: vrv.Scene.default().discrete([0, 0, -3], [0, 0, 1], method="alpha", strategy="step"),
+     ["--method", "alpha", "--strategy", "step"], ValueError),
+])
+def test_bad_input_raises_the_command_lines_message(call, args, error):
+    code, _, expected = cli("ray", "--origin=0,0,-3", "--direction=0,0,1", *args)
+    assert code == 2 and expected
+    with pytest.raises(error) as e:
+        call()
+    assert str(e.value) == expected
+
+
+def test_bad_scene_text_and_rays_raise_value_error():
+    with pytest.raises(ValueError, match=r"^<toml>: field: missing"):
+        vrv.Scene.from_toml("[volume]\nmin = [-1.0, -1.0, -1.0]\nmax = [1.0, 1.0, 1.0]\n")
+    scene = vrv.Scene.default()
+    with pytest.raises(ValueError, match=r"^rays\[1\]: ray direction is zero$"):
+        scene.reference([[0, 0, -3], [0, 0, -3]], [[0, 0, 1], [0, 0, 0]])
+    with pytest.raises(ValueError, match=r"^origins: expected an array of shape \(\.\.\., 3\)$"):
+        scene.reference(np.zeros((4, 2)), np.zeros((4, 2)))
+    with pytest.raises(ValueError, match=r"^directions: shape differs"):
+        scene.reference(np.zeros((4, 3)), np.ones((5, 3)))
+    with pytest.raises(ValueError, match=r"^rays\[0\]: ray origin is not finite$"):
+        scene.reference([np.nan, 0, 0], [1, 0, 0])
+    with pytest.raises(ValueError, match=r"^--width: must be in \[1, 16384\], got 0$"):
+        scene.render(width=0)
+    with pytest.raises(ValueError, match=r"^--rate: applies to a discrete raycast only"):
+        scene.render(rate=2)
+    with pytest.raises(TypeError):
+        scene.render(method="riemann", sped=0.1)
+
+
+def errors_and_order(images, reference, steps):
+    rms = [np.sqrt(np.mean((image - reference) ** 2)) for image in images]
+    return rms, np.polyfit(np.log(steps), np.log(rms), 1)[0]
+
+
+def test_numpy_raycaster_is_second_order_and_a_half_step_offset_is_caught():
+    scene = vrv.Scene.default()
+    origins, directions = scene.rays(width=24, height=24)
+    reference = scene.render(width=24, height=24, tol=1e-10)
+    steps = [0.08, 0.04, 0.02, 0.01]
+    rms, order = errors_and_order([numpy_raycaster.render(origins, directions, h) for h in steps], reference, steps)
+    assert 1.8 < order < 2.2, (rms, order)
+    assert rms[-1] < 1e-4
+    planted = [numpy_raycaster.render(origins, directions, h, offset=0.0) for h in steps]
+    rms_planted, order_planted = errors_and_order(planted, reference, steps)
+    assert order_planted < 1.2, (rms_planted, order_planted)  # caught: first order, not second
