@@ -16,6 +16,7 @@ struct LinearRamp {
   double bandwidth() const { return 0; }
   // Smooth everywhere: no breaks on any ray (any ray and interval types).
   void append_breaks(const auto&, const auto&, std::vector<double>&) const {}
+  double max_change_within(double distance) const { return distance * gradient.norm(); }
 };
 
 }  // namespace vrv

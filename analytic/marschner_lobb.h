@@ -2,6 +2,7 @@
 // The Marschner-Lobb (1994) test signal on world coordinates:
 //   f(x,y,z) = (1 - sin(pi z / 2) + alpha (1 + rho_r(sqrt(x^2 + y^2)))) / (2 (1 + alpha)),
 //   rho_r(r) = cos(2 pi fM cos(pi r / 2)).
+#include <cmath>
 #include <limits>
 #include <numbers>
 #include <vector>
@@ -23,6 +24,11 @@ struct MarschnerLobb {
   }
   // Smooth everywhere: no breaks on any ray (any ray and interval types).
   void append_breaks(const auto&, const auto&, std::vector<double>&) const {}
+  // |grad f| <= (pi/2 + alpha pi^2 fM) / (2 (1 + alpha)): the z term and the radial term.
+  double max_change_within(double distance) const {
+    constexpr double pi = std::numbers::pi;
+    return distance * (pi / 2 + std::abs(alpha) * pi * pi * std::abs(fM)) / (2 * std::abs(1 + alpha));
+  }
   // Absolute rounding of value(): its terms are O(1) whatever f is, so f near 0 carries noise
   // of a few ulps of 1, not of f.  The phase 2 pi fM cos(pi r / 2) is rounded to ~1 ulp of
   // 2 pi fM, which rho_r passes on and alpha / (2 (1 + alpha)) scales; the rest is ~4 ulps.

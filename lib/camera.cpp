@@ -1,5 +1,7 @@
 #include "lib/camera.h"
 
+#include "lib/camera_frame.h"
+
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -25,16 +27,6 @@ void check_finite(double x, std::string_view field) {
   if (!std::isfinite(x)) bad(field, fmt::format("not finite: {}", x));
 }
 
-struct Frame {
-  Vec3 forward, right, up;  // orthonormal
-};
-
-Frame frame(const Camera& c) {
-  const Vec3 forward = (c.target - c.eye).normalized();
-  const Vec3 right = forward.cross(c.up).normalized();
-  return {forward, right, right.cross(forward)};
-}
-
 // Pixel centre in [-1, 1]^2, x to the right, y up (row 0 is the top).
 double ndc_x(const Camera& c, int x) { return 2 * (x + 0.5) / c.width - 1; }
 double ndc_y(const Camera& c, int y) { return 1 - 2 * (y + 0.5) / c.height; }
@@ -55,13 +47,19 @@ std::string_view to_string(Projection p) {
   return "?";
 }
 
+CameraFrame camera_frame(const Camera& c) {
+  const Vec3 forward = (c.target - c.eye).normalized();
+  const Vec3 right = forward.cross(c.up).normalized();
+  return {forward, right, right.cross(forward)};
+}
+
 Ray Camera::ray(int x, int y) const {
   if (projection == Projection::fan) {
     const double theta =
         (angle_degrees - fov_degrees / 2 + fov_degrees * (x + 0.5) / width) * kDegree;
     return make_ray(eye, Vec3(std::cos(theta), std::sin(theta), 0));
   }
-  const Frame f = frame(*this);
+  const CameraFrame f = camera_frame(*this);
   const double aspect = static_cast<double>(width) / height;
   const double u = ndc_x(*this, x), v = ndc_y(*this, y);
   if (projection == Projection::orthographic) {

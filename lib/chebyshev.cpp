@@ -73,6 +73,23 @@ double chebyshev_evaluate(std::span<const double> c, double x) {
   return c.empty() ? 0.0 : c[0] + x * b1 - b2;
 }
 
+void chebyshev_evaluate_many(std::span<const double> c, std::span<const double> x, std::span<double> out) {
+  constexpr std::size_t block = 8;
+  for (std::size_t i0 = 0; i0 < x.size(); i0 += block) {
+    const std::size_t m = std::min(block, x.size() - i0);
+    double xs[block] = {}, two_x[block], b1[block] = {}, b2[block] = {};
+    for (std::size_t i = 0; i < m; ++i) xs[i] = x[i0 + i];
+    for (std::size_t i = 0; i < block; ++i) two_x[i] = 2 * xs[i];
+    for (std::size_t k = c.size(); k-- > 1;)
+      for (std::size_t i = 0; i < block; ++i) {
+        const double b0 = c[k] + two_x[i] * b1[i] - b2[i];
+        b2[i] = b1[i];
+        b1[i] = b0;
+      }
+    for (std::size_t i = 0; i < m; ++i) out[i0 + i] = c.empty() ? 0.0 : c[0] + xs[i] * b1[i] - b2[i];
+  }
+}
+
 void chebyshev_antiderivative(std::span<const double> c, std::span<double> out) {
   const std::size_t n = c.size();
   auto at = [&](std::size_t k) { return k < n ? c[k] : 0.0; };

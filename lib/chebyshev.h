@@ -33,6 +33,10 @@ class ChebyshevRule {
 
 // p(x) by Clenshaw's recurrence.
 double chebyshev_evaluate(std::span<const double> c, double x);
+// p at every x[i] into out[i]: several points per pass over the coefficients, each with exactly
+// the operations of chebyshev_evaluate (bitwise the same values), but sharing the loads and
+// overlapping the independent recurrences.
+void chebyshev_evaluate_many(std::span<const double> c, std::span<const double> x, std::span<double> out);
 // Coefficients of the antiderivative F with F(-1) = 0 (one more coefficient than c).
 void chebyshev_antiderivative(std::span<const double> c, std::span<double> out);
 // Coefficients of the derivative p' (same length as c; the last is zero).

@@ -4,7 +4,22 @@
 
 #include <fmt/format.h>
 
+#include "lib/util/enum_names.h"
+
 namespace vrv {
+namespace {
+
+constexpr NameTable<OpacityUnit, 2> kOpacityUnits{
+    {{OpacityUnit::per_sample, "sample"}, {OpacityUnit::per_unit_distance, "distance"}}};
+constexpr NameTable<ColorConvention, 2> kColors{
+    {{ColorConvention::straight, "straight"}, {ColorConvention::premultiplied, "premultiplied"}}};
+
+}  // namespace
+
+std::optional<OpacityUnit> parse_opacity_unit(std::string_view name) { return parse_name(kOpacityUnits, name); }
+std::string_view opacity_unit_name(OpacityUnit u) { return name_of(kOpacityUnits, u); }
+std::optional<ColorConvention> parse_color_convention(std::string_view name) { return parse_name(kColors, name); }
+std::string_view color_convention_name(ColorConvention c) { return name_of(kColors, c); }
 
 void validate(const DiscreteConfig& c, bool grid_field) {
   if (c.oversample < 1 || c.oversample > 65536)
@@ -23,8 +38,27 @@ void validate(const DiscreteConfig& c, bool grid_field) {
     throw std::invalid_argument("--skip: must be in [0, 1)");
   if (c.termination && c.compositing == Compositing::back_to_front)
     throw std::invalid_argument("--termination: early termination needs front-to-back compositing");
+  if (c.opacity_unit != OpacityUnit::per_sample && c.rule != SegmentRule::alpha)
+    throw std::invalid_argument(fmt::format(
+        "--opacity-unit: only the alpha rule uses opacities (method is {})", segment_rule_name(c.rule)));
+  if (c.color != ColorConvention::straight && c.rule != SegmentRule::alpha)
+    throw std::invalid_argument(fmt::format(
+        "--color: only the alpha rule composites colours (method is {})", segment_rule_name(c.rule)));
+  if (c.table_size != 0 && (c.table_size < 2 || c.table_size > kMaxTableSize))
+    throw std::invalid_argument(
+        fmt::format("--table-size: must be 0 (no table) or in [2, {}], got {}", kMaxTableSize, c.table_size));
+  if (c.table_size == 0 && c.table_lookup != TableLookup::centred)
+    throw std::invalid_argument("--table-lookup: needs --table-size N (a table to read)");
   if (c.classification == Classification::pre && !grid_field)
     throw std::invalid_argument("--classification: pre-classification needs a grid field");
+}
+
+void validate(const DiscreteConfig& c, bool grid_field, const TransferFunction& tf) {
+  validate(c, grid_field);
+  if (c.opacity_unit == OpacityUnit::per_unit_distance && tf.convention() != Convention::opacity_color)
+    throw std::invalid_argument(
+        "--opacity-unit: distance needs an opacity/colour transfer function (emission and extinction "
+        "are per unit length already)");
 }
 
 DiscreteResult discrete_raycast(const Scene& scene, const Ray& ray, const DiscreteConfig& config) {

@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -16,12 +17,35 @@
 #include "lib/scene.h"
 #include "lib/segment_rule.h"
 #include "lib/transfer_function.h"
+#include "lib/transfer_table.h"
 
 namespace vrv {
 
 enum class Compositing { front_to_back, back_to_front };
 enum class Classification { post, pre };  // pre: classify at grid nodes, then interpolate
 enum class Precision { double_precision, single_precision };
+
+// What an opacity/colour transfer function's opacity a means to the alpha rule (sample step H,
+// the strategy's unit step; the transfer function's unit_length L):
+//   per_sample         alpha = a whatever H (unit_length unused): what vrv did before, and what a
+//                      renderer without opacity correction does;
+//   per_unit_distance  alpha = 1 - (1 - a)^(H / L), computed as -expm1(log1p(-a) H / L): opacity
+//                      given per unit distance and corrected to the sample distance (VTK's scalar
+//                      opacity unit distance, most renderers).  Converges to the reference.
+// Emission/extinction transfer functions are per unit length already (alpha = 1 - exp(-tau H)).
+enum class OpacityUnit { per_sample, per_unit_distance };
+// How the alpha rule's colour enters: straight, a sample emits colour * alpha (its own, corrected
+// opacity); premultiplied, the colour is stored multiplied by the transfer function's opacity a
+// (per unit distance, before any correction; for emission/extinction the unit-step alpha) and
+// emitted as stored, colour * a, after the corrections that scale colours (schulze) — a renderer
+// that premultiplies and corrects only the opacity.  Pre-classification then interpolates the
+// product colour * a.  Equal to straight when alpha = a (per_sample, no oversampling correction).
+enum class ColorConvention { straight, premultiplied };
+
+std::optional<OpacityUnit> parse_opacity_unit(std::string_view name);  // "sample", "distance"
+std::string_view opacity_unit_name(OpacityUnit u);
+std::optional<ColorConvention> parse_color_convention(std::string_view name);  // "straight", "premultiplied"
+std::string_view color_convention_name(ColorConvention c);
 
 struct DiscreteConfig {
   SegmentRule rule = SegmentRule::riemann;
@@ -35,6 +59,11 @@ struct DiscreteConfig {
   Compositing compositing = Compositing::front_to_back;
   Classification classification = Classification::post;
   Precision precision = Precision::double_precision;
+  // Renderer conventions (defaults: the continuous transfer function, vrv's earlier behaviour).
+  OpacityUnit opacity_unit = OpacityUnit::per_sample;  // alpha rule, opacity/colour TFs only
+  ColorConvention color = ColorConvention::straight;   // alpha rule only
+  int table_size = 0;  // 0: the transfer function itself; N >= 2: read from N-entry tables (all rules)
+  TableLookup table_lookup = TableLookup::centred;     // how the tables are read (table_size > 0)
 };
 
 struct DiscreteResult {
@@ -44,23 +73,40 @@ struct DiscreteResult {
 
 // Throws std::invalid_argument (naming the option) for a combination that means nothing.
 void validate(const DiscreteConfig& config, bool grid_field);
+// The same, and the options that need a transfer-function convention (opacity_unit needs an
+// opacity/colour transfer function).
+void validate(const DiscreteConfig& config, bool grid_field, const TransferFunction& tf);
 
 namespace detail {
 
 // g, tau and, for the alpha rule, the renderer's colour and opacity per unit step.
+// alpha_stored: the transfer function's own opacity (premultiplied colour carries it).
 template <class Real>
 struct Classified {
-  Real g = 0, tau = 0, alpha_unit = 0, color = 0;
+  Real g = 0, tau = 0, alpha_unit = 0, color = 0, alpha_stored = 0;
+};
+
+// How samples read the transfer function: the opacity convention and, when renderers' tables
+// stand in for the curves, the tables of the first and second curve.
+struct TransferLookup {
+  OpacityUnit opacity_unit = OpacityUnit::per_sample;
+  const TransferTable* first = nullptr;
+  const TransferTable* second = nullptr;
 };
 
 // Classification of one field value (post) or of interpolated node classes (pre).  The
 // renderer's colour and unit opacity are computed only for the rules that use them.
 class Classifier {
  public:
-  Classifier(const TransferFunction& tf, double unit_step, bool with_color = true)
-      : tf_(tf), unit_step_(unit_step), with_color_(with_color) {}
+  Classifier(const TransferFunction& tf, double unit_step, bool with_color = true, TransferLookup lookup = {})
+      : tf_(tf), unit_step_(unit_step), with_color_(with_color), lookup_(lookup) {}
   template <class Real>
   Classified<Real> from_value(double v) const {
+    if (lookup_.first) {
+      const double a = (*lookup_.first)(v), b = (*lookup_.second)(v);
+      return tf_.convention() == Convention::opacity_color ? from_opacity_color<Real>(a, b)
+                                                           : from_emission_extinction<Real>(a, b);
+    }
     if (tf_.convention() == Convention::opacity_color)
       return from_opacity_color<Real>(tf_.first()(v), tf_.second()(v));
     // Consecutive samples mostly stay on one branch: look it up only when v leaves it.
@@ -69,23 +115,28 @@ class Classifier {
   }
   template <class Real>
   Classified<Real> from_emission_extinction(double g, double tau) const {
-    Classified<Real> c{Real(g), Real(tau), 0, 0};
+    Classified<Real> c{Real(g), Real(tau), 0, 0, 0};
     if (with_color_) {
-      c.alpha_unit = Real(-std::expm1(-tau * unit_step_));
+      c.alpha_unit = c.alpha_stored = Real(-std::expm1(-tau * unit_step_));
       c.color = tau > 0 ? Real(g / tau) : Real(0);  // colour is g / tau; undefined (0) where tau = 0
     }
     return c;
   }
   template <class Real>
   Classified<Real> from_opacity_color(double a, double color) const {
-    const double tau = -std::log1p(-std::min(a, 1.0)) / tf_.unit_length();
-    return Classified<Real>{Real(color * tau), Real(tau), Real(a), Real(color)};
+    const double log_t = std::log1p(-std::min(a, 1.0));  // ln(1 - a) over the unit length L
+    const double tau = -log_t / tf_.unit_length();
+    const double alpha = lookup_.opacity_unit == OpacityUnit::per_unit_distance
+                             ? -std::expm1(log_t * (unit_step_ / tf_.unit_length()))
+                             : a;
+    return Classified<Real>{Real(color * tau), Real(tau), Real(alpha), Real(color), Real(a)};
   }
 
  private:
   const TransferFunction& tf_;
   double unit_step_;
   bool with_color_;
+  TransferLookup lookup_;
   mutable TransferSegment segment_;  // the branch for values in [lo_, hi_)
   mutable double lo_ = 1, hi_ = 0;   // empty until the first lookup
 };
@@ -113,6 +164,7 @@ class DiscreteRaycaster {
   double background_;
   DiscreteConfig config_;
   std::optional<GridField> pre_first_, pre_second_;  // classified node values
+  std::optional<TransferTable> table_first_, table_second_;  // config.table_size > 0
 };
 
 DiscreteResult discrete_raycast(const Scene& scene, const Ray& ray, const DiscreteConfig& config);

@@ -71,13 +71,23 @@ template <ScalarField F>
 DiscreteRaycaster<F>::DiscreteRaycaster(const F& field, const Box& box, const TransferFunction& tf,
                                         double background, DiscreteConfig config)
     : field_(field), box_(box), tf_(tf), background_(background), config_(std::move(config)) {
-  validate(config_, std::is_same_v<F, GridField>);
+  validate(config_, std::is_same_v<F, GridField>, tf);
+  if (config_.table_size > 0) {
+    const double lo = tf.breakpoints().front(), hi = tf.breakpoints().back();
+    table_first_.emplace(tf.first(), lo, hi, config_.table_size, config_.table_lookup);
+    table_second_.emplace(tf.second(), lo, hi, config_.table_size, config_.table_lookup);
+  }
   if constexpr (std::is_same_v<F, GridField>) {
     if (config_.classification == Classification::pre) {
-      // Classify once at the nodes; samples then interpolate the classes.
+      // Classify once at the nodes; samples then interpolate the classes (premultiplied colour:
+      // the product colour * opacity is what is interpolated).
       const bool oc = tf.convention() == Convention::opacity_color;
-      pre_first_ = field.mapped([&](double v) { return oc ? tf.first()(v) : tf.emission(v); });
-      pre_second_ = field.mapped([&](double v) { return oc ? tf.second()(v) : tf.extinction(v); });
+      const bool table = table_first_.has_value();
+      auto first = [&](double v) { return table ? (*table_first_)(v) : oc ? tf.first()(v) : tf.emission(v); };
+      auto second = [&](double v) { return table ? (*table_second_)(v) : oc ? tf.second()(v) : tf.extinction(v); };
+      const bool premultiplied = oc && config_.color == ColorConvention::premultiplied;
+      pre_first_ = field.mapped(first);
+      pre_second_ = field.mapped([&](double v) { return premultiplied ? first(v) * second(v) : second(v); });
     }
   }
 }
@@ -96,8 +106,9 @@ detail::Classified<Real> DiscreteRaycaster<F>::classify(const Ray& ray, Real t,
   }
   if (pre_first_) {
     const double a = pre_first_->value(p), b = pre_second_->value(p);
-    return tf_.convention() == Convention::opacity_color ? classes.from_opacity_color<Real>(a, b)
-                                                         : classes.from_emission_extinction<Real>(a, b);
+    if (tf_.convention() != Convention::opacity_color) return classes.from_emission_extinction<Real>(a, b);
+    const bool premultiplied = config_.color == ColorConvention::premultiplied;
+    return classes.from_opacity_color<Real>(a, premultiplied ? (a > 0 ? b / a : 0.0) : b);
   }
   return classes.from_value<Real>(field_.value(p));
 }
@@ -121,7 +132,9 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
   auto t_of = [&](long m) { return Real(fine.t_first) + Real(m) * dx; };
   detail::Compositor<Real> out(config_);
   const bool with_color = config_.rule == SegmentRule::alpha || config_.rule == SegmentRule::moreland;
-  const detail::Classifier classes(tf_, unit_step, with_color);
+  const detail::TransferLookup lookup{config_.opacity_unit, table_first_ ? &*table_first_ : nullptr,
+                                      table_second_ ? &*table_second_ : nullptr};
+  const detail::Classifier classes(tf_, unit_step, with_color, lookup);
   long samples = 0;
   auto sample = [&](Real t) {
     ++samples;
@@ -136,13 +149,15 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
       }
       break;
     case SegmentRule::alpha: {
-      std::vector<double> alphas(N), colors(N);
+      std::vector<double> alphas(N), colors(N), stored(N);
+      const bool premultiplied = config_.color == ColorConvention::premultiplied;
       for (long m0 = 0; m0 < fine.count && !out.done(); m0 += N) {
         const long n = std::min<long>(N, fine.count - m0);
         for (long j = 0; j < n; ++j) {
           const auto c = sample(t_of(m0 + j));
           alphas[j] = c.alpha_unit;
           colors[j] = c.color;
+          stored[j] = c.alpha_stored;
         }
         // Centred oversamples straddle the unit sample, so Lee & Newman's target (the unit
         // sample's transparency) costs one more lookup; the last, partial group of a ray may have
@@ -155,7 +170,7 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
         correct_group(config_.correction, std::span(alphas).first(n), std::span(colors).first(n), N,
                       unit_alpha);
         for (long j = 0; j < n && !out.done(); ++j)
-          out.add({Real(colors[j]) * Real(alphas[j]), Real(1) - Real(alphas[j])});
+          out.add({Real(colors[j]) * Real(premultiplied ? stored[j] : alphas[j]), Real(1) - Real(alphas[j])});
       }
       break;
     }

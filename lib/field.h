@@ -1,7 +1,9 @@
 #pragma once
 // What an integrator needs from a scalar field.  Fields are plain types used through
 // templates (no virtual call per evaluation); a scene holds one of them in a std::variant.
+#include <cmath>
 #include <concepts>
+#include <limits>
 #include <vector>
 
 #include "lib/geometry.h"
@@ -33,6 +35,33 @@ double field_value_noise(const F& f) {
     return f.value_noise();
   else
     return 0;
+}
+
+// Coordinates up to this size are what value_noise() is stated for.
+inline constexpr double kUnitCoordinates = 16;
+
+// The largest change of f between two points `distance` apart where the field states one
+// (max_change_within()), else infinity; 0 for distance 0.  It charges the rounding of a far
+// ray's entry point (RayFrame::position_error) to the estimate.
+template <class F>
+double field_change_within(const F& f, double distance) {
+  if (!(distance > 0)) return 0;
+  if constexpr (requires { { f.max_change_within(distance) } -> std::convertible_to<double>; })
+    return f.max_change_within(distance);
+  else
+    return std::numeric_limits<double>::infinity();
+}
+
+// The rounding level of f's values on a stretch whose coordinates reach `extent` in size:
+// field_value_noise() where coordinates are of order one; beyond kUnitCoordinates the rounding
+// of the coordinates themselves (a few ulps of extent) moves f by up to field_change_within
+// of that (Marschner-Lobb at |x| ~ 1e5 is noisy at ~1e-10, and no panel resolves below it).
+template <class F>
+double field_value_noise(const F& f, double extent) {
+  const double noise = field_value_noise(f);
+  if (!(extent > kUnitCoordinates)) return noise;
+  const double moved = field_change_within(f, 4 * std::numeric_limits<double>::epsilon() * extent);
+  return std::isfinite(moved) ? noise + moved : noise;
 }
 
 }  // namespace vrv

@@ -34,4 +34,25 @@ struct Interval {
 // A ray that starts inside begins at t = 0; rays along faces and edges count as inside.
 std::optional<Interval> clip(const Ray& ray, const Box& box);
 
+// The ray in its own frame: positions local.origin + s * local.direction for s in iv, with
+// local.origin near the box, so that no position loses the digits of a large t (origin + t d
+// at t = 1e14 is off by ~1e-2).  Global parameters are t = t_offset + s.
+struct RayFrame {
+  Ray local;
+  Interval iv;                 // inside the box, in the local parameter s
+  double t_offset = 0;         // global t of the local origin (rounded)
+  double position_error = 0;   // bound on the distance of local.origin from the exact ray line
+                               // beyond the rounding every position has anyway (0 near the box)
+  double t_entry() const { return t_offset + iv.t0; }
+  double t_exit() const { return t_offset + iv.t1; }
+};
+
+// clip() in the ray's frame.  An origin within kNearOrigin half-diagonals of the box centre is
+// its own frame (exactly clip()); a farther one is carried to the box entry point in
+// double-double arithmetic (error-free products and sums), rounded once, and clipped again
+// there: the entry point is then off the line by its own rounding (charged through
+// position_error) and the clip is as robust as for a ray starting next to the box.
+inline constexpr double kNearOrigin = 8;
+std::optional<RayFrame> clip_in_frame(const Ray& ray, const Box& box);
+
 }  // namespace vrv

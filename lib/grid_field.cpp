@@ -24,11 +24,33 @@ GridField::GridField(const Box& box, Index3 resolution, GridLayout layout,
       for (int i = 0; i < n_[0]; ++i)
         values_[(static_cast<std::size_t>(k) * n_[1] + j) * n_[0] + i] =
             source(node_position(i, j, k));
+  summarise();
+}
+
+void GridField::summarise() {
+  const auto [lo, hi] = std::minmax_element(values_.begin(), values_.end());
+  spread_ = *hi - *lo;
+  max_slope_.setZero();
+  for (int k = 0; k < n_[2]; ++k)
+    for (int j = 0; j < n_[1]; ++j)
+      for (int i = 0; i < n_[0]; ++i) {
+        const double v = node(i, j, k);
+        if (i + 1 < n_[0]) max_slope_[0] = std::max(max_slope_[0], std::abs(node(i + 1, j, k) - v));
+        if (j + 1 < n_[1]) max_slope_[1] = std::max(max_slope_[1], std::abs(node(i, j + 1, k) - v));
+        if (k + 1 < n_[2]) max_slope_[2] = std::max(max_slope_[2], std::abs(node(i, j, k + 1) - v));
+      }
+  max_slope_ = max_slope_.cwiseQuotient(spacing_);
+}
+
+double GridField::max_change_within(double distance) const {
+  if (interpolation_ == Interpolation::nearest) return spread_;
+  return distance * max_slope_.norm();
 }
 
 GridField GridField::mapped(const std::function<double(double)>& fn) const {
   GridField out = *this;
   for (double& v : out.values_) v = fn(v);
+  out.summarise();
   return out;
 }
 

@@ -33,6 +33,9 @@ class GridField {
   // Trilinear: the node planes (the interpolant is a cubic in t between them).
   // Nearest: the planes half way between nodes (the value is constant between them).
   void append_breaks(const Ray& ray, Interval iv, std::vector<double>& breaks) const;
+  // Trilinear: distance times the largest gradient (each partial derivative is a mean of node
+  // differences over the spacing).  Nearest: the spread of the node values (a point may change cell).
+  double max_change_within(double distance) const;
 
   const Box& box() const { return box_; }
   Index3 resolution() const { return n_; }
@@ -46,6 +49,8 @@ class GridField {
  private:
   // Continuous node coordinate along axis a, clamped to [0, n - 1].
   double coordinate(double x, int a) const;
+  void summarise();  // max_slope_ and spread_ from the node values
+
 
   Box box_;
   Index3 n_;
@@ -54,6 +59,8 @@ class GridField {
   Vec3 spacing_;
   double offset_;  // 0 for node layout, 1/2 for cell layout
   std::vector<double> values_;
+  Vec3 max_slope_ = Vec3::Zero();  // largest |node difference| / spacing per axis
+  double spread_ = 0;              // max - min node value
 };
 
 }  // namespace vrv

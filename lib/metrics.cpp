@@ -1,11 +1,211 @@
 #include "lib/metrics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <stdexcept>
 
 #include <Eigen/Dense>
+#include <fmt/format.h>
 
 namespace vrv {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct Point {
+  double h, e;
+};
+
+// (step, error) pairs sorted by decreasing step.
+std::vector<Point> sorted_points(std::span<const double> steps, std::span<const double> errors) {
+  if (steps.size() != errors.size())
+    throw std::invalid_argument("order fit: steps and errors differ in number");
+  std::vector<Point> p;
+  for (std::size_t i = 0; i < steps.size(); ++i) p.push_back({steps[i], errors[i]});
+  std::sort(p.begin(), p.end(), [](const Point& a, const Point& b) { return a.h > b.h; });
+  return p;
+}
+
+// Least squares y = a + b x with b's standard error.
+OrderFit line_fit(const std::vector<double>& x, const std::vector<double>& y) {
+  OrderFit f{kNaN, kNaN, kNaN, static_cast<int>(x.size())};
+  if (x.size() < 2) return f;
+  const auto n = static_cast<Eigen::Index>(x.size());
+  Eigen::MatrixXd A(n, 2);
+  Eigen::VectorXd b(n);
+  for (Eigen::Index i = 0; i < n; ++i) A(i, 0) = x[i], A(i, 1) = 1, b(i) = y[i];
+  const Eigen::Vector2d c = A.colPivHouseholderQr().solve(b);
+  f.order = c(0);
+  f.log_constant = c(1);
+  if (x.size() >= 3) {
+    const double ssr = (A * c - b).squaredNorm();
+    const double mean_x = std::accumulate(x.begin(), x.end(), 0.0) / static_cast<double>(n);
+    double sxx = 0;
+    for (double xi : x) sxx += (xi - mean_x) * (xi - mean_x);
+    f.std_error = sxx > 0 ? std::sqrt(ssr / static_cast<double>(n - 2) / sxx) : kNaN;
+  }
+  return f;
+}
+
+bool usable(double h, double e) { return h > 0 && std::isfinite(h) && e > 0 && std::isfinite(e); }
+
+}  // namespace
+
+ErrorStats error_stats(std::span<const double> errors, double threshold) {
+  ErrorStats s;
+  s.count = static_cast<long>(errors.size());
+  if (errors.empty()) return s;
+  std::vector<double> abs(errors.size());
+  double sum_abs = 0, sum_sq = 0, sum = 0;
+  long over = 0;
+  for (std::size_t i = 0; i < errors.size(); ++i) {
+    const double e = errors[i];
+    if (!std::isfinite(e)) throw std::invalid_argument(fmt::format("error {} is {}", i, e));
+    abs[i] = std::abs(e);
+    s.max = std::max(s.max, abs[i]);
+    sum_abs += abs[i];
+    sum_sq += e * e;
+    sum += e;
+    over += abs[i] > threshold;
+  }
+  const double n = static_cast<double>(errors.size());
+  s.mean = sum_abs / n;
+  s.rms = std::sqrt(sum_sq / n);
+  s.mean_signed = sum / n;
+  s.fraction_over = static_cast<double>(over) / n;
+  const auto rank = static_cast<std::size_t>(std::ceil(0.99 * n)) - 1;  // nearest rank, 0-based
+  std::nth_element(abs.begin(), abs.begin() + static_cast<std::ptrdiff_t>(rank), abs.end());
+  s.p99 = abs[rank];
+  return s;
+}
+
+std::string_view metric_name(Metric m) {
+  switch (m) {
+    case Metric::max: return "max";
+    case Metric::mean: return "mean";
+    case Metric::rms: return "rms";
+    case Metric::p99: return "p99";
+    case Metric::fraction_over: return "fraction_over";
+  }
+  return "?";
+}
+
+std::optional<Metric> parse_metric(std::string_view name) {
+  for (Metric m : {Metric::max, Metric::mean, Metric::rms, Metric::p99, Metric::fraction_over})
+    if (metric_name(m) == name) return m;
+  return std::nullopt;
+}
+
+double metric_value(const ErrorStats& s, Metric m) {
+  switch (m) {
+    case Metric::max: return s.max;
+    case Metric::mean: return s.mean;
+    case Metric::rms: return s.rms;
+    case Metric::p99: return s.p99;
+    case Metric::fraction_over: return s.fraction_over;
+  }
+  return kNaN;
+}
+
+OrderFit fit_order(std::span<const double> steps, std::span<const double> errors) {
+  std::vector<double> x, y;
+  for (const Point& p : sorted_points(steps, errors))
+    if (usable(p.h, p.e)) x.push_back(std::log(p.h)), y.push_back(std::log(p.e));
+  return line_fit(x, y);
+}
+
+OrderFit self_convergence_order(std::span<const double> steps, std::span<const double> differences) {
+  if (steps.size() != differences.size() + 1)
+    throw std::invalid_argument("self-convergence: need one more step than differences");
+  std::vector<double> h(steps.begin(), steps.end());
+  std::sort(h.begin(), h.end(), std::greater<>());
+  std::vector<double> x, y, ratio;  // ratio: h_{k+1} / h_k
+  for (std::size_t k = 0; k < differences.size(); ++k) {
+    if (!usable(h[k], differences[k]) || !(h[k + 1] > 0) || !(h[k + 1] < h[k])) continue;
+    x.push_back(std::log(h[k]));
+    y.push_back(std::log(differences[k]));
+    ratio.push_back(h[k + 1] / h[k]);
+  }
+  OrderFit f = line_fit(x, y);
+  // Divide out (1 - r^p): fixed-point iteration on p, a contraction for the ratios used here.
+  for (int it = 0; it < 50 && std::isfinite(f.order) && f.order > 0; ++it) {
+    std::vector<double> yc(y.size());
+    for (std::size_t k = 0; k < y.size(); ++k) yc[k] = y[k] - std::log1p(-std::pow(ratio[k], f.order));
+    const OrderFit next = line_fit(x, yc);
+    const bool settled = std::abs(next.order - f.order) <= 1e-12 * std::max(1.0, std::abs(f.order));
+    f = next;
+    if (settled) break;
+  }
+  return f;
+}
+
+std::string_view verdict_name(Verdict v) {
+  switch (v) {
+    case Verdict::converges: return "converges";
+    case Verdict::converges_lower: return "converges at a lower order";
+    case Verdict::stalls: return "stalls at a floor";
+    case Verdict::diverges: return "diverges";
+    case Verdict::undetermined: return "undetermined";
+  }
+  return "?";
+}
+
+int severity(Verdict v) {
+  switch (v) {
+    case Verdict::converges: return 0;
+    case Verdict::undetermined: return 1;
+    case Verdict::converges_lower: return 2;
+    case Verdict::stalls: return 3;
+    case Verdict::diverges: return 4;
+  }
+  return 5;
+}
+
+Judgement judge(std::span<const double> steps, std::span<const double> errors, const OrderFit& fit,
+                const JudgeOptions& options) {
+  std::vector<Point> p;
+  for (const Point& q : sorted_points(steps, errors))
+    if (usable(q.h, q.e)) p.push_back(q);
+  Judgement j{Verdict::undetermined, "", kNaN};
+  if (p.size() < 2 || !std::isfinite(fit.order)) {
+    j.reason = fmt::format("{} usable point(s): no order", p.size());
+    return j;
+  }
+  const double tol = options.tolerance;
+  std::vector<double> local;  // slope between consecutive steps, coarse to fine
+  for (std::size_t k = 0; k + 1 < p.size(); ++k)
+    local.push_back(std::log(p[k].e / p[k + 1].e) / std::log(p[k].h / p[k + 1].h));
+  if (fit.order < -tol) {
+    j.verdict = Verdict::diverges;
+    j.reason = fmt::format("the error grows as the step shrinks (order {:.3g}: {:.3g} at h = {:.3g}, "
+                           "{:.3g} at h = {:.3g})", fit.order, p.front().e, p.front().h, p.back().e, p.back().h);
+    return j;
+  }
+  const double earlier = local.size() >= 2 ? *std::max_element(local.begin(), local.end() - 1) : kNaN;
+  if (std::abs(fit.order) < tol ||
+      (local.size() >= 2 && earlier > tol && local.back() < options.stall_fraction * earlier)) {
+    j.verdict = Verdict::stalls;
+    j.floor = p.back().e;
+    j.reason = fmt::format("the error stops falling at {:.3g} (local order {:.3g} between h = {:.3g} "
+                           "and {:.3g}; overall {:.3g})", p.back().e, local.back(), p[p.size() - 2].h,
+                           p.back().h, fit.order);
+    return j;
+  }
+  if (options.expected_order && fit.order < *options.expected_order - tol) {
+    j.verdict = Verdict::converges_lower;
+    j.reason = fmt::format("observed order {:.3g} below the expected {:.3g} (tolerance {:.3g})",
+                           fit.order, *options.expected_order, tol);
+    return j;
+  }
+  j.verdict = Verdict::converges;
+  j.reason = options.expected_order
+                 ? fmt::format("observed order {:.3g}, expected {:.3g} (tolerance {:.3g})", fit.order,
+                               *options.expected_order, tol)
+                 : fmt::format("observed order {:.3g}", fit.order);
+  return j;
+}
 
 double observed_order(const std::vector<double>& steps, const std::vector<double>& errors) {
   if (steps.size() < 2 || steps.size() != errors.size()) return std::numeric_limits<double>::quiet_NaN();

@@ -1,11 +1,92 @@
 #pragma once
-// Error statistics of discrete results against the reference: the observed order of convergence.
+// Image error statistics and convergence orders, the numbers `vrv verify` reports and gates on.
+//
+//  - error_stats: max, mean, RMS and 99th percentile of |e|, the fraction of values with
+//    |e| > threshold, and the signed mean, over one set of per-pixel errors;
+//  - fit_order: the observed order p of error ~ C h^p, the least-squares slope of log(error)
+//    against log(h), with the slope's standard error from the residuals;
+//  - self_convergence_order: the same order from differences between successive images alone
+//    (Etiene et al., "Verifying volume rendering using discretization error analysis", TVCG
+//    2014): no reference is needed;
+//  - judge: a verdict (converges, converges at a lower order, stalls at a floor, diverges).
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace vrv {
 
-// Least-squares slope of log(error) against log(step) (Eigen).  NaN if fewer than two points
-// or an error is not positive.
+struct ErrorStats {
+  long count = 0;            // values summarised
+  double max = 0;            // max |e|
+  double mean = 0;           // mean |e|
+  double rms = 0;            // sqrt(mean e^2)
+  double p99 = 0;            // 99th percentile of |e| (nearest rank: the ceil(0.99 n)-th smallest)
+  double fraction_over = 0;  // fraction of values with |e| > threshold, in [0, 1]
+  double mean_signed = 0;    // mean e (a bias shows here)
+};
+
+// Statistics of `errors`; every value must be finite (std::invalid_argument otherwise, naming
+// the index).  An empty span gives count 0 and zeros.
+ErrorStats error_stats(std::span<const double> errors, double threshold);
+
+// Which statistic an order fit or a bound reads.
+enum class Metric { max, mean, rms, p99, fraction_over };
+std::string_view metric_name(Metric m);                   // "max", "mean", "rms", "p99", "fraction_over"
+std::optional<Metric> parse_metric(std::string_view name);
+double metric_value(const ErrorStats& s, Metric m);
+
+// log(error) = log(C) + order * log(step), fitted by least squares (Eigen).
+struct OrderFit {
+  double order = 0;      // NaN when fewer than two usable points
+  double std_error = 0;  // standard error of the slope: sqrt(SSR / (n - 2) / Sxx); NaN when n < 3
+  double log_constant = 0;
+  int points = 0;
+};
+
+// Points with a non-positive or non-finite error or step are left out (an error of exactly 0
+// has no logarithm); the fit uses the rest.
+OrderFit fit_order(std::span<const double> steps, std::span<const double> errors);
+
+// Self-convergence: images at steps h_0 > h_1 > ... (sorted here, with their differences given
+// in the same order as the steps they start from: differences[k] = ||I(h_k) - I(h_{k+1})|| for
+// the k-th largest step).  With I(h) = I + C h^p, d_k = C h_k^p (1 - (h_{k+1}/h_k)^p); the factor
+// in brackets depends on p when the step ratio varies, so the fit is repeated with it divided
+// out until p settles (for a constant ratio the first fit is already exact).  Needs two
+// differences (three images) for an order, three for its standard error.
+// `steps` has one more entry than `differences`.
+OrderFit self_convergence_order(std::span<const double> steps, std::span<const double> differences);
+
+enum class Verdict { converges, converges_lower, stalls, diverges, undetermined };
+std::string_view verdict_name(Verdict v);  // "converges", "converges at a lower order", ...
+
+struct JudgeOptions {
+  std::optional<double> expected_order;  // K; without it any positive order converges
+  double tolerance = 0.25;  // observed >= K - tolerance converges at K; |order| < tolerance is no order
+  // A floor: the last local slope (between the two finest steps) falls below this fraction of
+  // the steepest earlier local slope (so a sequence that never converged faster is "lower", not
+  // "stalls"); or the overall order is within +-tolerance of 0.
+  double stall_fraction = 0.5;
+};
+
+struct Judgement {
+  Verdict verdict = Verdict::undetermined;
+  std::string reason;  // one sentence with the numbers
+  double floor = 0;    // stalls: the error where it stalls; NaN otherwise
+};
+
+// steps and errors in any order (sorted here by decreasing step); fit = fit_order of them.
+Judgement judge(std::span<const double> steps, std::span<const double> errors, const OrderFit& fit,
+                const JudgeOptions& options);
+
+// Severity for combining verdicts (diverges > stalls > converges_lower > undetermined > converges).
+int severity(Verdict v);
+
+// Least-squares slope of log(error) against log(step) (Eigen QR), as the studies' order tables
+// have always been computed (kept so that their outputs stay byte-identical).  NaN if fewer than
+// two points or an error is not positive.  fit_order gives the same slope with its spread.
 double observed_order(const std::vector<double>& steps, const std::vector<double>& errors);
 
 }  // namespace vrv

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include <boost/math/tools/toms748_solve.hpp>
 
@@ -29,10 +30,15 @@ void monotone_breaks(const RayPanel& panel, std::vector<double>& breaks) {
     const std::span<const double> derivative{dc, static_cast<std::size_t>(n - 1)};
     const ChebyshevRule& rule = ChebyshevRule::get(std::min(2 * n + 1, 129));
     const int m = rule.size();
-    double x_prev = -1, d_prev = chebyshev_evaluate(derivative, -1);
-    for (int j = m - 2; j >= 0; --j) {  // nodes run from +1 down to -1
-      const double x = rule.node(j);
-      const double d = chebyshev_evaluate(derivative, x);
+    // p' at every node in one multi-point pass (the nodes run from +1 down to -1; node m - 1 is -1).
+    double xs[129], ds[129];
+    for (int j = 0; j < m; ++j) xs[j] = rule.node(j);
+    xs[m - 1] = -1;
+    chebyshev_evaluate_many(derivative, {xs, static_cast<std::size_t>(m)}, {ds, static_cast<std::size_t>(m)});
+    double x_prev = -1, d_prev = ds[m - 1];
+    for (int j = m - 2; j >= 0; --j) {
+      const double x = xs[j];
+      const double d = ds[j];
       if (d_prev * d < 0) {
         const double root = bracketed_root(
             [&](double y) { return chebyshev_evaluate(derivative, y); }, x_prev, x, d_prev, d);
@@ -45,6 +51,19 @@ void monotone_breaks(const RayPanel& panel, std::vector<double>& breaks) {
 }
 
 }  // namespace
+
+bool may_cross(const RayPanel& panel, std::span<const double> levels) {
+  if (levels.empty() || panel.coefficients.empty()) return false;
+  const double c0 = panel.coefficients[0];
+  double spread = 0;
+  for (std::size_t k = 1; k < panel.coefficients.size(); ++k) spread += std::abs(panel.coefficients[k]);
+  const double slack = 8 * static_cast<double>(panel.coefficients.size()) *
+                       std::numeric_limits<double>::epsilon() * (std::abs(c0) + spread);
+  const double lo = c0 - spread - slack, hi = c0 + spread + slack;
+  if (!(lo <= hi)) return true;  // not finite: let the search decide
+  const auto first = std::lower_bound(levels.begin(), levels.end(), lo);
+  return first != levels.end() && *first <= hi;
+}
 
 ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
                           std::vector<Crossing>& out) {

@@ -36,6 +36,10 @@ struct ValueRange {
   double min = 0;
   double max = 0;
 };
+// False when no level can be crossed: none lies in c_0 +- sum_{k>=1} |c_k| (which holds every
+// value of p, widened by more than Clenshaw's rounding).  find_crossings would then find none;
+// skipping it saves the derivative's evaluation at 2n + 1 points.
+bool may_cross(const RayPanel& panel, std::span<const double> levels);
 // Returns the exact range of p on the panel (its values at the monotone breaks).
 ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
                           std::vector<Crossing>& out);

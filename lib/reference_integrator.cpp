@@ -26,9 +26,16 @@ int spectral_points(const RayPanel& panel, double c, double d) {
 
 }  // namespace
 
-RayAccumulator::RayAccumulator(const TransferFunction& tf, double background, double tol,
-                               Interval iv)
-    : tf_(tf), background_(background), tol_(tol), iv_(iv) {
+RayAccumulator::RayAccumulator(const TransferFunction& tf, double background,
+                               const ReferenceOptions& options, Interval iv, double position_error)
+    : tf_(tf),
+      background_(background),
+      tol_(options.tol),
+      stop_when_opaque_(options.stop_when_opaque),
+      iv_(iv),
+      position_error_(position_error) {
+  for (double v : tf.breakpoints())
+    max_extinction_ = std::max(max_extinction_, tf.extinction(v) + tf.jump_at(v).extinction);
   check_termination(iv.t0);
 }
 
@@ -51,32 +58,48 @@ void RayAccumulator::book_depth_error(double dphi) {
 }
 
 void RayAccumulator::consume(const RayPanel& panel) {
+  if (stopped_) return;
   const double transmittance = std::exp(-phi_);
+  const double field_error = panel.error + position_error_;
   crossings_.clear();
-  find_crossings(panel, tf_.breakpoints(), crossings_);
+  if (may_cross(panel, tf_.breakpoints())) find_crossings(panel, tf_.breakpoints(), crossings_);
   const double length = panel.b - panel.a;
   // A proxy error df moves the crossings of jumps by df / |p'| (those of kinks only to
   // second order) ...
-  for (const Crossing& x : crossings_) {
+  // The emission part is charged when the ray reaches the crossing, attenuated by e^-Phi
+  // there (emission 1e300 behind optical depth 700 gave estimates of 1e285).
+  crossing_shifts_.assign(crossings_.size(), 0.0);
+  for (std::size_t k = 0; k < crossings_.size(); ++k) {
+    const Crossing& x = crossings_[k];
     const auto jump = tf_.jump_at(x.level);
     if (jump.emission == 0 && jump.extinction == 0) continue;
-    const double df = panel.error + 4 * eps * std::max(1.0, std::abs(x.level));
+    const double df = field_error + 4 * eps * std::max(1.0, std::abs(x.level));
     const double dt = std::min(df / std::abs(x.slope), length) + 4 * eps * std::abs(x.t);
-    error_ += transmittance * jump.emission * dt;
+    crossing_shifts_[k] = dt;
     book_depth_error(jump.extinction * dt);
   }
   double c = panel.a;
-  for (std::size_t k = 0; k <= crossings_.size(); ++k) {
+  for (std::size_t k = 0; k <= crossings_.size() && !stopped_; ++k) {
     const double t = k < crossings_.size() ? crossings_[k].t : panel.b;
+    if (k > 0) charge_crossing(crossings_[k - 1], crossing_shifts_[k - 1], transmittance);
     if (!(t > c)) continue;
     const double v = panel(0.5 * (c + t));
     // ... and changes g and tau through the slopes of the branch each piece is on.
     const auto slopes = tf_.slope_bounds(v, v);
-    error_ += panel.error * (t - c) * std::exp(-phi_) * (emission_done_ ? 0.0 : slopes.emission);
-    book_depth_error(panel.error * (t - c) * slopes.extinction);
+    error_ += field_error * (t - c) * std::exp(-phi_) * (emission_done_ ? 0.0 : slopes.emission);
+    piece_depth_error_ = field_error * (t - c) * slopes.extinction;
+    book_depth_error(piece_depth_error_);
     integrate_piece(panel, c, t, tf_.segment(v));
     c = t;
   }
+}
+
+void RayAccumulator::charge_crossing(const Crossing& x, double dt, double panel_transmittance) {
+  if (dt == 0 || emission_done_) return;  // after termination its bound covers all emission
+  // The shifted stretch [x - dt, x + dt] is attenuated at least by Phi(x - dt) >= Phi - tau dt,
+  // and never less than at the panel's start.
+  const double transmittance = std::min(panel_transmittance, std::exp(-(phi_ - max_extinction_ * dt)));
+  error_ += transmittance * tf_.jump_at(x.level).emission * dt;
 }
 
 void RayAccumulator::add(const PieceIntegral& piece) {
@@ -102,10 +125,88 @@ void RayAccumulator::integrate_piece(const RayPanel& panel, double c, double d,
     const double phi0 = phi_;
     integrate_spectral(panel, c, d, seg, true, 0);
     if (!emission_done_) value_ += *kappa * std::exp(-phi0) * -std::expm1(-(phi_ - phi0));
+  } else if (integrate_opaque_piece(panel, c, d, seg)) {
   } else {
     integrate_spectral(panel, c, d, seg, false, 0);
   }
   check_termination(d);
+}
+
+namespace {
+
+// The range of the proxy on [c, d]: re-expanded there (exactly, it is a polynomial of the
+// same degree), every value lies in c0 +- sum |ck|, widened by the rounding.
+ValueRange piece_range(const RayPanel& panel, double c, double d) {
+  const int n = panel.size();
+  const auto count = static_cast<std::size_t>(n);
+  const ChebyshevRule& rule = ChebyshevRule::get(n);
+  double xs[129], values[129], coefficients[129];
+  for (int j = 0; j < n; ++j) xs[j] = panel.x_of(0.5 * (c + d) + 0.5 * (d - c) * rule.node(j));
+  chebyshev_evaluate_many(panel.coefficients, {xs, count}, {values, count});
+  rule.coefficients({values, count}, {coefficients, count});
+  double spread = 0, size = 0;
+  for (int k = 1; k < n; ++k) spread += std::abs(coefficients[k]);
+  for (int j = 0; j < n; ++j) size = std::max(size, std::abs(values[j]));
+  const double slack = 16 * n * eps * (size + spread);
+  return {coefficients[0] - spread - slack, coefficients[0] + spread + slack};
+}
+
+}  // namespace
+
+bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, double d,
+                                            const TransferSegment& seg) {
+  // Where a piece is thousands of optical depths thick, e^-Phi is a boundary layer of width 1/tau that no
+  // polynomial resolves (tau ~ 1e21 gave a NaN, then estimates of 1e6).  There
+  //   int g e^-Phi ds = int (g / tau) e^-Phi dPhi,
+  // and g / tau (a ratio of two affine functions of v, monotone where tau > 0) lies between its
+  // values at the ends of the value range: over the layer [c, e] that holds all but e^-64 of
+  // the light, the integral is that bracket times e^-Phi0 (1 - e^-dPhi), and only Phi is needed.
+  // Taken when the bracket meets the piece's share of the tolerance; else the spectral route.
+  if (!tf_.affine() || emission_done_ || panel.size() < 2) return false;
+  double lo = 0, hi = 0;
+  tf_.segment(panel(0.5 * (c + d)), lo, hi);
+  const double margin = panel.error + position_error_;
+  const auto values_on = [&](double from, double to) {
+    const ValueRange r = piece_range(panel, from, to);
+    return ValueRange{std::max(r.min - margin, lo), std::min(r.max + margin, hi)};
+  };
+  const ValueRange whole = values_on(c, d);
+  if (!(whole.min <= whole.max)) return false;
+  // The layer: 64 optical depths at the entry's tau (a few ulps of t if thinner than that).
+  const double tau_c = seg.tau(panel(c));
+  // Only where the layer is a small part of the piece (the spectral route handles depths of
+  // hundreds per piece well, and then more tightly).
+  if (!(tau_c * (d - c) > 4096)) return false;
+  const double e = std::min(d, c + std::max(64 / tau_c, 8 * eps * std::max(std::abs(c), std::abs(d))));
+  if (!(e > c)) return false;
+  const ValueRange layer = e < d ? values_on(c, e) : whole;
+  if (!(layer.min <= layer.max)) return false;
+  const double tau_lo = seg.tau(layer.min), tau_hi = seg.tau(layer.max);
+  const double r_lo = seg.g(layer.min) / tau_lo, r_hi = seg.g(layer.max) / tau_hi;
+  if (!(std::min(tau_lo, tau_hi) * (e - c) > 32)) return false;
+  const double r_min = std::min(r_lo, r_hi), r_max = std::max(r_lo, r_hi);
+  const double transmittance = std::exp(-phi_);
+  const double local_tol = kQuadratureShare * tol_ * (d - c) / iv_.length();
+  if (!(0.5 * (r_max - r_min) * transmittance <= local_tol)) return false;
+  const double phi0 = phi_, booked0 = depth_error_;
+  integrate_spectral(panel, c, e, seg, true, 0);
+  const double absorbed = -std::expm1(-(phi_ - phi0));
+  const double emission = 0.5 * (r_min + r_max) * transmittance * absorbed;
+  value_ += emission;
+  // 1 - e^-dPhi is 1 up to e^-(tau_min (e - c)), whatever the errors in Phi inside the layer.
+  const double unabsorbed = std::exp(-std::min(tau_lo, tau_hi) * (e - c));
+  error_ += 0.5 * (r_max - r_min) * transmittance * absorbed + r_max * transmittance * unabsorbed +
+            8 * eps * emission;
+  // Depth errors of the piece (its field error, booked by consume, and the layer's quadrature)
+  // do not reach the layer's own emission, which the bracket covers (v's range is widened by
+  // the field error): charge them only to what comes after, as if booked after this emission.
+  depth_error_weighted_ += (piece_depth_error_ + depth_error_ - booked0) * emission;
+  if (e < d) {
+    // Behind the layer: at most max g e^-Phi per unit length; only Phi is carried on.
+    error_ += std::max(seg.g(whole.min), seg.g(whole.max)) * std::exp(-phi_) * (d - e);
+    integrate_spectral(panel, e, d, seg, true, 0);
+  }
+  return true;
 }
 
 void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double d,
@@ -118,9 +219,17 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   const double half = 0.5 * (d - c), mid = 0.5 * (c + d);
   // The whole panel at its own nodes: the sampled values themselves, no interpolation.
   const bool own_nodes = c == panel.a && d == panel.b && n == panel.size();
+  double values[129];
+  if (own_nodes) {
+    std::copy_n(panel.values.begin(), n, values);
+  } else {
+    double xs[129];
+    for (int j = 0; j < n; ++j) xs[j] = panel.x_of(mid + half * rule.node(j));
+    chebyshev_evaluate_many(panel.coefficients, {xs, count}, {values, count});
+  }
   double v_max = 1, tau_max = 0, g_max = 0;
   for (int j = 0; j < n; ++j) {
-    const double v = own_nodes ? panel.values[j] : panel(mid + half * rule.node(j));
+    const double v = values[j];
     v_max = std::max(v_max, std::abs(v));
     tau[j] = seg.tau(v);
     tau_max = std::max(tau_max, tau[j]);
@@ -140,6 +249,12 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   double emission = 0;
   if (!depth_only) {
     rule.cumulative_integral({tau, count}, {phi, count});
+    // tau >= 0, so Phi rises from 0 at x = -1 (the last node): rounding in the spectral
+    // integral (~eps sum |tau|, thousands when tau ~ 1e21) must not make it negative, or
+    // e^-Phi overflows.  The running maximum is the stable form; its change is within that
+    // rounding, which h_noise below charges through (1 + phi_ + dphi).
+    phi[n - 1] = std::max(phi[n - 1], 0.0);
+    for (int j = n - 1; j-- > 0;) phi[j] = std::max(phi[j], phi[j + 1]);
     for (int j = 0; j < n; ++j) h[j] = g[j] * std::exp(-(phi_ + half * phi[j]));
     rule.coefficients({h, count}, {h_c, count});
     const double h_noise =
@@ -155,11 +270,13 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   const bool splittable =
       level < kMaxLevel && mid > c && mid < d && spectral_pieces_ < kMaxSpectralPieces;
   const double judged = error + depth_error * std::exp(-phi_) * sensitivity_after(c);
-  if (splittable && (!converged || (judged > local_tol && !at_rounding))) {
+  const bool good = converged && (judged <= local_tol || at_rounding);
+  if (splittable && !good) {
     integrate_spectral(panel, c, mid, seg, depth_only, level + 1);
     integrate_spectral(panel, mid, d, seg, depth_only, level + 1);
     return;
   }
+  if (!good && (level >= kMaxLevel || spectral_pieces_ >= kMaxSpectralPieces)) capped_ = true;
   // Rounding in the running sum Phi is booked apart: splitting cannot reduce it.
   book_depth_error(depth_error + 4 * eps * (phi_ + dphi));
   value_ += emission;
@@ -168,13 +285,32 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
 }
 
 void RayAccumulator::check_termination(double t) {
-  if (emission_done_) return;
+  if (stopped_) return;
   // Everything still to come emits at most max g per unit length, attenuated by e^-Phi.
-  const double rest = std::exp(-phi_) * tf_.max_emission() * (iv_.t1 - t);
-  if (rest <= kTerminationShare * tol_) {
+  const double transmittance = std::exp(-phi_);
+  const double rest = emission_done_ ? 0.0 : transmittance * tf_.max_emission() * (iv_.t1 - t);
+  // Opaque: neither the emission to come nor the background (whose share lies in
+  // [0, e^-Phi I0], reported as e^-Phi I0) can matter any more.
+  const double behind = rest + transmittance * background_;
+  if (stop_when_opaque_ && termination_booked_ + behind <= kTerminationShare * tol_) {
+    emission_done_ = stopped_ = stopped_early_ = true;
+    error_ += behind;
+    termination_booked_ += behind;
+    return;
+  }
+  if (!emission_done_ && rest <= kTerminationShare * tol_) {
     emission_done_ = true;
     error_ += rest;
+    termination_booked_ += rest;
   }
+}
+
+void RayAccumulator::give_up(double t) {
+  if (stopped_) return;
+  // The rest emits at most max g per unit length and lets through at most e^-Phi I0.
+  const double transmittance = std::exp(-phi_);
+  error_ += transmittance * ((emission_done_ ? 0.0 : tf_.max_emission() * (iv_.t1 - t)) + background_);
+  stopped_ = capped_ = true;
 }
 
 ReferenceResult RayAccumulator::finish() const {
@@ -183,10 +319,13 @@ ReferenceResult RayAccumulator::finish() const {
   r.t_entry = iv_.t0;
   r.t_exit = iv_.t1;
   r.optical_depth = phi_;
+  r.stopped_early = stopped_early_;
   r.value = value_ + background_ * std::exp(-phi_);
   // First order in dPhi; 10 % covers the second-order terms.
   const double after = std::max(0.0, r.value * depth_error_ - depth_error_weighted_);
   r.error_estimate = error_ + 1.1 * after + 16 * eps * (std::abs(value_) + background_);
+  r.tolerance_met = !capped_ && r.error_estimate <= tol_ && std::isfinite(r.value) &&
+                    std::isfinite(r.error_estimate);
   return r;
 }
 

@@ -27,6 +27,10 @@ namespace vrv {
 
 struct ReferenceOptions {
   double tol = 1e-12;  // absolute tolerance on I
+  // Stop a ray once e^-Phi (max g x the length still to come + background) is below the
+  // termination share of tol: nothing behind can matter (the bound joins the estimate), and
+  // optical_depth is then the depth up to there.  False: Phi is carried to the exit.
+  bool stop_when_opaque = true;
 };
 
 struct ReferenceResult {
@@ -36,7 +40,13 @@ struct ReferenceResult {
   bool hit = false;           // the ray meets the box
   double t_entry = 0;         // clipped parameter range (world length along the unit direction)
   double t_exit = 0;
-  double optical_depth = 0;   // int tau over [t_entry, t_exit]
+  double optical_depth = 0;   // int tau over [t_entry, t_exit], or up to where an opaque ray stopped
+  // Stopped where nothing behind could matter any more (stop_when_opaque; the ray became
+  // opaque, or emits nothing and has no background): optical_depth is then a lower bound.
+  bool stopped_early = false;
+  // The estimate is within the tolerance and no work cap was reached (a capped ray still
+  // reports an honest, large estimate).  False also for a non-finite value or estimate.
+  bool tolerance_met = true;
 };
 
 namespace detail {
@@ -44,7 +54,10 @@ namespace detail {
 // Accumulates one ray front to back: optical depth so far (log transmittance), value, error.
 class RayAccumulator {
  public:
-  RayAccumulator(const TransferFunction& tf, double background, double tol, Interval iv);
+  // position_error: a field error every panel carries on top of its own (the rounding of a
+  // far ray's entry point, field_change_within(RayFrame::position_error)).
+  RayAccumulator(const TransferFunction& tf, double background, const ReferenceOptions& options,
+                 Interval iv, double position_error = 0);
 
   // Field error allowed on a panel starting now, so that its effect on I stays in budget.
   double field_tolerance() const;
@@ -52,13 +65,23 @@ class RayAccumulator {
   // panel's own proxy error to the estimate.
   void consume(const RayPanel& panel);
   ReferenceResult finish() const;
+  // Nothing after this point can matter (opaque), or the work cap ended the ray.
+  bool stopped() const { return stopped_; }
+  // The work cap is reached at t: the rest of the ray is bounded, not integrated.
+  void give_up(double t);
+  // A piece or panel was accepted unresolved at a work limit.
+  void note_cap() { capped_ = true; }
 
  private:
   void integrate_piece(const RayPanel& panel, double c, double d, const TransferSegment& seg);
+  // A piece that absorbs (nearly) everything, from Phi alone; false when it does not apply.
+  bool integrate_opaque_piece(const RayPanel& panel, double c, double d, const TransferSegment& seg);
   // Adaptive Clenshaw-Curtis on [c, d]; `depth_only` skips the emission.
   void integrate_spectral(const RayPanel& panel, double c, double d, const TransferSegment& seg,
                           bool depth_only, int level);
   void add(const PieceIntegral& piece);
+  // The emission error of a jump crossed at x whose position is uncertain by dt.
+  void charge_crossing(const Crossing& x, double dt, double panel_transmittance);
   void check_termination(double t);
   double sensitivity_after(double t) const;  // a priori bound on |dI / dPhi| at t
   // An uncertainty dPhi in the optical depth here scales everything behind by e^-dPhi, so it
@@ -68,16 +91,35 @@ class RayAccumulator {
   const TransferFunction& tf_;
   double background_;
   double tol_;
+  bool stop_when_opaque_;
   Interval iv_;
+  double position_error_;
   double phi_ = 0;
   double value_ = 0;
   double error_ = 0;
   bool emission_done_ = false;
+  bool stopped_ = false;
+  bool stopped_early_ = false;
+  bool capped_ = false;
+  double termination_booked_ = 0;  // error booked by early termination so far
   long spectral_pieces_ = 0;
+  double max_extinction_ = 0;        // max tau over all values
+  std::vector<double> crossing_shifts_;  // dt of each crossing of the current panel
+  double piece_depth_error_ = 0;     // the field-error part of dPhi booked for the current piece
   double depth_error_ = 0;           // sum of dPhi_i
   double depth_error_weighted_ = 0;  // sum of dPhi_i * (value before i)
   std::vector<Crossing> crossings_;
 };
+
+// Work cap per ray: past it the rest of the ray is bounded (RayAccumulator::give_up).
+inline constexpr long kMaxEvaluations = 1'000'000;
+
+// The field's rounding level on [a, b] of the ray (its coordinates' size matters far out).
+template <ScalarField F>
+double panel_noise(const F& field, const Ray& ray, double a, double b) {
+  const double extent = std::max(ray.at(a).cwiseAbs().maxCoeff(), ray.at(b).cwiseAbs().maxCoeff());
+  return field_value_noise(field, extent);
+}
 
 template <ScalarField F>
 RayPanel fit_panel(const F& field, const Ray& ray, double a, double b, int n, long& evaluations) {
@@ -90,7 +132,7 @@ RayPanel fit_panel(const F& field, const Ray& ray, double a, double b, int n, lo
   // splitting has stopped helping (it would otherwise inflate every panel's estimate by the
   // worst-case rounding, which the tail already measures where it matters).
   panel.error = chebyshev_accuracy(panel.coefficients).error;
-  panel.resolved = chebyshev_accuracy(panel.coefficients, field_value_noise(field)).resolved;
+  panel.resolved = chebyshev_accuracy(panel.coefficients, panel_noise(field, ray, a, b)).resolved;
   return panel;
 }
 
@@ -100,16 +142,22 @@ void resolve_smooth(const F& field, const Ray& ray, double a, double b, int leve
                     RayAccumulator& acc, long& evaluations) {
   constexpr int n = 33;
   constexpr int max_level = 30;
-  constexpr long max_evaluations = 1'000'000;  // work cap per ray, as for the quadrature
+  if (acc.stopped()) return;
   RayPanel panel = fit_panel(field, ray, a, b, n, evaluations);
-  const ChebyshevAccuracy check = chebyshev_accuracy(panel.coefficients, field_value_noise(field));
+  const ChebyshevAccuracy check = chebyshev_accuracy(panel.coefficients, panel_noise(field, ray, a, b));
   const bool good = check.resolved && (check.at_rounding || panel.error <= acc.field_tolerance());
-  if (!good && level < max_level && evaluations < max_evaluations) {
+  if (!good && evaluations >= kMaxEvaluations) {
+    // An unresolved panel's error is only a guess: bound the rest of the ray instead.
+    acc.give_up(a);
+    return;
+  }
+  if (!good && level < max_level) {
     const double m = 0.5 * (a + b);
     resolve_smooth(field, ray, a, m, level + 1, acc, evaluations);
     resolve_smooth(field, ray, m, b, level + 1, acc, evaluations);
     return;
   }
+  if (!good) acc.note_cap();
   acc.consume(panel);
 }
 
@@ -131,35 +179,56 @@ template <ScalarField F>
 ReferenceResult integrate_reference(const F& field, const Box& box, const TransferFunction& tf,
                                     double background, const Ray& ray,
                                     const ReferenceOptions& options = {}) {
-  const auto iv = clip(ray, box);
-  if (!iv) {
+  // Everything below works in the ray's own frame (positions near the box).
+  const auto frame = clip_in_frame(ray, box);
+  if (!frame) {
     ReferenceResult miss;
     miss.value = background;
     return miss;
   }
-  std::vector<double> cuts{iv->t0};
-  field.append_breaks(ray, *iv, cuts);
-  cuts.push_back(iv->t1);
+  const Ray& local = frame->local;
+  const Interval iv = frame->iv;
+  std::vector<double> cuts{iv.t0};
+  field.append_breaks(local, iv, cuts);
+  cuts.push_back(iv.t1);
   std::sort(cuts.begin(), cuts.end());
 
-  detail::RayAccumulator acc(tf, background, options.tol, *iv);
+  detail::RayAccumulator acc(tf, background, options, iv,
+                             field_change_within(field, frame->position_error));
   long evaluations = 0;
   const int degree = field.degree_along_ray();
-  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+  for (std::size_t i = 0; i + 1 < cuts.size() && !acc.stopped(); ++i) {
     const double a = cuts[i], b = cuts[i + 1];
     if (!(b > a)) continue;
     if (degree >= 0) {
-      acc.consume(detail::fit_panel(field, ray, a, b, degree + 1, evaluations));
+      if (evaluations >= detail::kMaxEvaluations) {
+        acc.give_up(a);
+        break;
+      }
+      acc.consume(detail::fit_panel(field, local, a, b, degree + 1, evaluations));
       continue;
     }
     const double h0 = field.bandwidth() > 0 ? first_panel_phase(options.tol) / field.bandwidth() : b - a;
-    const int count = std::max(1, static_cast<int>(std::ceil((b - a) / h0)));
-    for (int k = 0; k < count; ++k)
-      detail::resolve_smooth(field, ray, a + (b - a) * k / count,
+    // A double, not an int: a long ray or a huge bandwidth asks for more panels than any
+    // integer holds; the work cap ends the loop long before k loses integer precision.
+    const double count = std::max(1.0, std::ceil((b - a) / h0));
+    if (count > 1 && h0 < 16 * std::numeric_limits<double>::epsilon() * std::max(std::abs(a), std::abs(b))) {
+      acc.give_up(a);  // the field varies faster than positions along the ray can resolve
+      break;
+    }
+    for (double k = 0; k < count && !acc.stopped(); ++k) {
+      if (evaluations >= detail::kMaxEvaluations) {
+        acc.give_up(a + (b - a) * k / count);
+        break;
+      }
+      detail::resolve_smooth(field, local, a + (b - a) * k / count,
                              k + 1 == count ? b : a + (b - a) * (k + 1) / count, 0, acc,
                              evaluations);
+    }
   }
   ReferenceResult result = acc.finish();
+  result.t_entry = frame->t_entry();
+  result.t_exit = frame->t_exit();
   result.evaluations = evaluations;
   return result;
 }

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <system_error>
 
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 namespace vrv {
 namespace {
@@ -71,6 +73,40 @@ void write_atomically(const fs::path& path, const char* format, const OIIO::Imag
   }
 }
 
+void stamp(OIIO::ImageSpec& spec, const ImageProvenance* p) {
+  if (!p) return;
+  spec.attribute("vrv:scene_hash", p->scene_hash);
+  spec.attribute("vrv:camera", p->camera);
+  spec.attribute("vrv:method", p->method);
+  if (p->step) spec.attribute("vrv:step", fmt::format("{:.17g}", *p->step));
+  spec.attribute("ImageDescription", p->to_json());
+}
+
+// Opens an image file for reading, or throws naming the file.
+std::unique_ptr<OIIO::ImageInput> open_image(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) fail(path, "cannot read: no such file");
+  if (fs::is_directory(path, ec)) fail(path, "cannot read: is a directory");
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) fail(path, fmt::format("cannot read: {}", OIIO::geterror()));
+  return in;
+}
+
+// Opens the first subimage for reading with the checks every pixel reader shares.
+std::unique_ptr<OIIO::ImageInput> open_one_channel(const fs::path& path) {
+  auto in = open_image(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.deep) fail(path, "deep images are not supported");
+  if (spec.nchannels != 1)
+    fail(path, fmt::format("expected one channel, got {}", spec.nchannels));
+  if (spec.depth != 1) fail(path, fmt::format("expected a 2D image, got depth {}", spec.depth));
+  if (spec.width < 1 || spec.height < 1 || spec.width > kMaxReadSide ||
+      spec.height > kMaxReadSide ||
+      std::int64_t{spec.width} * spec.height > kMaxReadPixels)
+    fail(path, fmt::format("bad image size {} x {}", spec.width, spec.height));
+  return in;
+}
+
 unsigned char to_byte(double unit) {  // [0, 1] -> 0..255, rounded
   return static_cast<unsigned char>(std::lround(255 * std::clamp(unit, 0.0, 1.0)));
 }
@@ -86,18 +122,20 @@ Image::Image(int w, int h, float fill) : width(w), height(h) {
   pixels.assign(static_cast<std::size_t>(w) * h, fill);
 }
 
-void write_exr(const Image& image, const fs::path& path) {
+void write_exr(const Image& image, const fs::path& path, const ImageProvenance* provenance) {
   check_image(image, path);
   OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::FLOAT);
   spec.channelnames = {"Y"};
   spec.attribute("compression", "zip");
+  stamp(spec, provenance);
   // OpenImageIO stamps EXRs with the time of writing unless told a date; an empty one keeps
   // reruns byte-identical (results/ must not change when the numbers do not).
   spec.attribute("DateTime", "");
   write_atomically(path, "openexr", spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
 }
 
-void write_png_preview(const Image& image, const fs::path& path, double lo, double hi) {
+void write_png_preview(const Image& image, const fs::path& path, double lo, double hi,
+                       const ImageProvenance* provenance) {
   check_image(image, path);
   if (!(hi > lo) || !std::isfinite(hi - lo))
     throw std::invalid_argument(
@@ -109,6 +147,7 @@ void write_png_preview(const Image& image, const fs::path& path, double lo, doub
   }
   OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::UINT8);
   spec.channelnames = {"Y"};
+  stamp(spec, provenance);
   write_atomically(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
 }
 
@@ -143,23 +182,91 @@ void write_error_map_png(const Image& error, const fs::path& path, double max_ab
   write_atomically(path, "png", spec, OIIO::TypeDesc::UINT8, rgb.data());
 }
 
+void write_rgb8_png(int width, int height, const std::vector<unsigned char>& rgb, const fs::path& path,
+                    const std::string& description) {
+  if (width < 1 || height < 1 || rgb.size() != static_cast<std::size_t>(width) * height * 3)
+    fail(path, fmt::format("bad RGB image size {} x {} with {} bytes", width, height, rgb.size()));
+  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+  if (!description.empty()) spec.attribute("ImageDescription", description);
+  write_atomically(path, "png", spec, OIIO::TypeDesc::UINT8, rgb.data());
+}
+
 Image read_exr(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail(path, "cannot read: no such file");
-  if (fs::is_directory(path, ec)) fail(path, "cannot read: is a directory");
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) fail(path, fmt::format("cannot read: {}", OIIO::geterror()));
+  auto in = open_one_channel(path);
   const OIIO::ImageSpec& spec = in->spec();
-  if (spec.deep) fail(path, "deep images are not supported");
-  if (spec.nchannels != 1)
-    fail(path, fmt::format("expected one channel, got {}", spec.nchannels));
-  if (spec.depth != 1) fail(path, fmt::format("expected a 2D image, got depth {}", spec.depth));
-  if (spec.width < 1 || spec.height < 1 || spec.width > kMaxReadSide ||
-      spec.height > kMaxReadSide ||
-      std::int64_t{spec.width} * spec.height > kMaxReadPixels)
-    fail(path, fmt::format("bad image size {} x {}", spec.width, spec.height));
   Image image(spec.width, spec.height);
   if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, image.pixels.data()))
+    fail(path, fmt::format("cannot read: {}", in->geterror()));
+  in->close();
+  return image;
+}
+
+std::string ImageProvenance::to_json() const {
+  nlohmann::ordered_json j;
+  j["scene_hash"] = scene_hash;
+  j["camera"] = camera;
+  j["method"] = method;
+  if (step) j["step"] = *step;
+  return nlohmann::ordered_json{{"vrv_provenance", j}}.dump();
+}
+
+std::optional<ImageProvenance> read_provenance(const fs::path& path) {
+  auto in = open_image(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  ImageProvenance p;
+  p.scene_hash = spec.get_string_attribute("vrv:scene_hash");
+  if (!p.scene_hash.empty()) {
+    p.camera = spec.get_string_attribute("vrv:camera");
+    p.method = spec.get_string_attribute("vrv:method");
+    const std::string step = spec.get_string_attribute("vrv:step");
+    if (!step.empty()) p.step = std::stod(step);
+    return p;
+  }
+  // Formats without free attributes: the JSON in ImageDescription.
+  const auto j = nlohmann::json::parse(spec.get_string_attribute("ImageDescription"), nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("vrv_provenance")) return std::nullopt;
+  const auto& v = j["vrv_provenance"];
+  if (!v.is_object() || !v.contains("scene_hash") || !v["scene_hash"].is_string())
+    fail(path, "malformed vrv_provenance in ImageDescription");
+  p.scene_hash = v["scene_hash"];
+  p.camera = v.value("camera", "");
+  p.method = v.value("method", "");
+  if (v.contains("step") && v["step"].is_number()) p.step = v["step"].get<double>();
+  return p;
+}
+
+void write_tiff_f64(const ImageF64& image, const fs::path& path, const ImageProvenance* provenance) {
+  if (image.width < 1 || image.height < 1 ||
+      image.pixels.size() != static_cast<std::size_t>(image.width) * image.height)
+    fail(path, fmt::format("bad image size {} x {} with {} pixels", image.width, image.height,
+                           image.pixels.size()));
+  OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::DOUBLE);
+  spec.channelnames = {"Y"};
+  spec.attribute("compression", "zip");
+  spec.attribute("DateTime", "");
+  stamp(spec, provenance);
+  write_atomically(path, "tiff", spec, OIIO::TypeDesc::DOUBLE, image.pixels.data());
+}
+
+ImageInfo read_image_info(const fs::path& path) {
+  auto in = open_image(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  ImageInfo info;
+  info.width = spec.width;
+  info.height = spec.height;
+  info.channels = spec.nchannels;
+  info.format = in->format_name();
+  info.pixel_type = spec.format.c_str();
+  info.floating = spec.format.is_floating_point();
+  info.bits = spec.get_int_attribute("oiio:BitsPerSample", static_cast<int>(spec.format.size() * 8));
+  return info;
+}
+
+ImageF64 read_image_f64(const fs::path& path) {
+  auto in = open_one_channel(path);
+  const OIIO::ImageSpec& spec = in->spec();
+  ImageF64 image{spec.width, spec.height, std::vector<double>(static_cast<std::size_t>(spec.width) * spec.height)};
+  if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::DOUBLE, image.pixels.data()))
     fail(path, fmt::format("cannot read: {}", in->geterror()));
   in->close();
   return image;

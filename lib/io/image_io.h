@@ -7,6 +7,9 @@
 // temporary is removed when writing fails).  Failures throw std::runtime_error, one line,
 // naming the file.
 #include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
 #include <vector>
 
 namespace vrv {
@@ -21,12 +24,58 @@ struct Image {
   float at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
 };
 
+// Where an image came from, so that a verification can refuse a reference of another scene or
+// camera.  Written into the image's metadata by the writers below when given: as the string
+// attributes "vrv:scene_hash", "vrv:camera", "vrv:method" and "vrv:step" (EXR keeps them as
+// header attributes) and, for formats without free attributes (TIFF, PNG), as the JSON of
+// to_json() in ImageDescription.
+struct ImageProvenance {
+  std::string scene_hash;       // scene_hash(scene, camera) of lib/scene_hash.h, 40 hex digits
+  std::string camera;           // camera_description(camera) of lib/scene_hash.h
+  std::string method;           // e.g. "reference tol=1e-12", "alpha step h=0.01 double"
+  std::optional<double> step;   // world sample distance of a step-based discrete method
+
+  // {"vrv_provenance": {"scene_hash": ..., "camera": ..., "method": ..., "step": ...}}
+  std::string to_json() const;
+};
+
+// The provenance stored in an image file, or nothing when it carries none.  Throws
+// std::runtime_error naming the file when it cannot be read.
+std::optional<ImageProvenance> read_provenance(const std::filesystem::path& path);
+
 // 32-bit float, one channel named "Y", lossless (zip) compression: bit-exact round trip.
-void write_exr(const Image& image, const std::filesystem::path& path);
+void write_exr(const Image& image, const std::filesystem::path& path,
+               const ImageProvenance* provenance = nullptr);
+
+// A one-channel image in double precision.
+struct ImageF64 {
+  int width = 0, height = 0;
+  std::vector<double> pixels;  // row-major, row 0 = top
+};
+
+// 64-bit float TIFF, one channel, zip compression: every double bit for bit (the EXR beside it
+// rounds to float, one float ulp = 6e-8 near 1, which would hide smaller errors).
+void write_tiff_f64(const ImageF64& image, const std::filesystem::path& path,
+                    const ImageProvenance* provenance = nullptr);
+
+// What a file holds, without reading its pixels.
+struct ImageInfo {
+  int width = 0, height = 0, channels = 0;
+  std::string format;      // OpenImageIO's format name: "openexr", "tiff", "png", ...
+  std::string pixel_type;  // "uint8", "uint16", "half", "float", "double", ...
+  bool floating = false;   // half, float or double pixels
+  int bits = 0;            // bits per channel value
+};
+ImageInfo read_image_info(const std::filesystem::path& path);
+
+// The first subimage of a one-channel image as doubles (float64 TIFF exactly; narrower types
+// widened).  The same checks and errors as read_exr.
+ImageF64 read_image_f64(const std::filesystem::path& path);
 
 // 8-bit grey: round(255 * clamp((v - lo) / (hi - lo), 0, 1)); NaN becomes 0.  Needs hi > lo
 // (std::invalid_argument otherwise).
-void write_png_preview(const Image& image, const std::filesystem::path& path, double lo, double hi);
+void write_png_preview(const Image& image, const std::filesystem::path& path, double lo, double hi,
+                       const ImageProvenance* provenance = nullptr);
 
 // Signed values as 8-bit RGB with a diverging map over [-max_abs, +max_abs]: blue (33, 102,
 // 172) at -max_abs, white (255, 255, 255) at 0, red (178, 24, 43) at +max_abs, linear in
@@ -43,6 +92,11 @@ struct Rgb8 {
   unsigned char r = 0, g = 0, b = 0;
 };
 Rgb8 diverging_colour(double value, double max_abs);
+
+// 8-bit RGB, interleaved rows (top first), written atomically as PNG with `description` as its
+// ImageDescription (empty: none).  rgb.size() must be 3 * width * height.
+void write_rgb8_png(int width, int height, const std::vector<unsigned char>& rgb,
+                    const std::filesystem::path& path, const std::string& description);
 
 // Reads the first subimage of a one-channel image (EXR or anything OIIO reads) as floats.
 // Throws std::runtime_error naming the file when it cannot be read or has other than one channel.

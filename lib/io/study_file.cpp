@@ -166,6 +166,23 @@ bool step_based(Strategy st) {
   return st == Strategy::step || st == Strategy::vtk || st == Strategy::inviwo;
 }
 
+// The renderer conventions of DiscreteConfig: opacity_unit = "sample" | "distance", color =
+// "straight" | "premultiplied", table_size = N (0 or 2..2^20), table_lookup = "centred" | "uncentred".
+void read_conventions(const StudyReader& r, const toml::table& m, const std::string& path, DiscreteConfig& c) {
+  auto choice = [&](const char* key, auto parse, const char* choices, auto& out) {
+    if (!m.contains(key)) return;
+    const std::string text = r.string(*m.get(key), StudyReader::child(path, key));
+    const auto v = parse(text);
+    if (!v) r.fail(StudyReader::child(path, key), fmt::format("unknown value '{}' (one of {})", text, choices));
+    out = *v;
+  };
+  choice("opacity_unit", parse_opacity_unit, "sample, distance", c.opacity_unit);
+  choice("color", parse_color_convention, "straight, premultiplied", c.color);
+  choice("table_lookup", parse_table_lookup, "centred, uncentred", c.table_lookup);
+  if (m.contains("table_size"))
+    c.table_size = static_cast<int>(r.integer(*m.get("table_size"), path + ".table_size", 0, kMaxTableSize));
+}
+
 std::string method_label(const StudyMethodSpec& m) {
   if (m.reference) return fmt::format("reference tol={:g}", m.tol);
   const DiscreteConfig& c = m.config;
@@ -176,6 +193,9 @@ std::string method_label(const StudyMethodSpec& m) {
   if (c.oversample != 1) label += fmt::format(" N={}", c.oversample);
   if (c.centred_oversamples) label += " centred";
   if (c.correction != Correction::none) label += fmt::format(" {}", correction_name(c.correction));
+  if (c.opacity_unit != OpacityUnit::per_sample) label += " opacity/distance";
+  if (c.color != ColorConvention::straight) label += fmt::format(" {}", color_convention_name(c.color));
+  if (c.table_size > 0) label += fmt::format(" table={} {}", c.table_size, table_lookup_name(c.table_lookup));
   label += c.precision == Precision::single_precision ? " float" : " double";
   return label;
 }
@@ -183,7 +203,8 @@ std::string method_label(const StudyMethodSpec& m) {
 StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, const std::string& path,
                                 const Scene& scene) {
   r.check_keys(m, path, {"method", "label", "tol", "strategy", "rate", "step", "oversample", "centred_oversamples",
-                         "correction", "precision", "max_error"});
+                         "correction", "precision", "max_error", "opacity_unit", "color", "table_size",
+                         "table_lookup"});
   StudyMethodSpec out;
   const std::string name = r.string(r.require(m, "method", path), path + ".method");
   auto only_for_discrete = [&](std::initializer_list<std::string_view> keys) {
@@ -192,7 +213,7 @@ StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, co
   };
   if (name == "reference") {
     only_for_discrete({"strategy", "rate", "step", "oversample", "centred_oversamples", "correction",
-                       "precision", "max_error"});
+                       "precision", "max_error", "opacity_unit", "color", "table_size", "table_lookup"});
     out.reference = true;
     out.tol = r.number(r.require(m, "tol", path), path + ".tol");
     if (!(out.tol >= 1e-15 && out.tol <= 1))
@@ -248,13 +269,14 @@ StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, co
       else if (prec == "float") c.precision = Precision::single_precision;
       else r.fail(path + ".precision", fmt::format("unknown precision '{}' (double or float)", prec));
     }
+    read_conventions(r, m, path, c);
     if (m.contains("max_error")) {
       out.max_error = r.number(*m.get("max_error"), path + ".max_error");
       if (!(*out.max_error >= 0))
         r.fail(path + ".max_error", fmt::format("must not be negative, got {}", *out.max_error));
     }
     try {
-      validate(c, std::holds_alternative<GridField>(scene.field));
+      validate(c, std::holds_alternative<GridField>(scene.field), scene.transfer);
     } catch (const std::invalid_argument& e) {
       std::string msg = e.what();  // "--option: reason"
       if (msg.starts_with("--")) msg = msg.substr(2);
@@ -282,6 +304,13 @@ nlohmann::json method_json(const StudyMethodSpec& m) {
     j["centred_oversamples"] = d.centred_oversamples;
     j["correction"] = std::string(correction_name(d.correction));
     j["precision"] = d.precision == Precision::single_precision ? "float" : "double";
+    // Renderer conventions only when not the defaults (earlier meta.json files stay as they were).
+    if (d.opacity_unit != OpacityUnit::per_sample) j["opacity_unit"] = std::string(opacity_unit_name(d.opacity_unit));
+    if (d.color != ColorConvention::straight) j["color"] = std::string(color_convention_name(d.color));
+    if (d.table_size > 0) {
+      j["table_size"] = d.table_size;
+      j["table_lookup"] = std::string(table_lookup_name(d.table_lookup));
+    }
     if (m.max_error) j["max_error"] = *m.max_error;
   }
   return nlohmann::json::parse(j.dump());

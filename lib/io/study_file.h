@@ -76,7 +76,8 @@ struct StudyMethodSpec {
 };
 
 // Keys: method (reference | riemann | alpha | trapezoid | exact_linear | moreland), label, tol
-// (reference), strategy, step | rate, oversample, correction, precision, max_error (discrete).
+// (reference), strategy, step | rate, oversample, correction, precision, max_error, and the
+// renderer conventions opacity_unit, color, table_size, table_lookup (discrete; see DiscreteConfig).
 // Checked against the scene (grid-only options, a cap of 1e8 samples per ray).
 StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, const std::string& path,
                                   const Scene& scene);

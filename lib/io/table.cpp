@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
 
 namespace vrv {
 namespace {
@@ -175,6 +176,20 @@ std::string Table::to_csv() const {
     out += '\n';
   }
   return out;
+}
+
+std::string Table::to_json() const {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const auto& row : rows_) {
+    nlohmann::ordered_json r = nlohmann::ordered_json::object();
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      const Cell& cell = row[c];
+      if (is_missing(cell)) r[columns_[c]] = nullptr;
+      else std::visit([&](const auto& v) { r[columns_[c]] = v; }, cell);
+    }
+    rows.push_back(std::move(r));
+  }
+  return rows.dump(2) + "\n";
 }
 
 std::string Table::to_markdown() const {

@@ -4,7 +4,8 @@
 //    bit for bit), strings quoted per RFC 4180 when needed, "\n" line ends;
 //  - Markdown: aligned pipes, numbers right-aligned and formatted per column;
 //  - LaTeX: a booktabs tabular (\toprule, \midrule, \bottomrule), strings escaped, numbers in math
-//    mode with exponents as \times 10^{...}, optionally in a table float with caption and label.
+//    mode with exponents as \times 10^{...}, optionally in a table float with caption and label;
+//  - JSON: an array of one object per row.
 // A table never shows NaN: add_row rejects a NaN or infinite double, naming the column, unless the
 // column was declared with allow_missing, in which case the value is missing (empty in CSV, "n/a" in
 // Markdown and LaTeX).  To record a missing value on purpose, pass a quiet NaN in such a column.
@@ -51,6 +52,9 @@ class Table {
   std::string to_csv() const;
   std::string to_markdown() const;
   std::string to_latex(const LatexStyle& style = {}) const;
+  // An array of objects, one per row, keyed by column; a missing value is null.  Doubles are
+  // written so they read back bit for bit.
+  std::string to_json() const;
 
  private:
   std::size_t index_of(const std::string& column) const;  // throws std::invalid_argument

@@ -1,6 +1,6 @@
 // How time grows with image size, refinement level and grid size, and what a grid costs in
 // memory: the measured points behind the scaling tables (and fitted exponents) of
-// results/performance.md, which studies/performance_report.py writes.
+// results/performance.md, which studies/benchmarks/performance_report.py writes.
 //   build/bench_scaling [--benchmark_filter=...]
 //
 // Every render runs its pixels on all threads with parallel_for_index (TBB's default), so the

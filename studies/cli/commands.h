@@ -1,5 +1,7 @@
 #pragma once
 // The `vrv` subcommands.  Each registers its options on the app and runs when chosen.
+#include <filesystem>
+
 #include <CLI/CLI.hpp>
 
 namespace vrv::cli {
@@ -8,5 +10,12 @@ void add_demo_command(CLI::App& app);
 void add_ray_command(CLI::App& app);
 void add_render_command(CLI::App& app);
 void add_study_command(CLI::App& app);
+void add_export_command(CLI::App& app);
+void add_verify_command(CLI::App& app);
+void add_gate_command(CLI::App& app);
+
+// Runs studies/engine/plot_study.py on `dir` (which has plots.json), as `vrv study` does; returns its
+// exit status (127 when it could not be started).
+int draw_study_plots(const std::filesystem::path& dir);
 
 }  // namespace vrv::cli

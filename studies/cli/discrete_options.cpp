@@ -15,6 +15,31 @@ T parse_choice(const std::string& text, const char* option, Parse&& parse, const
   return *value;
 }
 
+// The renderer conventions of DiscreteConfig (defaults documented there).
+void add_convention_options(CLI::App& cmd, DiscreteOptions& opt) {
+  cmd.add_option("--opacity-unit", opt.opacity_unit,
+                 "Alpha rule, opacity/colour scenes: sample (opacity per sample, unit_length unused) | "
+                 "distance (per unit_length, corrected to the step: 1 - (1 - a)^(H/L))")
+      ->capture_default_str();
+  cmd.add_option("--color", opt.color,
+                 "Alpha rule: straight (emit colour * alpha) | premultiplied (colour stored times the "
+                 "transfer function's opacity, emitted as stored)")
+      ->capture_default_str();
+  cmd.add_option("--table-size", opt.table_size,
+                 "Read the transfer function from N-entry tables over its control-point range (0: no table)")
+      ->capture_default_str();
+  cmd.add_option("--table-lookup", opt.table_lookup,
+                 "centred (entry i read at its own value; half-texel remap) | uncentred (plain texture coordinate)")
+      ->capture_default_str();
+}
+
+void set_conventions(const DiscreteOptions& opt, DiscreteConfig& c) {
+  c.opacity_unit = parse_choice<OpacityUnit>(opt.opacity_unit, "--opacity-unit", parse_opacity_unit, "sample, distance");
+  c.color = parse_choice<ColorConvention>(opt.color, "--color", parse_color_convention, "straight, premultiplied");
+  c.table_size = opt.table_size;
+  c.table_lookup = parse_choice<TableLookup>(opt.table_lookup, "--table-lookup", parse_table_lookup, "centred, uncentred");
+}
+
 }  // namespace
 
 void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
@@ -37,6 +62,7 @@ void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
   cmd.add_option("--compositing", opt.compositing, "front_to_back | back_to_front")->capture_default_str();
   cmd.add_option("--classification", opt.classification, "post | pre (grid fields)")->capture_default_str();
   cmd.add_option("--precision", opt.precision, "double | float")->capture_default_str();
+  add_convention_options(cmd, opt);
 }
 
 std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene) {
@@ -73,7 +99,8 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
   if (opt.precision == "double") c.precision = Precision::double_precision;
   else if (opt.precision == "float") c.precision = Precision::single_precision;
   else throw std::invalid_argument(fmt::format("--precision: unknown value '{}' (double or float)", opt.precision));
-  validate(c, std::holds_alternative<GridField>(scene.field));
+  set_conventions(opt, c);
+  validate(c, std::holds_alternative<GridField>(scene.field), scene.transfer);
   return c;
 }
 

@@ -23,6 +23,10 @@ struct DiscreteOptions {
   std::string compositing = "front_to_back";
   std::string classification = "post";
   std::string precision = "double";
+  std::string opacity_unit = "sample";
+  std::string color = "straight";
+  int table_size = 0;
+  std::string table_lookup = "centred";
 };
 
 void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt);

@@ -39,6 +39,9 @@ int main(int argc, char** argv) {
   vrv::cli::add_ray_command(app);
   vrv::cli::add_render_command(app);
   vrv::cli::add_study_command(app);
+  vrv::cli::add_export_command(app);
+  vrv::cli::add_verify_command(app);
+  vrv::cli::add_gate_command(app);
   std::vector<std::string> args = glue_negative_values(argc, argv);
   std::vector<char*> ptrs;
   for (auto& a : args) ptrs.push_back(a.data());

@@ -23,6 +23,8 @@
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
+#include "lib/scene_hash.h"
+#include "lib/io/study_file.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 #include "studies/cli/discrete_options.h"
@@ -45,9 +47,9 @@ struct RenderOptions {
   CLI::Option* tol_option = nullptr;
 };
 
-// The files written next to `-o out.exr`.
+// The files written next to `-o out.exr` (f64: the same values in double, OUT.f64.tiff).
 struct OutputPaths {
-  fs::path exr, png, error_exr, error_png;
+  fs::path exr, png, error_exr, error_png, f64;
 };
 
 OutputPaths output_paths(const std::string& output) {
@@ -62,7 +64,7 @@ OutputPaths output_paths(const std::string& output) {
   const std::string stem = exr.stem().string();
   fs::path png = exr;
   png.replace_extension(".png");
-  return {exr, png, dir / (stem + "_error.exr"), dir / (stem + "_error.png")};
+  return {exr, png, dir / (stem + "_error.exr"), dir / (stem + "_error.png"), dir / (stem + ".f64.tiff")};
 }
 
 // Fails now, not after the render, when the outputs cannot be written: creates and removes
@@ -108,6 +110,7 @@ Camera choose_camera(const Scene& scene, const RenderOptions& opt) {
 
 struct Rendered {
   Image image;
+  ImageF64 values;                // the same pixels in double
   long work = 0;                  // field evaluations (reference) or samples (discrete)
   double max_error_estimate = 0;  // reference only
 };
@@ -116,7 +119,8 @@ struct Rendered {
 // order, so the output is the same for any thread count.
 template <class PerPixel>
 Rendered render_pixels(const Camera& camera, bool quiet, PerPixel&& per_pixel) {
-  Rendered r{Image(camera.width, camera.height)};
+  Rendered r{Image(camera.width, camera.height),
+             ImageF64{camera.width, camera.height, std::vector<double>(static_cast<std::size_t>(camera.width) * camera.height)}};
   const long pixels = static_cast<long>(camera.width) * camera.height;
   std::vector<long> work(pixels);
   std::vector<double> estimate(pixels);
@@ -125,6 +129,7 @@ Rendered render_pixels(const Camera& camera, bool quiet, PerPixel&& per_pixel) {
     const int x = static_cast<int>(i % camera.width), y = static_cast<int>(i / camera.width);
     const auto [value, w, e] = per_pixel(camera.ray(x, y));
     r.image.at(x, y) = static_cast<float>(value);
+    r.values.pixels[i] = value;
     work[i] = w;
     estimate[i] = e;
     progress.advance();
@@ -165,37 +170,100 @@ Rendered render_discrete(const Scene& scene, const Camera& camera, const Discret
   });
 }
 
-Image read_reference_image(const std::string& path, const Camera& camera) {
-  Image ref;
+// The double image beside a reference EXR (REF.f64.tiff next to REF.exr), if there is one.
+fs::path double_sibling(const fs::path& exr) {
+  fs::path f64 = exr;
+  f64.replace_extension(".f64.tiff");
+  return f64;
+}
+
+// A reference a verification can trust: floating point (an 8-bit preview is refused), the render's
+// size, of this scene and camera by its provenance, every pixel finite; read in double from
+// REF.f64.tiff when it lies beside REF.exr with the same provenance.
+ImageF64 read_reference_image(const std::string& path, const Camera& camera, const std::string& hash) {
+  auto bad = [&](const std::string& reason) {
+    return std::invalid_argument(fmt::format("--error-against: {}: {}", path, reason));
+  };
+  ImageF64 ref;
+  std::optional<ImageProvenance> provenance;
+  fs::path source = path;
   try {
-    ref = read_exr(path);
+    const ImageInfo info = read_image_info(path);
+    if (!info.floating)
+      throw bad(fmt::format("{}-bit {} pixels ({}): a reference must be floating point (the .exr "
+                            "or .f64.tiff of vrv render, not its preview)", info.bits, info.pixel_type, info.format));
+    provenance = read_provenance(path);
+    std::error_code ec;
+    const fs::path f64 = double_sibling(path);
+    if (fs::path(path).extension() == ".exr" && fs::exists(f64, ec)) {
+      const auto p64 = read_provenance(f64);
+      if (p64 && provenance && p64->scene_hash == provenance->scene_hash) source = f64;
+    }
+    ref = read_image_f64(source);
+  } catch (const std::invalid_argument&) {
+    throw;
   } catch (const std::exception& e) {
     throw std::invalid_argument(fmt::format("--error-against: {}", e.what()));
   }
   if (ref.width != camera.width || ref.height != camera.height)
-    throw std::invalid_argument(fmt::format(
-        "--error-against: {}: size {} x {} differs from the render's {} x {}", path, ref.width,
-        ref.height, camera.width, camera.height));
+    throw bad(fmt::format("size {} x {} differs from the render's {} x {}", ref.width, ref.height,
+                          camera.width, camera.height));
+  if (!provenance)
+    throw bad("carries no vrv provenance (scene hash, camera), so it cannot be checked against this "
+              "scene and camera; render the reference with this version of vrv render");
+  if (provenance->scene_hash != hash) {
+    const std::string here = camera_description(camera);
+    if (provenance->camera != here)
+      throw bad(fmt::format("rendered with another camera ({}; this render: {})", provenance->camera, here));
+    throw bad(fmt::format("rendered from another scene (scene hash {}; this render's {})",
+                          provenance->scene_hash.substr(0, 12), hash.substr(0, 12)));
+  }
   for (int y = 0; y < ref.height; ++y)
-    for (int x = 0; x < ref.width; ++x)
-      if (!std::isfinite(ref.at(x, y)))
-        throw std::invalid_argument(fmt::format("--error-against: {}: pixel ({}, {}) is {}", path,
-                                                x, y, ref.at(x, y)));
+    for (int x = 0; x < ref.width; ++x) {
+      const double v = ref.pixels[static_cast<std::size_t>(y) * ref.width + x];
+      if (!std::isfinite(v)) throw bad(fmt::format("pixel ({}, {}) is {}", x, y, v));
+    }
   return ref;
+}
+
+// Refuses outputs that would overwrite the reference being read (or the double beside it).
+void check_not_input(const OutputPaths& out, const std::string& error_against) {
+  if (error_against.empty()) return;
+  std::error_code ec;
+  for (const fs::path& input : {fs::path(error_against), double_sibling(error_against)})
+    for (const fs::path& output : {out.exr, out.png, out.error_exr, out.error_png, out.f64})
+      if (fs::weakly_canonical(input, ec) == fs::weakly_canonical(output, ec))
+        throw std::invalid_argument(fmt::format(
+            "-o: {} would overwrite the reference {} read by --error-against", output.string(), input.string()));
+}
+
+// Scene hash, camera, method and step, for the images' metadata.
+ImageProvenance render_provenance(const Scene& scene, const Camera& camera,
+                                  const std::optional<DiscreteConfig>& discrete, double tol) {
+  ImageProvenance p{scene_hash(scene, camera), camera_description(camera), "", std::nullopt};
+  if (!discrete) {
+    p.method = fmt::format("reference tol={:g}", tol);
+    return p;
+  }
+  StudyMethodSpec spec;
+  spec.config = *discrete;
+  p.method = method_label(spec);
+  if (step_based(discrete->sampling.strategy)) p.step = discrete->sampling.step;
+  return p;
 }
 
 struct ErrorStats {
   double max_abs = 0, mean_abs = 0, rms = 0;
 };
 
-// this - ref, pixel by pixel, from the float values as stored in the two EXR files (so that
-// out_error.exr equals out.exr - REF.exr up to the float rounding of the difference).
-ErrorStats error_image(const Image& image, const Image& ref, Image& error) {
+// this - ref, pixel by pixel, in double (the reference from its .f64.tiff when there is one, so
+// errors below a float ulp are measured); out_error.exr holds them rounded to float.
+ErrorStats error_image(const ImageF64& image, const ImageF64& ref, Image& error) {
   error = Image(image.width, image.height);
   ErrorStats s;
   double sum_abs = 0, sum_sq = 0;
   for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-    const double e = static_cast<double>(image.pixels[i]) - ref.pixels[i];
+    const double e = image.pixels[i] - ref.pixels[i];
     error.pixels[i] = static_cast<float>(e);
     s.max_abs = std::max(s.max_abs, std::abs(e));
     sum_abs += std::abs(e);
@@ -220,8 +288,10 @@ void run_render(const RenderOptions& opt) {
   const Scene scene = load_scene_or_default(opt.scene);
   const auto discrete = discrete_config(opt.discrete, scene);
   const Camera camera = choose_camera(scene, opt);
-  std::optional<Image> ref;
-  if (!opt.error_against.empty()) ref = read_reference_image(opt.error_against, camera);
+  const ImageProvenance provenance = render_provenance(scene, camera, discrete, opt.tol);
+  std::optional<ImageF64> ref;
+  check_not_input(out, opt.error_against);
+  if (!opt.error_against.empty()) ref = read_reference_image(opt.error_against, camera, provenance.scene_hash);
   check_writable(out.exr);
 
   if (!scene.camera)
@@ -241,13 +311,16 @@ void run_render(const RenderOptions& opt) {
                            discrete ? "--method " + opt.discrete.method : std::string("reference"),
                            seconds);
 
-  write_exr(r.image, out.exr);
+  write_exr(r.image, out.exr, &provenance);
+  write_tiff_f64(r.values, out.f64, &provenance);
   const float max_value = *std::max_element(r.image.pixels.begin(), r.image.pixels.end());
-  write_png_preview(r.image, out.png, 0, max_value > 0 ? max_value : 1);
+  write_png_preview(r.image, out.png, 0, max_value > 0 ? max_value : 1, &provenance);
 
   nlohmann::ordered_json j;
   j["output"] = out.exr.string();
   j["preview"] = out.png.string();
+  j["output_f64"] = out.f64.string();
+  j["scene_hash"] = provenance.scene_hash;
   j["width"] = camera.width;
   j["height"] = camera.height;
   j["method"] = discrete ? opt.discrete.method : "reference";
@@ -259,7 +332,7 @@ void run_render(const RenderOptions& opt) {
   }
   if (ref) {
     Image error;
-    const ErrorStats s = error_image(r.image, *ref, error);
+    const ErrorStats s = error_image(r.values, *ref, error);
     write_exr(error, out.error_exr);
     write_error_map_png(error, out.error_png, s.max_abs);
     std::cerr << fmt::format("vrv render: error against {}: max |e| {:.6g}, mean |e| {:.6g}, RMS {:.6g}\n",
@@ -285,7 +358,9 @@ void add_render_command(CLI::App& app) {
       "Camera: the scene's [camera] table; without one, a perspective camera (vertical fov 40 "
       "degrees, 256 x 256, up +y) looking along +z at the box centre from 2.5 box diagonals "
       "away.\n"
-      "Writes OUT.exr (one float channel) and OUT.png (8-bit grey, 0 to the image maximum); with "
+      "Writes OUT.exr (one float channel), OUT.f64.tiff (the same in double, bit for bit) and "
+      "OUT.png (8-bit grey, 0 to the image maximum), each carrying its provenance (scene hash, camera, "
+      "method, step) in its metadata; with "
       "--error-against REF.exr also OUT_error.exr (this - REF, signed float) and OUT_error.png "
       "(blue < 0 < red, symmetric range +-max|e|, colour bar on the right).\n"
       "stdout: one JSON line; stderr: pixel count, time and error statistics.");
@@ -297,7 +372,8 @@ void add_render_command(CLI::App& app) {
   add_discrete_options(*cmd, opt->discrete);
   cmd->add_option("-o,--output", opt->output, "Output image, OUT.exr");
   cmd->add_option("--error-against", opt->error_against,
-                  "Reference EXR of the same size: also write OUT_error.exr/.png and print error statistics");
+                  "Reference EXR of the same scene and camera (checked by its provenance; its .f64.tiff is "
+                  "used when beside it): also write OUT_error.exr/.png and print error statistics in double");
   cmd->add_option("--width", opt->width, "Override the camera's width (pixels; rays of a fan)");
   cmd->add_option("--height", opt->height, "Override the camera's height (pixels; 1 for a fan)");
   cmd->add_option("--threads", opt->threads, "Threads (default: all cores); results do not depend on it");

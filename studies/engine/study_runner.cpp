@@ -200,3 +200,8 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
 }
 
 }  // namespace vrv
+
+// For `vrv verify` (studies/cli/verify_run.cpp), which writes plots.json as a study does.
+namespace vrv::cli {
+int draw_study_plots(const std::filesystem::path& dir) { return draw_plots(dir); }
+}  // namespace vrv::cli

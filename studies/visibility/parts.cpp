@@ -61,7 +61,8 @@ IdentityResult run_identity(const VisibilityStudy& s, const StudyRun& run) {
   const Box box = s.scene.box;
   Box left = box, right = box;
   left.max[0] = right.min[0] = 0.5 * (box.min[0] + box.max[0]);
-  const ReferenceOptions ref{s.identity.reference_tol};
+  ReferenceOptions ref{s.identity.reference_tol};
+  ref.stop_when_opaque = false;  // the identities need the whole optical depth
   // Both integrals return the optical depth Phi = -log(transparency).
   auto continuous = [&](const TransferFunction& tf, const Box& b, const Ray& ray) {
     const ReferenceResult r = integrate_reference(field, b, tf, 1.0, ray, ref);

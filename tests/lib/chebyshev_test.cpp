@@ -1,7 +1,12 @@
 #include "lib/chebyshev.h"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <random>
 #include <vector>
+
+#include "lib/ray_panel.h"
 
 #include <gtest/gtest.h>
 
@@ -66,6 +71,48 @@ TEST(Chebyshev, ErrorEstimateBoundsTheTrueErrorOnAResolvedFunction) {
       EXPECT_LE(worst, acc.error) << "w = " << w;
     }
   }
+}
+
+// The speed changes of issue 10 must leave every value bitwise unchanged: the multi-point
+// Clenshaw pass against the one-point recurrence (the old code path), and skipping the crossing
+// search (may_cross false) only where find_crossings finds nothing.
+TEST(Chebyshev, ManyPointEvaluationIsBitwiseTheOnePointRecurrence) {
+  std::mt19937_64 rng(10);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n : {1, 2, 3, 4, 7, 8, 9, 17, 33, 67, 129})
+    for (int points : {1, 3, 8, 9, 33, 67}) {
+      std::vector<double> c(n), x(points), out(points);
+      for (int k = 0; k < n; ++k) c[k] = u(rng) * std::pow(0.7, k);
+      for (double& xi : x) xi = u(rng);
+      x[0] = -1;
+      chebyshev_evaluate_many(c, x, out);
+      for (int i = 0; i < points; ++i)
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(out[i]), std::bit_cast<std::uint64_t>(chebyshev_evaluate(c, x[i])))
+            << n << " " << points << " " << i;
+    }
+}
+
+TEST(Chebyshev, CrossingSearchIsSkippedOnlyWhereItFindsNothing) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const std::vector<double> levels{-0.9, -0.3, 0.1, 0.5, 0.55, 1.2};
+  int skipped = 0, searched = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const int n = trial % 3 == 0 ? 4 : 33;
+    RayPanel panel{0.5, 1.75, std::vector<double>(n), std::vector<double>(n), 0, true};
+    const double decay = 0.2 + 0.6 * (u(rng) + 1) / 2, scale = std::pow(10.0, 3 * u(rng) - 1);
+    for (int k = 0; k < n; ++k) panel.coefficients[k] = (k == 0 ? 1.5 * u(rng) : scale * u(rng)) * std::pow(decay, k);
+    std::vector<Crossing> found;
+    find_crossings(panel, levels, found);
+    if (!may_cross(panel, levels)) {
+      ++skipped;
+      EXPECT_TRUE(found.empty()) << trial;
+    } else {
+      ++searched;
+    }
+  }
+  EXPECT_GT(skipped, 400);  // the skip is exercised
+  EXPECT_GT(searched, 400);
 }
 
 }  // namespace

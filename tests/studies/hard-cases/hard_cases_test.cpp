@@ -79,6 +79,9 @@ std::string hard_case(const std::string& method_lines) {
 
 TEST(HardCases, BadHardCaseFilesGiveOneLineNamingFileAndKey) {
   EXPECT_EQ(error_of(hard_case("method = \"reference\"\ntol = 1e-10\n")), "(no error)");
+  EXPECT_EQ(error_of(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\ncolor = \"premultiplied\"\n"
+                               "table_size = 256\ntable_lookup = \"uncentred\"\n")),
+            "(no error)");
   EXPECT_EQ(error_of(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\nmax_error = 1e-3\n")),
             "(no error)");
   const BadFile cases[] = {
@@ -87,6 +90,12 @@ TEST(HardCases, BadHardCaseFilesGiveOneLineNamingFileAndKey) {
       {hard_case("method = \"riemann\"\nstrategy = \"step\"\nstep = 0.1\ncorrection = \"lacroute\"\n"),
        "bad.toml: case[0].method[0]: correction: only the alpha rule"},
       {hard_case("method = \"reference\"\n"), "bad.toml: case[0].method[0].tol: missing"},
+      {hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.1\nopacity_unit = \"voxel\"\n"),
+       "bad.toml: case[0].method[0].opacity_unit: unknown value 'voxel'"},
+      {hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.1\ntable_size = 1\n"),
+       "bad.toml: case[0].method[0]: table-size: must be 0"},
+      {hard_case("method = \"trapezoid\"\nstrategy = \"step\"\nstep = 0.1\ncolor = \"premultiplied\"\n"),
+       "bad.toml: case[0].method[0]: color: only the alpha rule"},
       {hard_case("method = \"reference\"\ntol = 1e-10\nmax_error = 1\n"),
        "bad.toml: case[0].method[0].max_error: not used by the reference method"},
       {hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 1e-9\n"), "bad.toml: case[0].method[0]: about"},

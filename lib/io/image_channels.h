@@ -1,0 +1,37 @@
+#pragma once
+// A renderer's image as vrv verify reads it: every channel in double, with the names, which one
+// is alpha, and how finely the file could store a value (its quantum), so that an 8- or 16-bit
+// image's rounding is stated instead of being mistaken for a discretisation error.
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace vrv {
+
+struct ChannelImage {
+  int width = 0, height = 0;
+  std::vector<std::string> names;          // e.g. {"R", "G", "B", "A"} or {"Y"}
+  std::vector<std::vector<double>> planes;  // one per channel, row-major, row 0 = top
+  int alpha = -1;                           // index of the alpha channel, -1 without one
+  std::string pixel_type;                   // "uint8", "uint16", "half", "float", "double", ...
+  // Spacing of the stored values near the image's largest magnitude: 1/255 (uint8), 1/65535
+  // (uint16) as OpenImageIO scales them to [0, 1]; for floating types one ulp at the largest
+  // |value| (half: 2^-10 relative, float: 2^-23, double: 2^-52).  Rounding to the nearest
+  // stored value is then uniform on +-quantum/2: max error quantum/2, RMS quantum/sqrt(12).
+  double quantum = 0;
+  double at(int channel, int x, int y) const {
+    return planes[static_cast<std::size_t>(channel)][static_cast<std::size_t>(y) * width + x];
+  }
+};
+
+// Reads the first subimage of anything OpenImageIO reads (EXR, TIFF, PFM, PNG, ...), 1 to 4
+// channels.  Throws std::runtime_error, one line naming the file and the reason, when it cannot
+// be read, is deep, volumetric, empty, larger than 65536 on a side or has more than 4 channels.
+ChannelImage read_channel_image(const std::filesystem::path& path);
+
+// Quantisation floors of `image` (inline: lib/verify uses them without linking OpenImageIO): max |rounding| = quantum / 2, RMS = quantum / sqrt(12).
+inline double quantisation_max(const ChannelImage& image) { return image.quantum / 2; }
+inline double quantisation_rms(const ChannelImage& image) { return image.quantum / std::sqrt(12.0); }
+
+}  // namespace vrv

@@ -1,0 +1,43 @@
+#pragma once
+// The transfer function written for other renderers: a table of the scalar value against
+// emission and extinction (vrv's convention, per unit world length) and against opacity and
+// colour (the renderers' convention: opacity per unit distance L and colour, so that a sample
+// standing for a distance H gets alpha = 1 - (1 - opacity)^(H / L) and emits colour * alpha).
+//
+// The conventions meet through tau = -ln(1 - opacity) / L and g = colour * tau, i.e.
+// opacity = 1 - exp(-tau L), colour = g / tau (undefined, written 0, where tau = 0).
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "lib/transfer_function.h"
+
+namespace vrv {
+
+struct TransferRow {
+  double value = 0, emission = 0, extinction = 0, opacity = 0, color = 0;
+};
+
+// Rows at every breakpoint (a jump gives two rows with the same value: the left limit, then
+// the right one) and at `per_segment` - 1 equally spaced values inside every segment between
+// breakpoints; beyond the first and last rows the function is constant (as renderers clamp).
+// Opacity is per unit distance `unit_distance` (> 0, else std::invalid_argument).
+std::vector<TransferRow> tabulate_transfer(const TransferFunction& tf, double unit_distance, int per_segment);
+
+// CSV: "value,emission,extinction,opacity,color" then one line per row, 17 significant digits.
+std::string transfer_csv(const std::vector<TransferRow>& rows);
+
+// The renderer's convention as JSON:
+//   {"unit_distance": L, "opacity": [[v, a], ...], "color": [[v, c], ...], "exact": bool,
+//    "scalar_range": [lo, hi], "alpha_at_sample_distance": "1 - (1 - opacity)^(H / unit_distance)", ...}
+// For an opacity/colour scene the control points are the scene's own, and L its unit_length
+// (`unit_distance` is ignored): exact.  For an emission/extinction scene, opacity and colour are
+// not piecewise linear in the value, so they are the tabulated rows (exact at the rows, linear
+// interpolation between them is the approximation: "exact": false, with the largest opacity
+// and colour gap measured at the midpoints of the rows as "max_interpolation_error").
+// "emission_without_extinction": true when g > 0 where tau = 0 somewhere (inexpressible as
+// opacity and colour).
+nlohmann::ordered_json transfer_json(const TransferFunction& tf, double unit_distance, int per_segment);
+
+}  // namespace vrv

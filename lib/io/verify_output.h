@@ -1,0 +1,40 @@
+#pragma once
+// What `vrv verify` writes into --out DIR, the way a study writes its results:
+//   errors.{csv,md,tex,json}     one row per image, channel and region: max, mean, RMS, p99, fraction over
+//   orders.{csv,md,tex,json}     per channel: the order against the reference and the self-convergence
+//                                order, each with its standard error, and the verdict
+//   points.csv                   the (step, error) points of every fit, for the plot
+//   diagnosis.{csv,md,tex,json}  vrv's models by RMS difference from the images, nearest first
+//   faults.{csv,md,tex,json}     the known faults the errors match
+//   bounds.{csv,md,tex,json}     with a bounds file: one row per bound
+//   reference.exr, <k>_<image>_<channel>_error.{exr,png}   the reference and signed error images
+//                                (PNG: colour-mapped with a numbered colour bar)
+//   plots.json                   the log-log plot of error against step (drawn by plot_study.py)
+//   meta.json                    run metadata (lib/run_metadata.h), the options and the summary
+// Every file is written atomically; the directory is created if missing.
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "lib/io/table.h"
+#include "lib/verify.h"
+
+namespace vrv {
+
+struct VerifyTables {
+  Table errors, orders, points, diagnosis, faults;
+};
+VerifyTables verify_tables(const VerifyReport& report);
+
+// name.csv, name.md, name.tex and name.json.
+void write_table_files(const std::filesystem::path& dir, const std::string& name, const Table& table);
+
+// `extra`: further tables (e.g. {"bounds", ...}); parameters go to meta.json with the summary.
+void write_verify_outputs(const std::filesystem::path& dir, const VerifyReport& report,
+                          const std::vector<std::pair<std::string, Table>>& extra,
+                          const nlohmann::json& parameters, double seconds);
+
+}  // namespace vrv

@@ -1,0 +1,98 @@
+#include "lib/scene_hash.h"
+
+#include <type_traits>
+
+#include <boost/uuid/detail/sha1.hpp>
+#include <fmt/format.h>
+
+namespace vrv {
+namespace {
+
+class Hasher {
+ public:
+  void text(std::string_view s) { sha_.process_bytes(s.data(), s.size()); }
+  void number(double x) { text(fmt::format("{:a};", x)); }
+  void vec(const Vec3& v) {
+    for (int a = 0; a < 3; ++a) number(v[a]);
+  }
+  std::string hex() {
+    boost::uuids::detail::sha1::digest_type d;
+    sha_.get_digest(d);
+    std::string out;
+    for (unsigned word : d) out += fmt::format("{:08x}", word);
+    return out;
+  }
+
+ private:
+  boost::uuids::detail::sha1 sha_;
+};
+
+void hash_curve(Hasher& h, const PiecewiseLinear& curve) {
+  h.text(fmt::format("curve {}:", curve.points().size()));
+  for (const auto& p : curve.points()) {
+    h.number(p.v);
+    h.number(p.y);
+  }
+}
+
+void hash_scene(Hasher& h, const Scene& s) {
+  h.text("vrv scene 1;box:");
+  h.vec(s.box.min);
+  h.vec(s.box.max);
+  h.text(fmt::format("dims:{},{},{};", s.dims[0], s.dims[1], s.dims[2]));
+  std::visit(
+      [&](const auto& f) {
+        using F = std::decay_t<decltype(f)>;
+        if constexpr (std::is_same_v<F, MarschnerLobb>) {
+          h.text("marschner_lobb:");
+          h.number(f.fM);
+          h.number(f.alpha);
+        } else if constexpr (std::is_same_v<F, LinearRamp>) {
+          h.text("linear_ramp:");
+          h.vec(f.gradient);
+          h.number(f.offset);
+        } else {
+          const auto n = f.resolution();
+          h.text(fmt::format("grid:{},{},{};{};{};", n[0], n[1], n[2], static_cast<int>(f.layout()),
+                             static_cast<int>(f.interpolation())));
+          h.vec(f.box().min);
+          h.vec(f.box().max);
+          for (int k = 0; k < n[2]; ++k)
+            for (int j = 0; j < n[1]; ++j)
+              for (int i = 0; i < n[0]; ++i) h.number(f.node(i, j, k));
+        }
+      },
+      s.field);
+  h.text(fmt::format("transfer:{};", static_cast<int>(s.transfer.convention())));
+  h.number(s.transfer.unit_length());
+  hash_curve(h, s.transfer.first());
+  hash_curve(h, s.transfer.second());
+  h.text("background:");
+  h.number(s.background);
+}
+
+}  // namespace
+
+std::string camera_description(const Camera& c) {
+  // fmt's "{}" is the shortest text that reads back to the same double: exact and readable.
+  return fmt::format("{} eye [{}, {}, {}] target [{}, {}, {}] up [{}, {}, {}] fov {} extent {} angle {} {}x{}",
+                     to_string(c.projection), c.eye[0], c.eye[1], c.eye[2], c.target[0], c.target[1],
+                     c.target[2], c.up[0], c.up[1], c.up[2], c.fov_degrees, c.extent, c.angle_degrees,
+                     c.width, c.height);
+}
+
+std::string scene_hash(const Scene& scene) {
+  Hasher h;
+  hash_scene(h, scene);
+  return h.hex();
+}
+
+std::string scene_hash(const Scene& scene, const Camera& camera) {
+  Hasher h;
+  hash_scene(h, scene);
+  h.text("camera:");
+  h.text(camera_description(camera));
+  return h.hex();
+}
+
+}  // namespace vrv

@@ -1,0 +1,198 @@
+// vrv export: everything another renderer needs to draw the scene's integral — the field on a
+// grid (NRRD, VTK image data; float32 and float64), the transfer function (CSV table and the
+// renderers' opacity/colour convention as JSON), the camera (JSON) and every pixel's ray (.npy).
+// See docs/export.md.
+#include <unistd.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "lib/io/atomic_file.h"
+#include "lib/io/camera_export.h"
+#include "lib/io/transfer_export.h"
+#include "lib/io/volume_export.h"
+#include "lib/scene_hash.h"
+#include "studies/cli/cli_support.h"
+#include "studies/cli/commands.h"
+
+namespace vrv::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ExportOptions {
+  std::string scene;
+  std::string out;
+  std::string resolution;
+  double unit_distance = 1;
+  int table_points = 64;
+  std::string nrrd = "attached";
+  std::string vti = "raw";
+};
+
+struct OutputFile {
+  std::string name;  // relative to the output directory
+  std::string contents;
+};
+
+std::array<int, 3> parse_resolution(const std::string& text) {
+  const Vec3 v = parse_vec3(text, "--resolution");
+  std::array<int, 3> n{};
+  for (int a = 0; a < 3; ++a) {
+    if (v[a] != std::floor(v[a]) || v[a] < 2 || v[a] > 2048)
+      throw std::invalid_argument(
+          fmt::format("--resolution: expected three whole numbers of nodes in [2, 2048], got '{}'", text));
+    n[a] = static_cast<int>(v[a]);
+  }
+  return n;
+}
+
+Camera export_camera(const Scene& scene) {
+  const Camera camera = scene.camera ? *scene.camera : default_camera(scene.box);
+  try {
+    validate(camera);
+  } catch (const CameraError& e) {
+    throw std::invalid_argument(fmt::format("[camera]: {}", e.what()));
+  }
+  return camera;
+}
+
+std::vector<OutputFile> field_files(const VolumeSamples& v, const ExportOptions& opt) {
+  std::vector<OutputFile> files;
+  const VtiEncoding vti = opt.vti == "ascii" ? VtiEncoding::ascii : VtiEncoding::raw_appended;
+  for (const auto& [type, tag] : {std::pair{SampleType::float32, "f32"}, std::pair{SampleType::float64, "f64"}}) {
+    const std::string stem = fmt::format("field_{}", tag);
+    if (opt.nrrd == "attached") {
+      files.push_back({stem + ".nrrd", nrrd_file(v, type)});
+    } else {
+      files.push_back({stem + ".nhdr", nrrd_header(v, type, stem + ".raw")});
+      files.push_back({stem + ".raw", raw_bytes(v, type)});
+    }
+    files.push_back({stem + ".vti", vti_file(v, type, vti)});
+  }
+  return files;
+}
+
+nlohmann::ordered_json manifest(const Scene& scene, const Camera& camera, const VolumeSamples& v,
+                                const ExportOptions& opt, const std::vector<OutputFile>& files) {
+  nlohmann::ordered_json j;
+  j["scene"] = opt.scene.empty() ? "(embedded default)" : opt.scene;
+  j["scene_hash"] = scene_hash(scene);
+  j["scene_camera_hash"] = scene_hash(scene, camera);
+  j["box"] = {{"min", {scene.box.min[0], scene.box.min[1], scene.box.min[2]}},
+              {"max", {scene.box.max[0], scene.box.max[1], scene.box.max[2]}}};
+  j["grid"] = {{"nodes", v.n},
+               {"origin", {v.origin[0], v.origin[1], v.origin[2]}},
+               {"spacing", {v.spacing[0], v.spacing[1], v.spacing[2]}},
+               {"order", "x fastest, then y, then z"},
+               {"source", opt.resolution.empty() ? "the scene's grid" : "resampled at --resolution"}};
+  j["background"] = scene.background;
+  j["integral"] = "I = integral of g(f(s)) exp(-integral_entry^s tau(f(u)) du) ds + background exp(-integral tau), over the ray clipped to the box";
+  auto names = nlohmann::ordered_json::array();
+  for (const auto& f : files) names.push_back(f.name);
+  j["files"] = names;
+  return j;
+}
+
+// Every path is checked (directory exists and takes a new file; no target is a directory)
+// before the first byte is written.
+void check_outputs(const fs::path& dir, const std::vector<OutputFile>& files) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+    if (fs::exists(dir, ec)) throw std::invalid_argument(fmt::format("--out: {}: is not a directory", dir.string()));
+    if (!fs::is_directory(parent, ec))
+      throw std::invalid_argument(fmt::format("--out: {}: the parent directory {} does not exist", dir.string(), parent.string()));
+    if (!fs::create_directory(dir, ec) || ec)
+      throw std::invalid_argument(fmt::format("--out: {}: cannot create: {}", dir.string(), ec.message()));
+  }
+  for (const auto& f : files)
+    if (fs::is_directory(dir / f.name, ec))
+      throw std::invalid_argument(fmt::format("--out: {}: is a directory", (dir / f.name).string()));
+  const fs::path probe = dir / fmt::format(".vrv-export-probe.{}", ::getpid());
+  {
+    std::ofstream test(probe);
+    if (!test) throw std::invalid_argument(fmt::format("--out: {}: cannot write into it", dir.string()));
+  }
+  fs::remove(probe, ec);
+}
+
+void run_export(const ExportOptions& opt) {
+  if (opt.out.empty()) throw std::invalid_argument("--out: an output directory is required");
+  if (opt.nrrd != "attached" && opt.nrrd != "detached")
+    throw std::invalid_argument(fmt::format("--nrrd: unknown value '{}' (attached or detached)", opt.nrrd));
+  if (opt.vti != "raw" && opt.vti != "ascii")
+    throw std::invalid_argument(fmt::format("--vti: unknown value '{}' (raw or ascii)", opt.vti));
+  if (opt.table_points < 1 || opt.table_points > 1 << 20)
+    throw std::invalid_argument(fmt::format("--table-points: must be in [1, 1048576], got {}", opt.table_points));
+  const Scene scene = load_scene_or_default(opt.scene);
+  const Camera camera = export_camera(scene);
+  std::optional<std::array<int, 3>> resolution;
+  if (!opt.resolution.empty()) resolution = parse_resolution(opt.resolution);
+  const VolumeSamples v = sample_volume(scene, resolution);
+
+  std::vector<OutputFile> files = field_files(v, opt);
+  files.push_back({"transfer_function.csv",
+                   transfer_csv(tabulate_transfer(scene.transfer,
+                                                  scene.transfer.convention() == Convention::opacity_color
+                                                      ? scene.transfer.unit_length()
+                                                      : opt.unit_distance,
+                                                  opt.table_points))});
+  files.push_back({"transfer_function.json",
+                   transfer_json(scene.transfer, opt.unit_distance, opt.table_points).dump(2) + "\n"});
+  files.push_back({"camera.json", camera_json(camera).dump(2) + "\n"});
+  files.push_back({"rays.npy", rays_npy(camera)});
+  files.push_back({"export.json", ""});
+  files.back().contents = manifest(scene, camera, v, opt, files).dump(2) + "\n";
+
+  const fs::path dir(opt.out);
+  check_outputs(dir, files);
+  for (const auto& f : files) write_file_atomically(dir / f.name, f.contents);  // the manifest last
+  nlohmann::ordered_json j;
+  j["out"] = dir.string();
+  j["files"] = files.size();
+  j["nodes"] = v.n;
+  j["scene_hash"] = scene_hash(scene);
+  std::cout << j.dump() << '\n';
+}
+
+}  // namespace
+
+void add_export_command(CLI::App& app) {
+  auto opt = std::make_shared<ExportOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "export", "Write the scene for another renderer: field (NRRD, VTI), transfer function, camera, rays");
+  cmd->footer(
+      "Writes into DIR: field_f32/field_f64 as .nrrd (or .nhdr + .raw) and .vti, "
+      "transfer_function.csv and .json (opacity per unit distance and colour), camera.json, "
+      "rays.npy (float64, height x width x 2 x 3: origin, direction) and export.json (grid, "
+      "hashes, file list). Loading them into a renderer: docs/export.md.\n"
+      "stdout: one JSON line.");
+  cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
+  cmd->add_option("--out", opt->out, "Output directory (created if its parent exists)")->required();
+  cmd->add_option("--resolution", opt->resolution,
+                  "nx,ny,nz nodes on the box faces (default: the grid field's own nodes, else volume.dims)");
+  cmd->add_option("--unit-distance", opt->unit_distance,
+                  "Unit distance L of the exported opacity (emission/extinction scenes; opacity/colour "
+                  "scenes use their unit_length)")
+      ->capture_default_str();
+  cmd->add_option("--table-points", opt->table_points,
+                  "Rows per transfer-function segment in the table")
+      ->capture_default_str();
+  cmd->add_option("--nrrd", opt->nrrd, "attached (.nrrd) | detached (.nhdr + .raw)")->capture_default_str();
+  cmd->add_option("--vti", opt->vti, "raw (appended binary) | ascii")->capture_default_str();
+  cmd->callback([opt] { run_export(*opt); });
+}
+
+}  // namespace vrv::cli

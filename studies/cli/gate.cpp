@@ -1,0 +1,225 @@
+// vrv gate: runs what a bounds file names (vrv's own methods rendered at several steps, a
+// renderer's images, or studies) and gates each on its bounds.  See docs/verify.md.
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "lib/io/bounds_file.h"
+#include "lib/io/verify_output.h"
+#include "lib/util/parallel.h"
+#include "lib/io/scene_file.h"
+#include "studies/cli/verify_run.h"
+#include "studies/cli/cli_support.h"
+#include "studies/cli/commands.h"
+#include "studies/cli/discrete_options.h"
+
+namespace vrv::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct GateOptions {
+  std::string bounds, out, case_name, cache_dir;
+  bool no_cache = false, no_plots = false, no_diagnosis = false, quiet = false;
+  int threads = 0;
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// `vrv study NAME --quick` in a child process (this executable), its checks read back from
+// meta.json.  Returns the child's exit code.
+int run_study_case(const GateCase& c, const fs::path& out, long& failed) {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) throw std::runtime_error("gate: cannot find the vrv executable to run a study");
+  const std::string exe = self.string(), dir = out.string();
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("gate: cannot start a study");
+  const std::string log = (out / (c.name + ".stderr.log")).string();
+  if (pid == 0) {
+    // The study's own messages go to a log beside its results (one line of ours on stderr).
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) dup2(fd, 2);
+    const char* argv[] = {exe.c_str(), "study", c.study.c_str(), "--quick", "--quiet", "--no-plots", "--out",
+                          dir.c_str(), nullptr};
+    execv(argv[0], const_cast<char* const*>(argv));
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return 127;
+  const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  failed = 0;
+  std::ifstream meta(out / c.study / "meta.json");
+  if (meta) {
+    const auto j = nlohmann::json::parse(meta, nullptr, false);
+    if (!j.is_discarded() && j.contains("checks"))
+      for (const auto& check : j["checks"]) failed += !check.value("pass", false);
+  }
+  return rc;
+}
+
+std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
+  Camera camera = scene.camera ? *scene.camera : default_camera(scene.box);
+  if (c.width) camera.width = *c.width;
+  if (c.height) camera.height = *c.height;
+  validate(camera);
+  std::vector<ImageWithStep> images;
+  for (double h : c.steps) {
+    DiscreteOptions d;
+    d.method = c.render->method;
+    d.strategy = c.render->strategy;
+    d.step = h;
+    d.oversample = c.render->oversample;
+    d.correction = c.render->correction;
+    d.precision = c.render->precision;
+    const DiscreteConfig config = *discrete_config(d, scene);
+    ChannelImage im;
+    im.width = camera.width, im.height = camera.height;
+    im.names = {"Y"};
+    im.pixel_type = "float";  // as `vrv render` writes it
+    std::vector<double> v = discrete_image(scene, camera, config);
+    double largest = 0;
+    for (double& x : v) x = static_cast<float>(x), largest = std::max(largest, std::abs(x));
+    im.quantum = largest > 0 ? std::ldexp(1.0, std::ilogb(largest) - 23) : 0;
+    im.planes = {std::move(v)};
+    images.push_back({fmt::format("{} h={:g}", c.name, h), h, std::move(im)});
+  }
+  return images;
+}
+
+int run_gate(const GateOptions& o) {
+  const BoundsFile file = load_bounds(o.bounds);
+  std::vector<const GateCase*> cases;
+  for (const GateCase& c : file.cases)
+    if (o.case_name.empty() || c.name == o.case_name) cases.push_back(&c);
+  if (cases.empty())
+    throw std::invalid_argument(o.case_name.empty() ? fmt::format("--bounds: {}: no [[case]] to run", o.bounds)
+                                                    : fmt::format("--case: {}: no case named '{}'", o.bounds, o.case_name));
+  // Check every case's input before running any.
+  std::vector<Scene> scenes;
+  for (const GateCase* c : cases) {
+    if (!c->study.empty()) {
+      scenes.emplace_back();
+      continue;
+    }
+    scenes.push_back(load_scene_or_default(c->scene.string()));
+    if (c->render) {
+      DiscreteOptions d;
+      d.method = c->render->method, d.strategy = c->render->strategy, d.step = c->steps.front();
+      d.oversample = c->render->oversample, d.correction = c->render->correction, d.precision = c->render->precision;
+      try {
+        discrete_config(d, scenes.back());
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(fmt::format("{}: case {}: render: {}", o.bounds, c->name, e.what()));
+      }
+    }
+  }
+  const fs::path out = o.out.empty() ? fs::temp_directory_path() / fmt::format("vrv-gate-{}", getpid()) : fs::path(o.out);
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) throw std::invalid_argument(fmt::format("--out: {}: cannot create: {}", out.string(), ec.message()));
+  const ThreadLimit threads(o.threads);
+  std::vector<BoundRow> rows;
+  nlohmann::ordered_json case_json = nlohmann::ordered_json::array();
+  bool pass = true;
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const GateCase& c = *cases[i];
+    if (!c.study.empty()) {
+      long failed = 0;
+      const int rc = run_study_case(c, out, failed);
+      if (rc == kExitBadInput || rc > kExitBadInput) {
+        std::ifstream log(out / (c.name + ".stderr.log"));
+        std::string first;
+        std::getline(log, first);
+        throw std::invalid_argument(fmt::format("{}: case {}: study {} exited with {}: {}", o.bounds, c.name,
+                                                c.study, rc, first));
+      }
+      rows.push_back(study_row(c.name, rc == 0, failed));
+      pass = pass && rc == 0;
+      case_json.push_back({{"case", c.name}, {"study", c.study}, {"pass", rc == 0}});
+      continue;
+    }
+    VerifyOptions opt;
+    opt.scene_text = c.scene.empty() ? std::string(default_scene_toml()) : read_text(c.scene);
+    opt.expected_order = c.expected_order;
+    opt.threshold = c.bounds.threshold;
+    opt.allow_nan = c.bounds.limits.count(Bound::max_nan) > 0;
+    opt.diagnose = !o.no_diagnosis;
+    opt.progress = !o.quiet;
+    if (!o.no_cache) opt.cache_dir = o.cache_dir.empty() ? default_cache_dir() : fs::path(o.cache_dir);
+    std::vector<std::string> files;
+    for (const auto& p : c.images) files.push_back(p.string());
+    const std::vector<ImageWithStep> images = c.render ? render_case(c, scenes[i]) : read_images(files, c.steps);
+    const nlohmann::json parameters = {{"command", "gate"}, {"bounds", o.bounds}, {"case", c.name}};
+    const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, out / c.name, parameters, o.no_plots);
+    if (!run.report.pass)
+      for (const std::string& f : run.report.failures) {
+        BoundRow r = study_row(c.name, false, 1);
+        r.bound = "verify";
+        r.where = f;
+        rows.push_back(r);
+      }
+    rows.insert(rows.end(), run.rows.begin(), run.rows.end());
+    pass = pass && run.pass;
+    if (!o.quiet) std::cerr << fmt::format("vrv gate: {}: {}\n", c.name, summary_text(run));
+    case_json.push_back({{"case", c.name}, {"verdict", verdict_name(run.report.verdict.verdict)}, {"pass", run.pass}});
+  }
+  const Table table = bound_table(rows);
+  write_table_files(out, "bounds", table);
+  if (!o.quiet) std::cerr << table.to_markdown();
+  nlohmann::ordered_json j;
+  j["bounds"] = o.bounds;
+  j["out"] = out.string();
+  j["pass"] = pass;
+  j["worst"] = bound_verdict_name(worst(rows));
+  j["cases"] = case_json;
+  j["exit"] = pass ? kExitPass : kExitFail;
+  std::cout << j.dump() << '\n';
+  return pass ? kExitPass : kExitFail;
+}
+
+}  // namespace
+
+void add_gate_command(CLI::App& app) {
+  auto o = std::make_shared<GateOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "gate", "Run the verifications and studies a bounds file names and gate each on its bounds");
+  cmd->footer("Writes OUT/bounds.{csv,md,tex,json} (one row per bound: measured, limit, margin, verdict) "
+              "and OUT/<case>/ (the verification's files). Exit: 0 pass (warnings allowed), 1 a fail or "
+              "hard-fail level crossed, 2 bad input. See docs/verify.md.");
+  cmd->add_option("--bounds", o->bounds, "Bounds file (TOML)")->required();
+  cmd->add_option("--case", o->case_name, "Run only this case");
+  cmd->add_option("--out", o->out, "Output directory (default: a temporary directory)");
+  cmd->add_option("--cache-dir", o->cache_dir, "Reference cache (default $XDG_CACHE_HOME/vrv or ~/.cache/vrv)");
+  cmd->add_flag("--no-cache", o->no_cache, "Do not read or write the reference cache");
+  cmd->add_flag("--no-diagnosis", o->no_diagnosis, "Skip casting vrv's own models");
+  cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plots");
+  cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+  cmd->add_flag("--quiet", o->quiet, "No progress or summary on stderr");
+  cmd->callback([o] {
+    int rc = 0;
+    try {
+      rc = run_gate(*o);
+    } catch (const BoundsFileError& e) {
+      std::cerr << "vrv gate: " << e.what() << '\n';
+      std::exit(kExitBadInput);
+    }
+    if (rc != 0) std::exit(rc);
+  });
+}
+
+}  // namespace vrv::cli

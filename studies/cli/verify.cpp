@@ -1,0 +1,166 @@
+// vrv verify: a renderer's images at several sample distances against the reference: errors,
+// orders, a verdict, a diagnosis and, with --bounds, a gate.  See docs/verify.md.
+#include <charconv>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "lib/io/bounds_file.h"
+#include "lib/util/parallel.h"
+#include "lib/io/scene_file.h"
+#include "studies/cli/verify_run.h"
+#include "studies/cli/cli_support.h"
+#include "studies/cli/commands.h"
+
+namespace vrv::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct VerifyCliOptions {
+  std::string scene;
+  std::vector<std::string> images;
+  std::string steps;
+  std::optional<double> expected_order;
+  std::string bounds, case_name;
+  std::string out;
+  std::string alpha = "premultiplied";
+  std::optional<double> threshold;
+  double tol = 1e-10;
+  double order_tolerance = 0.25;
+  std::string order_metric = "rms";
+  std::string cache_dir;
+  bool no_cache = false, no_diagnosis = false, no_plots = false, quiet = false;
+  double unit_distance = 0;
+  int threads = 0;
+};
+
+std::vector<double> parse_steps(const std::string& text) {
+  std::vector<double> steps;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    double v = 0;
+    const auto [p, ec] = std::from_chars(item.data(), item.data() + item.size(), v);
+    if (ec != std::errc() || p != item.data() + item.size() || !(v > 0) || !std::isfinite(v))
+      throw std::invalid_argument(fmt::format("--steps: '{}' is not a positive number", item));
+    steps.push_back(v);
+  }
+  return steps;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+int run_verify(const VerifyCliOptions& o) {
+  const Scene scene = load_scene_or_default(o.scene);
+  VerifyOptions opt;
+  opt.scene_text = o.scene.empty() ? std::string(default_scene_toml()) : read_text(o.scene);
+  opt.reference_tol = o.tol;
+  check_tolerance(o.tol);
+  opt.expected_order = o.expected_order;
+  opt.order_tolerance = o.order_tolerance;
+  if (!(o.order_tolerance > 0)) throw std::invalid_argument("--order-tolerance: must be positive");
+  const auto metric = parse_metric(o.order_metric);
+  if (!metric || *metric == Metric::fraction_over)
+    throw std::invalid_argument(fmt::format("--order-metric: '{}' is not one of max, mean, rms, p99", o.order_metric));
+  opt.order_metric = *metric;
+  if (o.alpha != "premultiplied" && o.alpha != "straight")
+    throw std::invalid_argument(fmt::format("--alpha: '{}' is not premultiplied or straight", o.alpha));
+  opt.alpha = o.alpha == "straight" ? AlphaMode::straight : AlphaMode::premultiplied;
+  opt.diagnose = !o.no_diagnosis;
+  opt.unit_distance = o.unit_distance;
+  if (o.unit_distance < 0) throw std::invalid_argument("--unit-distance: must be positive");
+  opt.progress = !o.quiet;
+  if (!o.no_cache) opt.cache_dir = o.cache_dir.empty() ? default_cache_dir() : fs::path(o.cache_dir);
+  std::optional<BoundSet> bounds;
+  if (!o.bounds.empty()) {
+    const BoundsFile file = load_bounds(o.bounds);
+    bounds = file.defaults;
+    if (!o.case_name.empty()) {
+      const auto it = std::find_if(file.cases.begin(), file.cases.end(),
+                                   [&](const GateCase& c) { return c.name == o.case_name; });
+      if (it == file.cases.end())
+        throw std::invalid_argument(fmt::format("--case: {}: no case named '{}'", o.bounds, o.case_name));
+      bounds = it->bounds;
+    }
+    opt.allow_nan = bounds->limits.count(Bound::max_nan) > 0;
+    if (o.threshold && *o.threshold != bounds->threshold)
+      throw std::invalid_argument(fmt::format("--threshold: {} differs from the bounds file's threshold {}",
+                                              *o.threshold, bounds->threshold));
+    opt.threshold = bounds->threshold;
+  } else if (!o.case_name.empty()) {
+    throw std::invalid_argument("--case: needs --bounds");
+  }
+  if (o.threshold) opt.threshold = *o.threshold;
+  if (!o.out.empty() && fs::exists(o.out) && !fs::is_directory(o.out))
+    throw std::invalid_argument(fmt::format("--out: {} exists and is not a directory", o.out));
+  const std::vector<ImageWithStep> images = read_images(o.images, parse_steps(o.steps));
+  const ThreadLimit threads(o.threads);
+  const nlohmann::json parameters = {{"command", "verify"}, {"scene", o.scene}, {"images", o.images},
+                                     {"steps", o.steps}, {"expected_order", o.expected_order ? nlohmann::json(*o.expected_order) : nlohmann::json(nullptr)},
+                                     {"bounds", o.bounds}, {"case", o.case_name}, {"alpha", o.alpha},
+                                     {"threshold", opt.threshold}, {"tol", o.tol}, {"order_metric", o.order_metric}};
+  const VerifyRun run = run_verification(scene, images, opt, bounds, o.case_name.empty() ? "verify" : o.case_name,
+                                         o.out, parameters, o.no_plots);
+  if (!o.quiet) std::cerr << "vrv verify: " << summary_text(run) << '\n';
+  nlohmann::ordered_json j = to_json(run.report);
+  j["pass"] = run.pass;
+  if (bounds) j["bounds"] = nlohmann::ordered_json::parse(bound_table(run.rows).to_json());
+  if (!o.out.empty()) j["out"] = o.out;
+  j["exit"] = run.pass ? kExitPass : kExitFail;
+  std::cout << j.dump() << '\n';
+  return run.pass ? kExitPass : kExitFail;
+}
+
+}  // namespace
+
+void add_verify_command(CLI::App& app) {
+  auto o = std::make_shared<VerifyCliOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "verify", "Verify a renderer from its images at several sample distances: errors against the "
+                "reference, observed and self-convergence orders, a verdict, a diagnosis, bounds");
+  cmd->footer(
+      "Images: anything OpenImageIO reads (EXR, TIFF, PFM, PNG), grey or RGB(A), all of one size, "
+      "rendered with the scene's camera (or the default camera) at the sizes they have.\n"
+      "Exit: 0 pass, 1 failure (expected order missed, reference tolerance missed, a bound's fail "
+      "level crossed), 2 bad input. stdout: one JSON line. See docs/verify.md.");
+  cmd->add_option("--scene", o->scene, "Scene file (TOML); the embedded default when omitted");
+  cmd->add_option("images", o->images, "The renderer's images, one per step")->required();
+  cmd->add_option("--steps", o->steps, "Sample distances (world units), one per image: H1,H2,...")->required();
+  cmd->add_option("--expected-order", o->expected_order, "Fail unless the error converges at this order");
+  cmd->add_option("--order-tolerance", o->order_tolerance, "Observed >= K - this converges at K")->capture_default_str();
+  cmd->add_option("--order-metric", o->order_metric, "Statistic the orders fit: rms, max, mean, p99")->capture_default_str();
+  cmd->add_option("--bounds", o->bounds, "Bounds file (TOML): gate on its [defaults] (or --case)");
+  cmd->add_option("--case", o->case_name, "With --bounds: the case whose bounds apply");
+  cmd->add_option("--out", o->out, "Write tables, error images, plot and meta.json into this directory");
+  cmd->add_option("--alpha", o->alpha, "Colour channels with an alpha channel: premultiplied or straight")->capture_default_str();
+  cmd->add_option("--threshold", o->threshold, "Count pixels with |error| above this (default 1e-3)");
+  cmd->add_option("--tol", o->tol, "Absolute tolerance of the reference per pixel")->capture_default_str();
+  cmd->add_option("--cache-dir", o->cache_dir, "Reference cache (default $XDG_CACHE_HOME/vrv or ~/.cache/vrv)");
+  cmd->add_flag("--no-cache", o->no_cache, "Do not read or write the reference cache");
+  cmd->add_flag("--no-diagnosis", o->no_diagnosis, "Skip casting vrv's own models");
+  cmd->add_option("--unit-distance", o->unit_distance, "Unit distance of the uncorrected-opacity models (default: the largest step)");
+  cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plot");
+  cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+  cmd->add_flag("--quiet", o->quiet, "No progress or summary on stderr");
+  cmd->callback([o] {
+    int rc = 0;
+    try {
+      rc = run_verify(*o);
+    } catch (const BoundsFileError& e) {
+      std::cerr << "vrv verify: " << e.what() << '\n';
+      std::exit(kExitBadInput);
+    }
+    if (rc != 0) std::exit(rc);
+  });
+}
+
+}  // namespace vrv::cli

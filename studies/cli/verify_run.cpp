@@ -1,0 +1,77 @@
+#include "studies/cli/verify_run.h"
+
+#include <chrono>
+#include <cstdlib>
+#include <iostream>
+
+#include <fmt/format.h>
+
+#include "lib/io/image_channels.h"
+#include "lib/io/verify_output.h"
+#include "studies/cli/commands.h"
+
+namespace vrv::cli {
+
+namespace fs = std::filesystem;
+
+fs::path default_cache_dir() {
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "vrv";
+  if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "vrv";
+  return {};
+}
+
+std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, const std::vector<double>& steps) {
+  if (files.empty()) throw VerifyInputError("IMAGE: give the renderer's images, one per step");
+  if (steps.size() != files.size())
+    throw VerifyInputError(fmt::format("--steps: {} steps for {} images (one step per image, in the same order)",
+                                       steps.size(), files.size()));
+  std::vector<ImageWithStep> out;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    try {
+      out.push_back({files[i], steps[i], read_channel_image(files[i])});
+    } catch (const std::runtime_error& e) {
+      throw VerifyInputError(e.what());
+    }
+  }
+  return out;
+}
+
+VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
+                           const VerifyOptions& options, const std::optional<BoundSet>& bounds,
+                           const std::string& case_name, const fs::path& out,
+                           const nlohmann::json& parameters, bool no_plots) {
+  const auto start = std::chrono::steady_clock::now();
+  VerifyRun run;
+  run.report = verify_images(scene, images, options);
+  if (bounds) run.rows = evaluate_bounds(case_name, run.report, *bounds);
+  run.pass = run.report.pass && worst(run.rows) < BoundVerdict::fail;
+  if (!out.empty()) {
+    std::vector<std::pair<std::string, Table>> extra;
+    if (bounds) extra.emplace_back("bounds", bound_table(run.rows));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    write_verify_outputs(out, run.report, extra, parameters, seconds);
+    if (!no_plots && draw_study_plots(out) != 0)
+      std::cerr << fmt::format("vrv verify: {}: the plot could not be drawn (python3-matplotlib; VRV_PYTHON)\n",
+                               out.string());
+  }
+  return run;
+}
+
+std::string summary_text(const VerifyRun& run) {
+  const VerifyReport& r = run.report;
+  std::string s = fmt::format("{} ({}): {}", verdict_name(r.verdict.verdict), r.verdict_channel, r.verdict.reason);
+  for (const OrderReport& o : r.orders)
+    if (o.kind == "self" && o.channel == r.verdict_channel && std::isfinite(o.fit.order))
+      s += fmt::format("; self-convergence order {:.3g}", o.fit.order);
+  if (!r.diagnosis.empty())
+    s += fmt::format("; behaves like {} to {:.2g} RMS", r.diagnosis.front().name, r.diagnosis.front().rms);
+  for (const Fault& f : r.faults) s += fmt::format("; fault: {}", f.name);
+  for (const std::string& f : r.failures) s += fmt::format("; FAIL: {}", f);
+  for (const BoundRow& b : run.rows)
+    if (b.verdict != BoundVerdict::pass)
+      s += fmt::format("; {} {} {} = {:.4g} (limit {:.4g})", bound_verdict_name(b.verdict), b.bound, b.where,
+                       b.measured, b.limit);
+  return s;
+}
+
+}  // namespace vrv::cli

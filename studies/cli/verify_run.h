@@ -1,0 +1,52 @@
+#pragma once
+// What `vrv verify` and `vrv gate` share: the reference cache directory, one verification with
+// its bounds, its files and its exit code.
+//
+// Exit codes (docs/verify.md), after OpenImageIO's idiff where they fit:
+//   0  pass: every bound within its fail limit (warnings are reported, as idiff's warnings are,
+//      but do not fail: a gate fails on its fail levels)
+//   1  failure: a fail or hard-fail bound crossed, the expected order missed, the reference
+//      missed its tolerance, or a gated study's check failed (idiff: 2)
+//   2  bad input: options, bounds or scene file, an unreadable image, images of different sizes,
+//      NaN pixels (idiff: 3 for different sizes, 4 for unreadable files)
+// vrv keeps its own convention (1 = a check failed, 2 = bad input, the same for every subcommand)
+// so that CI scripts read every vrv command alike; idiff's separate warning code is not used
+// because a warning that fails CI is a fail level.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "lib/gate.h"
+#include "lib/verify.h"
+
+namespace vrv::cli {
+
+inline constexpr int kExitPass = 0, kExitFail = 1, kExitBadInput = 2;
+
+// --cache-dir, else $XDG_CACHE_HOME/vrv, else $HOME/.cache/vrv; empty when none is set.
+std::filesystem::path default_cache_dir();
+
+struct VerifyRun {
+  VerifyReport report;
+  std::vector<BoundRow> rows;
+  bool pass = true;  // report.pass and no row beyond fail
+};
+
+// Verifies, evaluates `bounds` (if any) for `case_name`, and writes the outputs into `out`
+// (if not empty) with the plot unless no_plots.  Throws VerifyInputError / std::invalid_argument
+// for bad input.
+VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
+                           const VerifyOptions& options, const std::optional<BoundSet>& bounds,
+                           const std::string& case_name, const std::filesystem::path& out,
+                           const nlohmann::json& parameters, bool no_plots);
+
+// The summary line on stderr: verdict, orders, nearest model, faults, failed bounds.
+std::string summary_text(const VerifyRun& run);
+
+// Reads IMAGE files and pairs them with steps (same count); VerifyInputError naming the file.
+std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, const std::vector<double>& steps);
+
+}  // namespace vrv::cli

@@ -1,0 +1,66 @@
+#include "lib/io/bounds_file.h"
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace vrv {
+namespace {
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_bounds(text, "b.toml");
+  } catch (const BoundsFileError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(BoundsFile, ReadsDefaultsCasesAndOverrides) {
+  const BoundsFile f = parse_bounds(R"(
+description = "d"
+[defaults]
+threshold = 1e-4
+rms = { warn = 1e-4, fail = 1e-3, hard_fail = 1e-2 }
+min_order = { warn = 1.9, fail = 1.75 }
+max_nan = { fail = 0 }
+[[case]]
+name = "a"
+steps = [0.2, 0.1]
+render = { method = "alpha", strategy = "inviwo" }
+width = 16
+rms = { fail = 5e-3 }
+at = "all"
+[[case]]
+name = "b"
+study = "convergence"
+)", "dir/b.toml");
+  ASSERT_EQ(f.cases.size(), 2u);
+  EXPECT_DOUBLE_EQ(*f.defaults.limits.at(Bound::rms).warn, 1e-4);
+  const GateCase& a = f.cases[0];
+  EXPECT_FALSE(a.bounds.limits.at(Bound::rms).warn);  // the case's table replaces the default's
+  EXPECT_DOUBLE_EQ(*a.bounds.limits.at(Bound::rms).fail, 5e-3);
+  EXPECT_DOUBLE_EQ(*a.bounds.limits.at(Bound::min_order).fail, 1.75);  // inherited
+  EXPECT_DOUBLE_EQ(a.bounds.threshold, 1e-4);
+  EXPECT_TRUE(a.bounds.all_images);
+  EXPECT_EQ(a.render->strategy, "inviwo");
+  EXPECT_EQ(*a.width, 16);
+  EXPECT_EQ(f.cases[1].study, "convergence");
+}
+
+TEST(BoundsFile, ErrorsNameFileAndKey) {
+  EXPECT_EQ(error_of("[defaults]\nrms = { fial = 1 }\n").rfind("b.toml: defaults.rms.fial: unknown key", 0), 0u) << error_of("[defaults]\nrms = { fial = 1 }\n");
+  EXPECT_NE(error_of("[defaults]\nrms = { warn = 1, fail = 0.5 }\n").find("ordered"), std::string::npos);
+  EXPECT_NE(error_of("[defaults]\nmin_order = { warn = 1, fail = 1.5 }\n").find("ordered"), std::string::npos);
+  EXPECT_NE(error_of("[defaults]\nrms = {}\n").find("at least one"), std::string::npos);
+  EXPECT_NE(error_of("[[case]]\nname = \"x\"\nsteps = [0.1]\n").find("exactly one of"), std::string::npos);
+  EXPECT_NE(error_of("[[case]]\nname = \"x\"\nsteps = [0.1, 0.2]\nimages = [\"a.exr\"]\n").find("1 images for 2 steps"),
+            std::string::npos);
+  EXPECT_NE(error_of("[[case]]\nname = \"x\"\nstudy = \"s\"\n[[case]]\nname = \"x\"\nstudy = \"t\"\n").find("repeats"),
+            std::string::npos);
+  EXPECT_NE(error_of("colour = 1\n").find("colour"), std::string::npos);
+  EXPECT_NE(error_of("[defaults]\nrms = { fail = nan }\n").find("defaults.rms.fail"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace vrv

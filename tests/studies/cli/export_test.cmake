@@ -1,0 +1,84 @@
+# End-to-end checks of `vrv export` and of the trust checks of `vrv render --error-against`;
+# run by CTest as `cli.export`.  -DVRV=<path to vrv> -DOUT=<scratch dir>
+file(REMOVE_RECURSE ${OUT})
+file(MAKE_DIRECTORY ${OUT})
+
+function(run name expect_rc)
+  execute_process(COMMAND ${VRV} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL expect_rc)
+    message(FATAL_ERROR "${name}: exit ${rc}, expected ${expect_rc}\n${out}\n${err}")
+  endif()
+  string(STRIP "${err}" err)
+  set(LAST_OUT "${out}" PARENT_SCOPE)
+  set(LAST_ERR "${err}" PARENT_SCOPE)
+endfunction()
+
+function(expect_error name pattern)
+  run(${name} 2 ${ARGN})
+  if(NOT LAST_ERR MATCHES "${pattern}" OR LAST_ERR MATCHES "\n")
+    message(FATAL_ERROR "${name}: stderr is not one line matching '${pattern}':\n${LAST_ERR}")
+  endif()
+endfunction()
+
+# Export: every file, and the manifest's grid.
+run(export 0 export --out ${OUT}/exp --resolution 5,6,7)
+foreach(f field_f32.nrrd field_f64.nrrd field_f32.vti field_f64.vti transfer_function.csv
+          transfer_function.json camera.json rays.npy export.json)
+  if(NOT EXISTS ${OUT}/exp/${f})
+    message(FATAL_ERROR "export: ${f} missing")
+  endif()
+endforeach()
+file(READ ${OUT}/exp/export.json manifest)
+string(JSON nx GET "${manifest}" grid nodes 0)
+string(JSON nz GET "${manifest}" grid nodes 2)
+if(NOT nx EQUAL 5 OR NOT nz EQUAL 7)
+  message(FATAL_ERROR "export: grid ${manifest}")
+endif()
+run(export_detached 0 export --out ${OUT}/det --nrrd detached --vti ascii --resolution 3,3,3)
+foreach(f field_f64.nhdr field_f64.raw field_f32.nhdr field_f32.raw)
+  if(NOT EXISTS ${OUT}/det/${f})
+    message(FATAL_ERROR "export_detached: ${f} missing")
+  endif()
+endforeach()
+file(SIZE ${OUT}/det/field_f64.raw bytes)
+if(NOT bytes EQUAL 216)
+  message(FATAL_ERROR "export_detached: field_f64.raw has ${bytes} bytes, expected 27 * 8")
+endif()
+
+# Bad input: nothing written.
+expect_error(export_bad_resolution "--resolution" export --out ${OUT}/never --resolution 1,4,4)
+expect_error(export_no_parent "--out: .*does not exist" export --out ${OUT}/no/such/dir)
+file(WRITE ${OUT}/a_file "x")
+expect_error(export_out_is_file "--out: .*not a directory" export --out ${OUT}/a_file)
+expect_error(export_bad_nrrd "--nrrd" export --out ${OUT}/never --nrrd zipped)
+if(EXISTS ${OUT}/never)
+  message(FATAL_ERROR "export: wrote although the input was bad")
+endif()
+
+# Render: double image with provenance; the reference must be of this scene and camera.
+run(ref 0 render --reference --width 6 --height 5 --quiet -o ${OUT}/ref.exr)
+if(NOT EXISTS ${OUT}/ref.f64.tiff)
+  message(FATAL_ERROR "render: no ref.f64.tiff")
+endif()
+file(WRITE ${OUT}/camera.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[camera]\nprojection = \"perspective\"\neye = [0, 0, -5]\nwidth = 6\nheight = 5\n")
+run(other_camera 0 render --scene ${OUT}/camera.toml --reference --quiet -o ${OUT}/other_camera.exr)
+run(err_ok 0 render --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/a.exr --error-against ${OUT}/ref.exr)
+file(WRITE ${OUT}/other.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.6]]\n")
+expect_error(err_other_scene "--error-against: .*ref.exr: rendered from another scene \\(scene hash"
+  render --scene ${OUT}/other.toml --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/b.exr --error-against ${OUT}/ref.exr)
+expect_error(err_other_camera "--error-against: .*other_camera.exr: rendered with another camera"
+  render --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/b.exr --error-against ${OUT}/other_camera.exr)
+expect_error(err_png "--error-against: .*ref.png: 8-bit uint8 pixels"
+  render --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/b.exr --error-against ${OUT}/ref.png)
+expect_error(err_self "-o: .*would overwrite the reference"
+  render --reference --width 6 --height 5 --quiet -o ${OUT}/ref.exr --error-against ${OUT}/ref.exr)
+if(EXISTS ${OUT}/b.exr)
+  message(FATAL_ERROR "render: wrote although the reference was refused")
+endif()
+
+# The renderer conventions on the command line.
+run(conventions 0 ray --origin -3,0.5,0 --direction 1,0.1,0 --method alpha --step 0.02 --color premultiplied
+  --table-size 256 --table-lookup uncentred --json)
+expect_error(opacity_unit_needs_opacity "--opacity-unit" ray --origin -3,0.5,0 --direction 1,0,0
+  --method alpha --step 0.02 --opacity-unit distance)
+expect_error(table_size_bad "--table-size" ray --origin -3,0.5,0 --direction 1,0,0 --method alpha --step 0.02 --table-size 1)

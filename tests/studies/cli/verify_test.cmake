@@ -1,0 +1,99 @@
+# `vrv verify` and `vrv gate` end to end; run by CTest as `cli.verify`.
+# -DVRV=<path to vrv> -DSRC=<source dir> -DOUT=<scratch dir>
+file(REMOVE_RECURSE ${OUT})
+file(MAKE_DIRECTORY ${OUT})
+set(SCENE ${SRC}/studies/gate/ml-oblique.toml)
+
+function(run_vrv expected_rc name)
+  execute_process(COMMAND ${VRV} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL ${expected_rc})
+    message(FATAL_ERROR "${name}: exit ${rc}, expected ${expected_rc}\n${out}\n${err}")
+  endif()
+  set(LAST_OUT "${out}" PARENT_SCOPE)
+  string(STRIP "${err}" err)
+  set(LAST_ERR "${err}" PARENT_SCOPE)
+endfunction()
+
+function(expect_bad_input name pattern)
+  run_vrv(2 ${name} ${ARGN})
+  if(NOT LAST_ERR MATCHES "${pattern}")
+    message(FATAL_ERROR "${name}: stderr does not match '${pattern}':\n${LAST_ERR}")
+  endif()
+  if(LAST_ERR MATCHES "\n")
+    message(FATAL_ERROR "${name}: the error is more than one line:\n${LAST_ERR}")
+  endif()
+endfunction()
+
+# vrv's own alpha raycast at four steps, 16 x 16, as a renderer would write them.
+set(images "")
+foreach(h 0.1 0.05 0.025 0.0125)
+  run_vrv(0 render_${h} render --scene ${SCENE} --method alpha --strategy inviwo --step ${h}
+          --width 16 --height 16 --quiet -o ${OUT}/alpha_${h}.exr)
+  list(APPEND images ${OUT}/alpha_${h}.exr)
+endforeach()
+set(steps 0.1,0.05,0.025,0.0125)
+
+# Converges at order 2: exit 0, the JSON names the verdict and the nearest model; the files exist.
+run_vrv(0 verify_pass verify --scene ${SCENE} ${images} --steps ${steps} --expected-order 2
+        --out ${OUT}/v --cache-dir ${OUT}/cache --no-plots --quiet)
+string(JSON verdict GET "${LAST_OUT}" verdict)
+string(JSON placement GET "${LAST_OUT}" diagnosis 0 placement)
+string(JSON rule GET "${LAST_OUT}" diagnosis 0 rule)
+string(JSON rms GET "${LAST_OUT}" diagnosis 0 rms)
+if(NOT verdict STREQUAL "converges" OR NOT placement STREQUAL "inviwo" OR NOT rule STREQUAL "alpha" OR rms GREATER 1e-6)
+  message(FATAL_ERROR "verify_pass: ${verdict}, nearest ${placement}/${rule} at ${rms}:\n${LAST_OUT}")
+endif()
+foreach(f errors.csv errors.md errors.tex errors.json orders.csv diagnosis.json faults.md points.csv
+          reference.exr 3_alpha_0.0125_Y_error.exr 3_alpha_0.0125_Y_error.png plots.json meta.json)
+  if(NOT EXISTS ${OUT}/v/${f})
+    message(FATAL_ERROR "verify_pass: ${f} was not written")
+  endif()
+endforeach()
+# The second run reads the reference from the cache.
+run_vrv(0 verify_cached verify --scene ${SCENE} ${images} --steps ${steps} --cache-dir ${OUT}/cache --no-diagnosis --quiet)
+string(JSON cached GET "${LAST_OUT}" reference from_cache)
+if(NOT cached)
+  message(FATAL_ERROR "verify_cached: the reference was not read from the cache:\n${LAST_OUT}")
+endif()
+
+# Expecting order 3 fails with exit 1 (a failed check, not bad input).
+run_vrv(1 verify_order verify --scene ${SCENE} ${images} --steps ${steps} --expected-order 3
+        --cache-dir ${OUT}/cache --no-diagnosis --quiet)
+
+# Bad input: one line naming the file or option, exit 2.
+run_vrv(0 render_small render --scene ${SCENE} --method alpha --strategy inviwo --step 0.1
+        --width 8 --height 8 --quiet -o ${OUT}/small.exr)
+expect_bad_input(wrong_size "small.exr: size 8 x 8 differs"
+  verify --scene ${SCENE} ${OUT}/alpha_0.1.exr ${OUT}/small.exr --steps 0.1,0.05 --no-cache)
+expect_bad_input(missing_file "nothing.exr: cannot read: no such file"
+  verify --scene ${SCENE} ${OUT}/alpha_0.1.exr ${OUT}/nothing.exr --steps 0.1,0.05 --no-cache)
+expect_bad_input(step_count "--steps: 1 steps for 2 images"
+  verify --scene ${SCENE} ${OUT}/alpha_0.1.exr ${OUT}/alpha_0.05.exr --steps 0.1 --no-cache)
+expect_bad_input(bad_alpha "--alpha: 'sideways'"
+  verify --scene ${SCENE} ${OUT}/alpha_0.1.exr --steps 0.1 --alpha sideways --no-cache)
+file(WRITE ${OUT}/bad_bounds.toml "[defaults]\nrms = { warn = 1, fail = 0.5 }\n")
+expect_bad_input(bad_bounds "bad_bounds.toml: defaults.rms: levels must be ordered"
+  verify --scene ${SCENE} ${OUT}/alpha_0.1.exr --steps 0.1 --bounds ${OUT}/bad_bounds.toml --no-cache)
+
+# Bounds with verify: a generous limit passes, the same limit tightened below the measured value fails.
+file(WRITE ${OUT}/loose.toml "[defaults]\nrms = { warn = 1e-3, fail = 1e-2 }\nmin_order = { fail = 1.75 }\n")
+run_vrv(0 bounds_loose verify --scene ${SCENE} ${images} --steps ${steps} --bounds ${OUT}/loose.toml
+        --cache-dir ${OUT}/cache --no-diagnosis --quiet)
+string(JSON measured GET "${LAST_OUT}" bounds 0 measured)
+string(JSON bound GET "${LAST_OUT}" bounds 0 bound)
+file(WRITE ${OUT}/tight.toml "[defaults]\n${bound} = { fail = ${measured} }\n")  # equal: still passes
+run_vrv(0 bounds_equal verify --scene ${SCENE} ${images} --steps ${steps} --bounds ${OUT}/tight.toml
+        --cache-dir ${OUT}/cache --no-diagnosis --quiet)
+execute_process(COMMAND python3 -c "print(${measured} * 0.999)" OUTPUT_VARIABLE tighter OUTPUT_STRIP_TRAILING_WHITESPACE)
+file(WRITE ${OUT}/tight.toml "[defaults]\n${bound} = { fail = ${tighter} }\n")
+run_vrv(1 bounds_tight verify --scene ${SCENE} ${images} --steps ${steps} --bounds ${OUT}/tight.toml
+        --cache-dir ${OUT}/cache --no-diagnosis --quiet)
+string(JSON verdict GET "${LAST_OUT}" bounds 0 verdict)
+if(NOT verdict STREQUAL "fail")
+  message(FATAL_ERROR "bounds_tight: ${bound} fail = ${tighter} below the measured ${measured} gave '${verdict}'")
+endif()
+
+# A gate case naming a study that does not exist is bad input (exit 2), not a failed bound.
+file(WRITE ${OUT}/nostudy.toml "[[case]]\nname = \"s\"\nstudy = \"no_such_study\"\n")
+expect_bad_input(gate_no_study "case s: study no_such_study exited with 2"
+  gate --bounds ${OUT}/nostudy.toml --out ${OUT}/nostudy --quiet)
