@@ -6,8 +6,8 @@
 
 namespace vrv::cli {
 
-void add_ray_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
+void add_ray_command(CLI::App& app);
 void add_render_command(CLI::App& app);
 void add_study_command(CLI::App& app);
 void add_export_command(CLI::App& app);

@@ -1,44 +1,155 @@
-// vrv demo: the main job on the embedded default scene; a row of reference rays with their
-// error estimates and cost, so a fresh checkout shows what vrv computes in one command.
+// vrv demo: what vrv is for, in one screen.  On the embedded default scene (or --scene), a fixed
+// set of rays: the reference integral per ray with its cost and error estimate, and every segment
+// rule's mean error against it at a few halvings of the step, with its observed order of
+// convergence against the expected one.  The pieces are the studies' own: study_rays (the ray
+// set), observed_order (the least-squares slope) and the table writer.
+#include <cmath>
 #include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
+#include "lib/discrete_raycast.h"
+#include "lib/io/table.h"
+#include "lib/metrics.h"
+#include "lib/reference_integrator.h"
+#include "lib/util/parallel.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
+#include "studies/engine/study_rays.h"
 
 namespace vrv::cli {
 namespace {
 
 struct DemoOptions {
-  std::string scene;
-  int rays = 9;
-  double tol = 1e-12;
+  std::string scene;     // scene file; the embedded default when empty
+  int rays = 64;         // rays of the fixed-seed study set (seed 1)
+  double tol = 1e-12;    // the reference's absolute tolerance on I
+  double step = 0.01;    // the coarsest step (world units); each next one is half of it
+  int halvings = 3;      // steps: step, step/2, ..., step/2^halvings
+  double order_tolerance = 0.25;  // |observed - expected| the verdict allows (the convergence study's)
 };
 
-void run_demo(const DemoOptions& opt) {
+// The expected orders (theory; studies/convergence/convergence.toml states the same): Riemann's
+// eq. (5) is first order; the alpha rule with midpoint samples, trapezoid, exact_linear and
+// Moreland's average opacity are second order.
+struct RuleOrder {
+  SegmentRule rule;
+  double expected;
+};
+constexpr RuleOrder kRules[] = {{SegmentRule::riemann, 1},
+                                {SegmentRule::alpha, 2},
+                                {SegmentRule::trapezoid, 2},
+                                {SegmentRule::exact_linear, 2},
+                                {SegmentRule::moreland, 2}};
+constexpr std::size_t kRuleCount = std::size(kRules);
+
+void check(const DemoOptions& opt) {
   check_tolerance(opt.tol);
-  if (opt.rays < 1) throw std::invalid_argument("--rays: must be at least 1");
-  const Scene scene = load_scene_or_default(opt.scene);
-  const Vec3 centre = 0.5 * (scene.box.min + scene.box.max);
-  const Vec3 extent = scene.box.extent();
-  fmt::print("{:>3}  {:>10}  {:>22}  {:>10}  {:>6}\n", "ray", "y", "I (reference)", "error est.",
-             "evals");
-  double worst = 0;
-  long evaluations = 0;
-  for (int i = 0; i < opt.rays; ++i) {
-    // Rays along +x across the middle of the box, from just below to just above it in y.
-    const double y = centre.y() + extent.y() * ((i + 0.5) / opt.rays - 0.5);
-    const Vec3 origin(scene.box.min.x() - extent.x(), y, centre.z() + 0.1 * extent.z());
-    const ReferenceResult r =
-        integrate_reference(scene, make_ray(origin, Vec3(1, 0, 0)), {opt.tol});
-    fmt::print("{:>3}  {:>10.6f}  {:>22.17g}  {:>10.2e}  {:>6}\n", i, y, r.value,
-               r.error_estimate, r.evaluations);
-    worst = std::max(worst, r.error_estimate);
-    evaluations += r.evaluations;
+  if (opt.rays < 1 || opt.rays > 100000)
+    throw std::invalid_argument(fmt::format("--rays: must be in [1, 100000], got {}", opt.rays));
+  if (!(opt.step > 0) || !std::isfinite(opt.step))
+    throw std::invalid_argument(fmt::format("--step: must be positive, got {}", opt.step));
+  if (opt.halvings < 1 || opt.halvings > 8)
+    throw std::invalid_argument(fmt::format("--halvings: must be in [1, 8], got {}", opt.halvings));
+}
+
+struct DemoRun {
+  std::vector<double> steps;
+  std::vector<ReferenceResult> reference;  // per ray
+  std::vector<double> mean_error;          // [rule][step]
+  std::vector<double> samples_per_ray;     // [rule][step]
+};
+
+// Every ray's reference and discrete values into their own slots, then means in ray order: the
+// same bits for any thread count.
+DemoRun run(const Scene& scene, const DemoOptions& opt) {
+  DemoRun out;
+  for (int k = 0; k <= opt.halvings; ++k) out.steps.push_back(std::ldexp(opt.step, -k));
+  const std::size_t S = out.steps.size(), per_ray = kRuleCount * S;
+  std::vector<DiscreteConfig> configs;
+  for (const RuleOrder& r : kRules)
+    for (double h : out.steps) {
+      DiscreteConfig c;
+      c.rule = r.rule;
+      c.sampling.strategy = Strategy::inviwo;
+      c.sampling.step = h;
+      c.sampling.dims = scene.dims;
+      configs.push_back(c);
+    }
+  const std::vector<Ray> rays = study_rays(scene.box, opt.rays, 1);
+  const std::size_t n = rays.size();
+  out.reference.resize(n);
+  std::vector<double> error(n * per_ray), samples(n * per_ray);
+  parallel_for_index(static_cast<long>(n), [&](long li) {
+    const std::size_t i = static_cast<std::size_t>(li);
+    out.reference[i] = integrate_reference(scene, rays[i], {opt.tol});
+    for (std::size_t k = 0; k < per_ray; ++k) {
+      const DiscreteResult d = discrete_raycast(scene, rays[i], configs[k]);
+      error[i * per_ray + k] = std::abs(d.value - out.reference[i].value);
+      samples[i * per_ray + k] = static_cast<double>(d.samples);
+    }
+  });
+  out.mean_error.assign(per_ray, 0);
+  out.samples_per_ray.assign(per_ray, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < per_ray; ++k) {
+      out.mean_error[k] += error[i * per_ray + k] / static_cast<double>(n);
+      out.samples_per_ray[k] += samples[i * per_ray + k] / static_cast<double>(n);
+    }
+  return out;
+}
+
+Table error_table(const DemoRun& r, const DemoOptions& opt) {
+  std::vector<std::string> columns{"rule"};
+  for (double h : r.steps) columns.push_back(fmt::format("h={:g}", h));
+  for (const char* c : {"expected", "observed", "ok"}) columns.push_back(c);
+  Table t(columns);
+  for (std::size_t s = 0; s < r.steps.size(); ++s) t.set_format(columns[1 + s], "{:.2e}");
+  t.set_format("expected", "{:g}");
+  t.set_format("observed", "{:.2f}");
+  t.allow_missing("observed");
+  const std::size_t S = r.steps.size();
+  for (std::size_t m = 0; m < kRuleCount; ++m) {
+    const std::vector<double> means(r.mean_error.begin() + m * S, r.mean_error.begin() + (m + 1) * S);
+    const double observed = observed_order(r.steps, means);
+    const bool ok = std::abs(observed - kRules[m].expected) <= opt.order_tolerance;  // false for NaN
+    std::vector<Table::Cell> row{std::string(segment_rule_name(kRules[m].rule))};
+    for (double e : means) row.emplace_back(e);
+    row.emplace_back(kRules[m].expected);
+    row.emplace_back(observed);
+    row.emplace_back(std::string(ok ? "yes" : "NO"));
+    t.add_row(std::move(row));
   }
-  fmt::print("{} rays, tol {:.0e}: largest error estimate {:.2e}, mean field evaluations {:.1f}\n",
-             opt.rays, opt.tol, worst, static_cast<double>(evaluations) / opt.rays);
+  return t;
+}
+
+void run_demo(const DemoOptions& opt) {
+  check(opt);
+  const Scene scene = load_scene_or_default(opt.scene);
+  const DemoRun r = run(scene, opt);
+  fmt::print("vrv demo: {} rays (fixed seed) through {}.\n\n", opt.rays,
+             opt.scene.empty() ? "the embedded default scene (default_scene_toml, lib/io/scene_file.cpp)" : opt.scene);
+  fmt::print("Mean |discrete - reference| per segment rule and step h (inviwo sampling), and the\n"
+             "observed order (least-squares slope of log error against log h) against the expected:\n\n");
+  fmt::print("{}\n", error_table(r, opt).to_markdown());
+  long evaluations = 0, most = 0;
+  double worst_estimate = 0;
+  for (const ReferenceResult& ref : r.reference) {
+    evaluations += ref.evaluations;
+    most = std::max(most, ref.evaluations);
+    worst_estimate = std::max(worst_estimate, ref.error_estimate);
+  }
+  const std::size_t finest = r.steps.size() - 1;
+  fmt::print("The reference at tol {:.0e}: {:.1f} field evaluations per ray (at most {}), error estimate\n"
+             "at most {:.2e} on every ray; the rules at h={:g} take {:.1f} samples per ray.\n\n",
+             opt.tol, static_cast<double>(evaluations) / static_cast<double>(r.reference.size()), most,
+             worst_estimate, r.steps[finest], r.samples_per_ray[finest]);
+  fmt::print("Next: one ray, `vrv ray --help`; images, `vrv render --help`; the full studies with their\n"
+             "tables, images and plots, `vrv study --list` and `vrv study NAME` (studies/NAME/, results\n"
+             "in results/NAME/). Docs: README.md, docs/architecture.md, docs/studies.md.\n");
 }
 
 }  // namespace
@@ -46,10 +157,12 @@ void run_demo(const DemoOptions& opt) {
 void add_demo_command(CLI::App& app) {
   auto opt = std::make_shared<DemoOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "demo", "Reference values along a row of rays through a scene (default: Marschner-Lobb)");
+      "demo", "Start here: every segment rule's error and order against the reference, in seconds");
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
   cmd->add_option("--rays", opt->rays, "Number of rays")->capture_default_str();
-  cmd->add_option("--tol", opt->tol, "Absolute tolerance on I")->capture_default_str();
+  cmd->add_option("--tol", opt->tol, "The reference's absolute tolerance on I")->capture_default_str();
+  cmd->add_option("--step", opt->step, "Coarsest step (world units)")->capture_default_str();
+  cmd->add_option("--halvings", opt->halvings, "Number of times the step is halved")->capture_default_str();
   cmd->callback([opt] { run_demo(*opt); });
 }
 

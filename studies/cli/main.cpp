@@ -34,8 +34,9 @@ std::vector<std::string> glue_negative_values(int argc, char** argv) {
 int main(int argc, char** argv) {
   CLI::App app{"vrv: how wrong is a volume raycaster, why, and what accuracy costs"};
   app.require_subcommand(1);
-  vrv::cli::add_ray_command(app);
+  // In the order a newcomer needs them: what vrv shows, one ray, one image, the studies.
   vrv::cli::add_demo_command(app);
+  vrv::cli::add_ray_command(app);
   vrv::cli::add_render_command(app);
   vrv::cli::add_study_command(app);
   vrv::cli::add_export_command(app);

@@ -58,7 +58,44 @@ endif()
 
 expect_success(help_ray ray --help)
 expect_success(help_demo demo --help)
-expect_success(demo demo --rays 3)
+
+# vrv --help lists the subcommands in a newcomer's order: demo, ray, render, study.
+expect_success(help --help)
+string(REGEX MATCH "demo[^\n]*\n[ ]*ray[^\n]*\n[ ]*render[^\n]*\n[ ]*study" help_order "${LAST_OUT}")
+if(NOT help_order)
+  message(FATAL_ERROR "vrv --help does not list demo, ray, render, study in that order:\n${LAST_OUT}")
+endif()
+
+# vrv demo, the front door: a row per segment rule whose observed order is within 0.25 of the
+# expected one, the reference's cost and error estimate, and where to go next.
+expect_success(demo demo)
+foreach(rule riemann alpha trapezoid exact_linear moreland)
+  # | rule | errors ... | expected | observed | ok |
+  string(REGEX MATCH "\n\\| ${rule} +\\|[^\n]*\\| +([^ |]+) +\\| +([^ |]+) +\\| +([^ |]+) +\\|" row "${LAST_OUT}")
+  if(NOT row)
+    message(FATAL_ERROR "demo: no row for ${rule}:\n${LAST_OUT}")
+  endif()
+  set(expected "${CMAKE_MATCH_1}")
+  set(observed "${CMAKE_MATCH_2}")
+  if(NOT observed MATCHES "^-?[0-9]+\\.[0-9]+$")
+    message(FATAL_ERROR "demo: ${rule}: observed order '${observed}' is not a number:\n${row}")
+  endif()
+  if(NOT expected MATCHES "^[0-9]+$")
+    message(FATAL_ERROR "demo: ${rule}: expected order '${expected}' is not a whole number:\n${row}")
+  endif()
+  math(EXPR below "${expected} - 1")  # bounds expected -/+ 0.25, as decimals for if()
+  if(observed LESS "${below}.75" OR observed GREATER "${expected}.25")
+    message(FATAL_ERROR "demo: ${rule}: observed order ${observed}, expected ${expected}:\n${LAST_OUT}")
+  endif()
+endforeach()
+foreach(text "field evaluations per ray" "error estimate" "vrv study --list" "docs/architecture.md")
+  string(FIND "${LAST_OUT}" "${text}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "demo: the output lacks '${text}':\n${LAST_OUT}")
+  endif()
+endforeach()
+expect_failure(demo_halvings "--halvings: must be in" demo --halvings 0)
+expect_failure(demo_step "--step: must be positive" demo --step -1)
 
 # Bad input: one line naming the file, key or option, and a non-zero exit.
 expect_failure(zero_direction "direction.*zero" ray --origin 0,0,0 --direction 0,0,0)
