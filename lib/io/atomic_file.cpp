@@ -43,8 +43,14 @@ void sync_directory(const std::filesystem::path& dir) {
 
 }  // namespace
 
+std::shared_mutex& temporary_files_mutex() {
+  static std::shared_mutex m;
+  return m;
+}
+
 void write_file_atomically(const std::filesystem::path& path, std::string_view contents) {
   if (path.empty() || !path.has_filename()) fail(path, "not a file name");
+  const std::shared_lock temporaries(temporary_files_mutex());
   std::filesystem::path tmp = path;
   tmp += fmt::format(".tmp.{}", ::getpid());
 

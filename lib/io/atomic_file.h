@@ -3,6 +3,7 @@
 // to a temporary file next to the target, are flushed to disk, and the temporary is renamed onto the
 // target (rename is atomic within a directory on POSIX file systems).
 #include <filesystem>
+#include <shared_mutex>
 #include <string_view>
 
 namespace vrv {
@@ -13,5 +14,10 @@ namespace vrv {
 // "<path>: cannot write: <reason>", on any failure.  Not for concurrent writes to the same path from
 // one process (they would share the temporary).
 void write_file_atomically(const std::filesystem::path& path, std::string_view contents);
+
+// Held shared by write_file_atomically while its temporary exists.  A process stopping on a
+// signal takes it exclusively before it removes its temporaries and never releases it, so no
+// worker thread can create a temporary after that sweep (studies/engine/interrupt.cpp).
+std::shared_mutex& temporary_files_mutex();
 
 }  // namespace vrv

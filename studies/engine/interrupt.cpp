@@ -11,6 +11,8 @@
 #include <system_error>
 #include <thread>
 
+#include "lib/io/atomic_file.h"
+
 namespace vrv {
 namespace {
 
@@ -47,6 +49,7 @@ bool running(pid_t pid) { return ::kill(pid, 0) == 0 || errno == EPERM; }
 [[noreturn]] void stop(int sig) {
   const std::lock_guard publishing(publish_mutex());  // never half way through publishing
   if (const pid_t child = g_child.load(); child > 0) ::kill(-child, SIGTERM);
+  temporary_files_mutex().lock();  // never unlocked: no temporary is created after the sweep
   {
     const std::lock_guard lock(g_state);
     if (!g_cleanup_dir.empty()) remove_temporary_files(g_cleanup_dir, false);

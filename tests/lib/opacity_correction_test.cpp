@@ -431,7 +431,9 @@ TEST(OpacityCorrection, LeeNewmanAimsAtTheGivenUnitOpacity) {
       } else {  // the fit's own error, derived (fit_residual_bound): |F(p^)| is the transparency's
         const double p_fit = a[0] / alphas[0];
         EXPECT_NEAR(resultant, 0.5, fit_residual_bound(alphas, p_fit)) << N;
-        if (N <= 5) EXPECT_LT(fit_residual_bound(alphas, p_fit), 0.1) << N;  // informative: 0.051 at N = 5
+        if (N <= 5) {  // informative: 0.051 at N = 5
+          EXPECT_LT(fit_residual_bound(alphas, p_fit), 0.1) << N;
+        }
       }
       std::vector<double> first = alphas;
       correct_group(c, first, colors, N);  // default: the first oversample is the unit sample
