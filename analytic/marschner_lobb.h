@@ -22,6 +22,10 @@ struct MarschnerLobb {
     constexpr double pi = std::numbers::pi;
     return pi * pi * fM + pi / 2;
   }
+  // The same bound on the segment from p to q only (sizes first panels locally): the radial
+  // term's frequency pi^2 fM |sin(pi r / 2)| |dr/dt| vanishes near the axis and wherever the
+  // line runs along it, the z term's (pi/2) |cos(pi z / 2)| |dz/dt| where z is odd.
+  double bandwidth_between(const Vec3& p, const Vec3& q) const;
   // Smooth everywhere: no breaks on any ray (any ray and interval types).
   void append_breaks(const auto&, const auto&, std::vector<double>&) const {}
   // |grad f| <= (pi/2 + alpha pi^2 fM) / (2 (1 + alpha)): the z term and the radial term.

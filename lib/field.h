@@ -37,6 +37,17 @@ double field_value_noise(const F& f) {
     return 0;
 }
 
+// A bound on f's angular frequency along the segment from p to q (radians per unit length)
+// where the field states one (bandwidth_between()), else its global bandwidth().  Like
+// bandwidth() it only sizes first panels: Marschner-Lobb's radial term is slow near its axis.
+template <class F>
+double field_bandwidth_between(const F& f, const Vec3& p, const Vec3& q) {
+  if constexpr (requires { { f.bandwidth_between(p, q) } -> std::convertible_to<double>; })
+    return f.bandwidth_between(p, q);
+  else
+    return f.bandwidth();
+}
+
 // Coordinates up to this size are what value_noise() is stated for.
 inline constexpr double kUnitCoordinates = 16;
 

@@ -161,6 +161,32 @@ void resolve_smooth(const F& field, const Ray& ray, double a, double b, int leve
   acc.consume(panel);
 }
 
+// The first panels of a stretch are `count` equal parts sized for the field's global
+// bandwidth; where the field is locally slower (field_bandwidth_between), several of them, from
+// part k on, become one panel spanning at most `phase` radians of the local bound.  The largest
+// such m (the bound only grows with the stretch, so the test is monotone in m); 1 where the
+// field is as fast as its global bound, which keeps those panels (and values) as they were.
+template <ScalarField F, class At>
+double panels_to_merge(const F& field, const Ray& ray, const At& at, double count, double k,
+                       double phase) {
+  if constexpr (!requires(const Vec3& p) { field.bandwidth_between(p, p); }) return 1;
+  const double left = count - k;
+  const auto fits = [&](double m) {
+    const double t0 = at(k), t1 = at(k + m);
+    return (t1 - t0) * field_bandwidth_between(field, ray.at(t0), ray.at(t1)) <= phase;
+  };
+  if (!(left >= 2) || !fits(2)) return 1;
+  double lo = 2;  // fits
+  while (2 * lo <= left && fits(2 * lo)) lo *= 2;
+  double hi = std::min(2 * lo, left);
+  if (hi > lo && fits(hi)) return hi;
+  while (hi - lo > 1) {  // fits(lo), !fits(hi)
+    const double mid = std::floor(0.5 * (lo + hi));
+    (fits(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 }  // namespace detail
 
 // How many radians of the field's fastest oscillation a first panel spans: 33-point panels
@@ -208,7 +234,8 @@ ReferenceResult integrate_reference(const F& field, const Box& box, const Transf
       acc.consume(detail::fit_panel(field, local, a, b, degree + 1, evaluations));
       continue;
     }
-    const double h0 = field.bandwidth() > 0 ? first_panel_phase(options.tol) / field.bandwidth() : b - a;
+    const double phase = first_panel_phase(options.tol);
+    const double h0 = field.bandwidth() > 0 ? phase / field.bandwidth() : b - a;
     // A double, not an int: a long ray or a huge bandwidth asks for more panels than any
     // integer holds; the work cap ends the loop long before k loses integer precision.
     const double count = std::max(1.0, std::ceil((b - a) / h0));
@@ -216,14 +243,15 @@ ReferenceResult integrate_reference(const F& field, const Box& box, const Transf
       acc.give_up(a);  // the field varies faster than positions along the ray can resolve
       break;
     }
-    for (double k = 0; k < count && !acc.stopped(); ++k) {
+    const auto at = [&](double k) { return k >= count ? b : a + (b - a) * k / count; };
+    for (double k = 0; k < count && !acc.stopped();) {
       if (evaluations >= detail::kMaxEvaluations) {
-        acc.give_up(a + (b - a) * k / count);
+        acc.give_up(at(k));
         break;
       }
-      detail::resolve_smooth(field, local, a + (b - a) * k / count,
-                             k + 1 == count ? b : a + (b - a) * (k + 1) / count, 0, acc,
-                             evaluations);
+      const double m = detail::panels_to_merge(field, local, at, count, k, phase);
+      detail::resolve_smooth(field, local, at(k), at(k + m), 0, acc, evaluations);
+      k += m;
     }
   }
   ReferenceResult result = acc.finish();
