@@ -106,6 +106,7 @@ class RayAccumulator {
   double max_extinction_ = 0;        // max tau over all values
   std::vector<double> crossing_shifts_;  // dt of each crossing of the current panel
   double piece_depth_error_ = 0;     // the field-error part of dPhi booked for the current piece
+  TransferFunction::Slopes branch_slopes_;  // |dg/dv|, |dtau/dv| on the current piece's branch
   double depth_error_ = 0;           // sum of dPhi_i
   double depth_error_weighted_ = 0;  // sum of dPhi_i * (value before i)
   std::vector<Crossing> crossings_;

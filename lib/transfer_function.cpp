@@ -140,6 +140,8 @@ void TransferFunction::finish() {
   struct Sample { double g, tau; };
   std::vector<Sample> samples;
   segment_slopes_.clear();
+  const double inf = std::numeric_limits<double>::infinity();
+  max_ratio_ = 0;
   auto add_branch = [&](double v_inside, double lo, double hi) {
     const TransferSegment s = segment(v_inside);
     Slopes slopes;
@@ -156,6 +158,13 @@ void TransferFunction::finish() {
                                                         std::max(0.0, s.second(v)) * dtau);
       }
       samples.push_back({s.g(v), tau});
+      // g / tau is monotone on a branch (a ratio of affine functions, or the colour), so its
+      // ends bound it; where both vanish its limit is the ratio of the slopes.
+      const double g = s.g(v);
+      const double dg = convention_ == Convention::emission_extinction ? std::abs(s.first.slope) : 0.0;
+      const double dtau = convention_ == Convention::emission_extinction ? std::abs(s.second.slope) : 0.0;
+      const double ratio = tau > 0 ? g / tau : g > 0 ? inf : dg == 0 ? 0.0 : dtau > 0 ? dg / dtau : inf;
+      max_ratio_ = std::max(max_ratio_, ratio);
     }
     segment_slopes_.push_back(slopes);
   };
@@ -185,6 +194,7 @@ void TransferFunction::finish() {
   if (convention_ == Convention::opacity_color) {
     // g <= max color * max tau on every branch.
     max_g_ = second_.max_value() * -std::log1p(-first_.max_value()) / unit_length_;
+    max_ratio_ = std::max(0.0, second_.max_value());  // g / tau is the colour
   }
 
   kappa_.reset();

@@ -96,6 +96,9 @@ class TransferFunction {
   // |g(v+) - g(v-)| and |tau(v+) - tau(v-)|: nonzero only at the jumps of a step function.
   Slopes jump_at(double v) const;
   double max_emission() const { return max_g_; }
+  // sup g / tau where tau > 0, infinite when g > 0 somewhere tau = 0: the emission of any stretch
+  // is at most this times its absorbed fraction 1 - e^-Phi, so at most this, however long.
+  double max_emission_per_extinction() const { return max_ratio_; }
   double max_emission_slope() const { return max_dg_; }
   double max_extinction_slope() const { return max_dtau_; }
 
@@ -111,6 +114,7 @@ class TransferFunction {
   std::vector<Slopes> segment_slopes_;  // below b_0, between b_{i-1} and b_i, above the last
   std::vector<Slopes> jumps_;           // at each breakpoint
   double max_g_ = 0;
+  double max_ratio_ = 0;
   double max_dg_ = 0;
   double max_dtau_ = 0;
 };
