@@ -7,8 +7,9 @@
 #include <string>
 #include <system_error>
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
+
+#include "lib/io/image_module.h"
 
 namespace vrv {
 namespace {
@@ -36,30 +37,16 @@ void check_image(const Image& image, const fs::path& path) {
                            image.pixels.size()));
 }
 
-// Writes `data` (laid out as `spec` says, in `type`) with the writer for `format` to
-// path + ".tmp", then renames it onto path.
-void write_atomically(const fs::path& path, const char* format, const OIIO::ImageSpec& spec,
-                      OIIO::TypeDesc type, const void* data) {
+// Writes the request with the image module to path + ".tmp", then renames it onto path.
+void write_atomically(const fs::path& path, image_module::WriteRequest request) {
   const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(parent, ec)) fail(path, "cannot write: the directory does not exist");
   if (fs::is_directory(path, ec)) fail(path, "cannot write: is a directory");
   fs::path tmp = path;
   tmp += ".tmp";
-  auto out = OIIO::ImageOutput::create(format);
-  if (!out) fail(path, fmt::format("no {} writer in OpenImageIO: {}", format, OIIO::geterror()));
-  if (!out->open(tmp.string(), spec)) {
-    const std::string why = out->geterror();
-    out.reset();
-    fs::remove(tmp, ec);
-    fail(path, fmt::format("cannot write: {}", why));
-  }
-  const bool wrote = out->write_image(type, data);
-  std::string why = wrote ? std::string() : out->geterror();
-  const bool closed = out->close();
-  if (!closed && why.empty()) why = out->geterror();
-  out.reset();
-  if (!wrote || !closed) {
+  const std::string why = image_module::functions().write(tmp.string(), request);
+  if (!why.empty()) {
     fs::remove(tmp, ec);
     fail(path, fmt::format("cannot write: {}", why));
   }
@@ -69,6 +56,18 @@ void write_atomically(const fs::path& path, const char* format, const OIIO::Imag
     fs::remove(tmp, ignored);
     fail(path, fmt::format("cannot rename the temporary file onto it: {}", ec.message()));
   }
+}
+
+image_module::WriteRequest request(const char* format, int width, int height, int channels,
+                                   image_module::PixelType type, const void* pixels) {
+  image_module::WriteRequest r;
+  r.format = format;
+  r.width = width;
+  r.height = height;
+  r.channels = channels;
+  r.type = type;
+  r.pixels = pixels;
+  return r;
 }
 
 unsigned char to_byte(double unit) {  // [0, 1] -> 0..255, rounded
@@ -88,13 +87,13 @@ Image::Image(int w, int h, float fill) : width(w), height(h) {
 
 void write_exr(const Image& image, const fs::path& path) {
   check_image(image, path);
-  OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"Y"};
-  spec.attribute("compression", "zip");
+  auto r = request("openexr", image.width, image.height, 1, image_module::PixelType::float32,
+                   image.pixels.data());
+  r.channel_names = {"Y"};
   // OpenImageIO stamps EXRs with the time of writing unless told a date; an empty one keeps
   // reruns byte-identical (results/ must not change when the numbers do not).
-  spec.attribute("DateTime", "");
-  write_atomically(path, "openexr", spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
+  r.attributes = {{"compression", "zip"}, {"DateTime", ""}};
+  write_atomically(path, std::move(r));
 }
 
 void write_png_preview(const Image& image, const fs::path& path, double lo, double hi) {
@@ -107,9 +106,9 @@ void write_png_preview(const Image& image, const fs::path& path, double lo, doub
     const double v = image.pixels[i];
     bytes[i] = std::isnan(v) ? 0 : to_byte((v - lo) / (hi - lo));
   }
-  OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::UINT8);
-  spec.channelnames = {"Y"};
-  write_atomically(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+  auto r = request("png", image.width, image.height, 1, image_module::PixelType::uint8, bytes.data());
+  r.channel_names = {"Y"};
+  write_atomically(path, std::move(r));
 }
 
 Rgb8 diverging_colour(double value, double max_abs) {
@@ -138,30 +137,23 @@ void write_error_map_png(const Image& error, const fs::path& path, double max_ab
     const double v = h > 1 ? max_abs * (1 - 2.0 * y / (h - 1)) : 0.0;
     for (int x = error.width + kErrorBarGap; x < w; ++x) put(x, y, diverging_colour(v, max_abs));
   }
-  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
-  spec.attribute("ImageDescription", fmt::format("signed error, colour range +-{:.6g}", max_abs));
-  write_atomically(path, "png", spec, OIIO::TypeDesc::UINT8, rgb.data());
+  auto r = request("png", w, h, 3, image_module::PixelType::uint8, rgb.data());
+  r.attributes = {{"ImageDescription", fmt::format("signed error, colour range +-{:.6g}", max_abs)}};
+  write_atomically(path, std::move(r));
 }
 
 Image read_exr(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) fail(path, "cannot read: no such file");
   if (fs::is_directory(path, ec)) fail(path, "cannot read: is a directory");
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) fail(path, fmt::format("cannot read: {}", OIIO::geterror()));
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.deep) fail(path, "deep images are not supported");
-  if (spec.nchannels != 1)
-    fail(path, fmt::format("expected one channel, got {}", spec.nchannels));
-  if (spec.depth != 1) fail(path, fmt::format("expected a 2D image, got depth {}", spec.depth));
-  if (spec.width < 1 || spec.height < 1 || spec.width > kMaxReadSide ||
-      spec.height > kMaxReadSide ||
-      std::int64_t{spec.width} * spec.height > kMaxReadPixels)
-    fail(path, fmt::format("bad image size {} x {}", spec.width, spec.height));
-  Image image(spec.width, spec.height);
-  if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, image.pixels.data()))
-    fail(path, fmt::format("cannot read: {}", in->geterror()));
-  in->close();
+  image_module::ReadResult read;
+  const std::string why =
+      image_module::functions().read(path.string(), kMaxReadSide, kMaxReadPixels, read);
+  if (!why.empty()) fail(path, why);
+  Image image;
+  image.width = read.width;
+  image.height = read.height;
+  image.pixels = std::move(read.pixels);
   return image;
 }
 

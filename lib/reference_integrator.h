@@ -37,6 +37,7 @@ struct ReferenceResult {
   double t_entry = 0;         // clipped parameter range (world length along the unit direction)
   double t_exit = 0;
   double optical_depth = 0;   // int tau over [t_entry, t_exit]
+  bool tolerance_met = true;  // false when the work cap was reached or the estimate exceeds the tolerance
 };
 
 namespace detail {
@@ -161,6 +162,7 @@ ReferenceResult integrate_reference(const F& field, const Box& box, const Transf
   }
   ReferenceResult result = acc.finish();
   result.evaluations = evaluations;
+  result.tolerance_met = result.error_estimate <= options.tol;
   return result;
 }
 

@@ -1,0 +1,51 @@
+#pragma once
+// The image library (OpenImageIO) is loaded only by the processes that read or write an image:
+// it brings ~260 shared libraries, 0.5 s of dynamic loading that `vrv ray` or `vrv --help` should
+// not pay.  It lives in a module of its own (lib/io/image_module_oiio.cpp, built as
+// libvrv_image.so) that image_module::functions() loads with dlopen() on first use.
+//
+// The module and vrv are built together by the same compiler, so the interface is plain C++;
+// kAbiVersion guards against a module left over from another build of this interface.  Errors
+// cross it as strings (never exceptions): "" means success, anything else is a one-line reason.
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vrv::image_module {
+
+inline constexpr int kAbiVersion = 1;
+// The C symbol the module exports: a `const Functions*`-returning function.
+inline constexpr const char* kEntrySymbol = "vrv_image_module_functions";
+
+enum class PixelType { float32, uint8 };
+
+struct WriteRequest {
+  std::string format;  // OpenImageIO writer name: "openexr", "png"
+  int width = 0, height = 0, channels = 1;
+  PixelType type = PixelType::float32;
+  const void* pixels = nullptr;  // row-major, channels interleaved, row 0 = top
+  std::vector<std::string> channel_names;  // empty: the writer's default names
+  std::vector<std::pair<std::string, std::string>> attributes;  // e.g. {"compression", "zip"}
+};
+
+struct ReadResult {
+  int width = 0, height = 0;
+  std::vector<float> pixels;
+};
+
+struct Functions {
+  int abi_version = kAbiVersion;
+  // Writes the request to `path` (the caller handles temporary names and renaming).
+  std::string (*write)(const std::string& path, const WriteRequest& request) = nullptr;
+  // Reads the first subimage of a one-channel 2D image as floats; refuses sides above
+  // max_side and more than max_pixels pixels before allocating.
+  std::string (*read)(const std::string& path, int max_side, long long max_pixels,
+                      ReadResult& out) = nullptr;
+};
+
+// The loaded module's functions.  Looks for the module at $VRV_IMAGE_MODULE when that is set
+// (and nowhere else), otherwise next to the executable, then in the install library directory.
+// Throws std::runtime_error with one line naming where it looked when it cannot be loaded.
+const Functions& functions();
+
+}  // namespace vrv::image_module

@@ -1,0 +1,68 @@
+// The image module: the only code that includes OpenImageIO.  Built as a shared module
+// (libvrv_image.so) and loaded by lib/io/image_module.cpp on the first image read or write.
+#include <algorithm>
+#include <exception>
+#include <string>
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+#include "lib/io/image_module.h"
+
+namespace vrv::image_module {
+namespace {
+
+std::string one_line(std::string s) {
+  std::replace_if(s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s.empty() ? std::string("unknown error") : s;
+}
+
+std::string write(const std::string& path, const WriteRequest& request) try {
+  const OIIO::TypeDesc type =
+      request.type == PixelType::float32 ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;
+  OIIO::ImageSpec spec(request.width, request.height, request.channels, type);
+  if (!request.channel_names.empty()) spec.channelnames = request.channel_names;
+  for (const auto& [key, value] : request.attributes) spec.attribute(key, value);
+  auto out = OIIO::ImageOutput::create(request.format);
+  if (!out) return one_line(fmt::format("no {} writer in OpenImageIO: {}", request.format, OIIO::geterror()));
+  if (!out->open(path, spec)) return one_line(out->geterror());
+  const bool wrote = out->write_image(type, request.pixels);
+  std::string why = wrote ? std::string() : out->geterror();
+  const bool closed = out->close();
+  if (!closed && why.empty()) why = out->geterror();
+  return wrote && closed ? std::string() : one_line(why);
+} catch (const std::exception& e) {
+  return one_line(e.what());
+}
+
+std::string read(const std::string& path, int max_side, long long max_pixels, ReadResult& result) try {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) return one_line(fmt::format("cannot read: {}", OIIO::geterror()));
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.deep) return "deep images are not supported";
+  if (spec.nchannels != 1) return fmt::format("expected one channel, got {}", spec.nchannels);
+  if (spec.depth != 1) return fmt::format("expected a 2D image, got depth {}", spec.depth);
+  if (spec.width < 1 || spec.height < 1 || spec.width > max_side || spec.height > max_side ||
+      static_cast<long long>(spec.width) * spec.height > max_pixels)
+    return fmt::format("bad image size {} x {}", spec.width, spec.height);
+  result.width = spec.width;
+  result.height = spec.height;
+  result.pixels.assign(static_cast<std::size_t>(spec.width) * spec.height, 0.0f);
+  if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, result.pixels.data()))
+    return one_line(fmt::format("cannot read: {}", in->geterror()));
+  in->close();
+  return {};
+} catch (const std::exception& e) {
+  return one_line(e.what());
+}
+
+const Functions kFunctions{kAbiVersion, &write, &read};
+
+}  // namespace
+}  // namespace vrv::image_module
+
+extern "C" __attribute__((visibility("default"))) const vrv::image_module::Functions*
+vrv_image_module_functions() {
+  return &vrv::image_module::kFunctions;
+}
