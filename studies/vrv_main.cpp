@@ -44,16 +44,16 @@ std::string one_line(std::string s) {
 // error becomes one "vrv: error: ..." line naming the option, with exit code 2.
 std::string parse_error_line(const CLI::App& app, const CLI::ParseError& e) {
   const std::string what = one_line(e.what());
-  const std::string name = e.get_name();
-  if (name == "ExtrasError") {
+  // By type: CLI11 names some errors after the subcommand (ExtrasError(name, args)).
+  if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
     const std::string prefix = "not expected: ";
     const auto at = what.find(prefix);
     const std::string args = at == std::string::npos ? what : what.substr(at + prefix.size());
     return fmt::format("unknown option or argument {} (vrv --help, vrv COMMAND --help)", args);
   }
-  if (name == "RequiredError" && what.starts_with("A subcommand"))
+  if (dynamic_cast<const CLI::RequiredError*>(&e) && what.starts_with("A subcommand"))
     return "a command is required: ray, render, study or demo (vrv --help)";
-  if (name == "ConversionError") {
+  if (dynamic_cast<const CLI::ConversionError*>(&e)) {
     // "Could not convert: --width = 1e9": say what the option takes.
     const std::string prefix = "Could not convert: ";
     const auto eq = what.find(" = ");
@@ -68,7 +68,7 @@ std::string parse_error_line(const CLI::App& app, const CLI::ParseError& e) {
       return fmt::format("{}: '{}' is not a valid {}", option, what.substr(eq + 3), type);
     }
   }
-  if (name == "ArgumentMismatch") return fmt::format("{} (vrv COMMAND --help)", what);
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e)) return fmt::format("{} (vrv COMMAND --help)", what);
   return what;
 }
 

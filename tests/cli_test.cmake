@@ -426,8 +426,9 @@ endforeach()
 file(SHA256 ${OUT}/render_ref.exr ref_hash)
 expect_exit(own_input 2 "^vrv: error: -o: .*render_ref.exr would overwrite the --error-against input" ""
   render --reference --width 8 --height 8 -o ${OUT}/render_ref.exr --error-against ${OUT}/render_ref.exr)
+get_filename_component(out_name ${OUT} NAME)
 expect_exit(own_input_other_name 2 "would overwrite the --error-against input" ""
-  render --reference --width 8 --height 8 -o ${OUT}/../cli/render_ref.exr --error-against ${OUT}/render_ref.exr)
+  render --reference --width 8 --height 8 -o ${OUT}/../${out_name}/render_ref.exr --error-against ${OUT}/render_ref.exr)
 file(SHA256 ${OUT}/render_ref.exr ref_hash_after)
 if(NOT ref_hash STREQUAL ref_hash_after)
   message(FATAL_ERROR "own_input: render_ref.exr changed")

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -19,14 +20,14 @@ bool word_char(char c) {
   return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.';
 }
 
-// The token around byte `at` (1-based, as nlohmann reports it) of `text`.
-std::string token_at(const std::string& text, std::size_t at) {
+// The token around byte `at` (1-based, as nlohmann reports it) of `text`, and its 1-based column.
+std::pair<std::string, std::size_t> token_at(const std::string& text, std::size_t at) {
   std::size_t begin = std::min(at, text.size());
   if (begin > 0) --begin;
   while (begin > 0 && word_char(text[begin - 1])) --begin;
   std::size_t end = begin;
   while (end < text.size() && word_char(text[end])) ++end;
-  return text.substr(begin, end - begin);
+  return {text.substr(begin, end - begin), begin + 1};
 }
 
 bool is_non_finite_word(std::string t) {
@@ -46,10 +47,10 @@ std::string parse_failure(const std::string& text, const nlohmann::json::excepti
   if (const auto* p = dynamic_cast<const nlohmann::json::parse_error*>(&e)) {
     if (what.find("unexpected end of input") != std::string::npos)
       return "truncated: the line ends before its JSON object is complete";
-    const std::string token = token_at(text, p->byte);
+    const auto [token, column] = token_at(text, p->byte);
     if (is_non_finite_word(token))
       return fmt::format("column {}: {} is not a JSON number (NaN and infinities cannot be given)",
-                         p->byte, cut(token));
+                         column, cut(token));
     return fmt::format("column {}: invalid JSON: {}", p->byte, syntax_reason(what));
   }
   if (e.id == 406) {  // out_of_range: "number overflow parsing '1e999'"

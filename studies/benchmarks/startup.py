@@ -2,13 +2,15 @@
 """Start-up cost of vrv: wall and CPU time of short commands against a do-nothing baseline.
 
     python3 studies/benchmarks/startup.py BUILD_DIR [--runs N] [--timer hyperfine|python]
+                                          [--before OTHER_BUILD_DIR]
 
 Runs each command N times (after warm-up runs) with hyperfine when it is installed (Debian's
 `apt-get install hyperfine`), otherwise with a Python timer (os.wait4: wall and user+system CPU
 per run), side by side with `/bin/true`, and prints a Markdown table: median and minimum wall
 time, mean CPU time, and the ratio of the median to the baseline's.  The goal (issue 10) is
 `vrv --help` and `vrv ray` on one ray under 50 ms wall on an idle machine; the last column says
-whether the median meets it.  It also counts the shared libraries each binary loads at start
+whether the median meets it.  --before adds the same `--help` and `ray` rows for another
+build (e.g. one from before the image module), measured in the same run.  It also counts the shared libraries each binary loads at start
 (ldd), which is what the image module (lib/io/image_module.h) keeps out of vrv.
 
 Python 3 standard library only; writes nothing but a scratch directory it removes.
@@ -28,8 +30,16 @@ from pathlib import Path
 GOAL_MS = 50.0
 
 
-def commands(vrv, scratch):
-    ray = [vrv, "ray", "--origin", "-3,0.5,0", "--direction", "1,0,0", "--json"]
+def ray_argv(vrv):
+    return [vrv, "ray", "--origin", "-3,0.5,0", "--direction", "1,0,0", "--json"]
+
+
+def commands(vrv, scratch, before):
+    ray = ray_argv(vrv)
+    extra = []
+    if before:
+        extra = [("before: vrv --help", [before, "--help"], True),
+                 ("before: vrv ray (reference, one ray)", ray_argv(before), True)]
     return [
         ("baseline: /bin/true", ["/bin/true"], False),
         ("vrv --help", [vrv, "--help"], True),
@@ -38,7 +48,7 @@ def commands(vrv, scratch):
         ("vrv render 1x1 --reference (loads the image module)",
          [vrv, "render", "--reference", "--width", "1", "--height", "1", "--quiet",
           "-o", str(Path(scratch) / "one.exr")], False),
-    ]
+    ] + extra
 
 
 def time_python(argv, runs, warmup):
@@ -79,6 +89,7 @@ def main():
     parser.add_argument("build_dir", type=Path)
     parser.add_argument("--runs", type=int, default=30)
     parser.add_argument("--warmup", type=int, default=3)
+    parser.add_argument("--before", type=Path, help="another build directory to compare with")
     parser.add_argument("--timer", choices=["hyperfine", "python"],
                         default="hyperfine" if shutil.which("hyperfine") else "python")
     args = parser.parse_args()
@@ -88,10 +99,15 @@ def main():
     if args.runs < 1:
         sys.exit("startup.py: --runs: must be at least 1")
 
+    before = None
+    if args.before:
+        before = (args.before / "vrv").resolve()
+        if not before.is_file():
+            sys.exit(f"startup.py: {before}: not built")
     scratch = tempfile.mkdtemp(prefix="vrv_startup_")
     try:
         rows = []
-        for name, argv, has_goal in commands(str(vrv), scratch):
+        for name, argv, has_goal in commands(str(vrv), scratch, str(before) if before else None):
             if args.timer == "hyperfine":
                 walls, cpu = time_hyperfine(argv, args.runs, args.warmup, scratch)
             else:
@@ -105,7 +121,8 @@ def main():
           f"load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f} on {os.cpu_count()} cores")
     module = args.build_dir / "libvrv_image.so"
     print(f"shared libraries loaded at start (ldd): vrv {shared_libraries(vrv)}, "
-          f"image module {shared_libraries(module) if module.exists() else 'n/a'}")
+          f"image module {shared_libraries(module) if module.exists() else 'n/a'}"
+          + (f", before: vrv {shared_libraries(before)}" if before else ""))
     print()
     print("| command | median wall (ms) | min wall (ms) | mean CPU (ms) | median / baseline | "
           f"goal < {GOAL_MS:g} ms |")
