@@ -51,8 +51,12 @@ std::string parse_error_line(const CLI::App& app, const CLI::ParseError& e) {
     const std::string args = at == std::string::npos ? what : what.substr(at + prefix.size());
     return fmt::format("unknown option or argument {} (vrv --help, vrv COMMAND --help)", args);
   }
-  if (dynamic_cast<const CLI::RequiredError*>(&e) && what.starts_with("A subcommand"))
+  if (dynamic_cast<const CLI::RequiredError*>(&e) && what.starts_with("A subcommand")) {
+    const auto& extras = app.remaining();
+    if (!extras.empty() && !extras.front().starts_with("-"))
+      return fmt::format("unknown command '{}' (ray, render, study or demo; vrv --help)", extras.front());
     return "a command is required: ray, render, study or demo (vrv --help)";
+  }
   if (dynamic_cast<const CLI::ConversionError*>(&e)) {
     // "Could not convert: --width = 1e9": say what the option takes.
     const std::string prefix = "Could not convert: ";
@@ -68,7 +72,13 @@ std::string parse_error_line(const CLI::App& app, const CLI::ParseError& e) {
       return fmt::format("{}: '{}' is not a valid {}", option, what.substr(eq + 3), type);
     }
   }
-  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e)) return fmt::format("{} (vrv COMMAND --help)", what);
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e)) {
+    // "--origin: 1 required TEXT missing"
+    const auto colon = what.find(": ");
+    if (colon != std::string::npos && what.ends_with(" missing"))
+      return fmt::format("{}: a value is required", what.substr(0, colon));
+    return fmt::format("{} (vrv COMMAND --help)", what);
+  }
   return what;
 }
 

@@ -389,7 +389,8 @@ expect_exit(unknown_option 2 "^vrv: error: unknown option or argument --frobnica
 expect_exit(width_not_int 2 "^vrv: error: --width: '1e9' is not a valid integer$" ""
   render --reference --width 1e9 -o ${OUT}/render_never.exr)
 expect_exit(no_command 2 "^vrv: error: a command is required" "")
-expect_exit(missing_value 2 "^vrv: error: --origin" "" ray --origin)
+expect_exit(unknown_command 2 "^vrv: error: unknown command 'bogus'" "" bogus)
+expect_exit(missing_value 2 "^vrv: error: --origin: a value is required$" "" ray --origin)
 expect_exit(tol_not_number 2 "^vrv: error: --tol: 'abc' is not a valid number$" ""
   ray --origin -3,0,0 --direction 1,0,0 --tol abc)
 
