@@ -146,14 +146,16 @@ Image read_exr(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) fail(path, "cannot read: no such file");
   if (fs::is_directory(path, ec)) fail(path, "cannot read: is a directory");
+  image_module::ReadRequest request;
+  request.max_side = kMaxReadSide;
+  request.max_pixels = kMaxReadPixels;
   image_module::ReadResult read;
-  const std::string why =
-      image_module::functions().read(path.string(), kMaxReadSide, kMaxReadPixels, read);
+  const std::string why = image_module::functions().read(path.string(), request, read);
   if (!why.empty()) fail(path, why);
   Image image;
   image.width = read.width;
   image.height = read.height;
-  image.pixels = std::move(read.pixels);
+  image.pixels = std::move(read.floats);
   return image;
 }
 

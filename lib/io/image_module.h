@@ -13,11 +13,11 @@
 
 namespace vrv::image_module {
 
-inline constexpr int kAbiVersion = 1;
+inline constexpr int kAbiVersion = 2;
 // The C symbol the module exports: a `const Functions*`-returning function.
 inline constexpr const char* kEntrySymbol = "vrv_image_module_functions";
 
-enum class PixelType { float32, uint8 };
+enum class PixelType { float32, float64, uint8 };
 
 struct WriteRequest {
   std::string format;  // OpenImageIO writer name: "openexr", "png"
@@ -28,19 +28,34 @@ struct WriteRequest {
   std::vector<std::pair<std::string, std::string>> attributes;  // e.g. {"compression", "zip"}
 };
 
+// What to read: the header always; the pixels of a one-channel 2D image when `pixels` is set,
+// converted to `type` (float32 or float64), refused above max_side or max_pixels before anything
+// is allocated.
+struct ReadRequest {
+  bool pixels = true;
+  PixelType type = PixelType::float32;
+  int max_side = 1 << 16;
+  long long max_pixels = 1LL << 28;
+};
+
 struct ReadResult {
-  int width = 0, height = 0;
-  std::vector<float> pixels;
+  int width = 0, height = 0, depth = 1, channels = 0;
+  bool deep = false;
+  std::string format_name;  // the reader: "openexr", "png", "tiff", ...
+  std::string pixel_type;   // as stored: "float", "uint8", "double", ...
+  bool floating = false;    // the stored type is floating point
+  int bits = 0;             // bits per sample as stored
+  std::vector<std::pair<std::string, std::string>> attributes;  // every metadata item, as text
+  std::vector<float> floats;    // the pixels, when read as float32
+  std::vector<double> doubles;  // the pixels, when read as float64
 };
 
 struct Functions {
   int abi_version = kAbiVersion;
   // Writes the request to `path` (the caller handles temporary names and renaming).
   std::string (*write)(const std::string& path, const WriteRequest& request) = nullptr;
-  // Reads the first subimage of a one-channel 2D image as floats; refuses sides above
-  // max_side and more than max_pixels pixels before allocating.
-  std::string (*read)(const std::string& path, int max_side, long long max_pixels,
-                      ReadResult& out) = nullptr;
+  // Reads the first subimage's header and, as asked, its pixels.
+  std::string (*read)(const std::string& path, const ReadRequest& request, ReadResult& out) = nullptr;
 };
 
 // The loaded module's functions.  Looks for the module at $VRV_IMAGE_MODULE when that is set

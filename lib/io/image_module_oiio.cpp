@@ -18,9 +18,16 @@ std::string one_line(std::string s) {
   return s.empty() ? std::string("unknown error") : s;
 }
 
+OIIO::TypeDesc type_of(PixelType t) {
+  switch (t) {
+    case PixelType::float64: return OIIO::TypeDesc::DOUBLE;
+    case PixelType::uint8: return OIIO::TypeDesc::UINT8;
+    default: return OIIO::TypeDesc::FLOAT;
+  }
+}
+
 std::string write(const std::string& path, const WriteRequest& request) try {
-  const OIIO::TypeDesc type =
-      request.type == PixelType::float32 ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;
+  const OIIO::TypeDesc type = type_of(request.type);
   OIIO::ImageSpec spec(request.width, request.height, request.channels, type);
   if (!request.channel_names.empty()) spec.channelnames = request.channel_names;
   for (const auto& [key, value] : request.attributes) spec.attribute(key, value);
@@ -36,20 +43,41 @@ std::string write(const std::string& path, const WriteRequest& request) try {
   return one_line(e.what());
 }
 
-std::string read(const std::string& path, int max_side, long long max_pixels, ReadResult& result) try {
+std::string read(const std::string& path, const ReadRequest& request, ReadResult& result) try {
   auto in = OIIO::ImageInput::open(path);
   if (!in) return one_line(fmt::format("cannot read: {}", OIIO::geterror()));
   const OIIO::ImageSpec& spec = in->spec();
+  result.width = spec.width;
+  result.height = spec.height;
+  result.depth = spec.depth;
+  result.channels = spec.nchannels;
+  result.deep = spec.deep;
+  result.format_name = in->format_name();
+  result.pixel_type = spec.format.c_str();
+  result.floating = spec.format.is_floating_point();
+  result.bits = spec.get_int_attribute("oiio:BitsPerSample", static_cast<int>(spec.format.size() * 8));
+  for (const OIIO::ParamValue& p : spec.extra_attribs)
+    result.attributes.emplace_back(p.name().string(), p.get_string());
+  if (!request.pixels) return {};
   if (spec.deep) return "deep images are not supported";
   if (spec.nchannels != 1) return fmt::format("expected one channel, got {}", spec.nchannels);
   if (spec.depth != 1) return fmt::format("expected a 2D image, got depth {}", spec.depth);
-  if (spec.width < 1 || spec.height < 1 || spec.width > max_side || spec.height > max_side ||
-      static_cast<long long>(spec.width) * spec.height > max_pixels)
+  if (spec.width < 1 || spec.height < 1 || spec.width > request.max_side ||
+      spec.height > request.max_side ||
+      static_cast<long long>(spec.width) * spec.height > request.max_pixels)
     return fmt::format("bad image size {} x {}", spec.width, spec.height);
-  result.width = spec.width;
-  result.height = spec.height;
-  result.pixels.assign(static_cast<std::size_t>(spec.width) * spec.height, 0.0f);
-  if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, result.pixels.data()))
+  const std::size_t n = static_cast<std::size_t>(spec.width) * spec.height;
+  void* data = nullptr;
+  if (request.type == PixelType::float64) {
+    result.doubles.assign(n, 0.0);
+    data = result.doubles.data();
+  } else if (request.type == PixelType::float32) {
+    result.floats.assign(n, 0.0f);
+    data = result.floats.data();
+  } else {
+    return "pixels are read as float32 or float64";
+  }
+  if (!in->read_image(0, 0, 0, 1, type_of(request.type), data))
     return one_line(fmt::format("cannot read: {}", in->geterror()));
   in->close();
   return {};
