@@ -3,7 +3,7 @@
 // transfer function every piece of a ray has a closed form.
 #include <vector>
 
-#include "lib/geometry.h"
+#include "analytic/vec3.h"
 
 namespace vrv {
 
@@ -14,7 +14,8 @@ struct LinearRamp {
   double value(const Vec3& p) const { return offset + gradient.dot(p); }
   int degree_along_ray() const { return 1; }
   double bandwidth() const { return 0; }
-  void append_breaks(const Ray&, Interval, std::vector<double>&) const {}
+  // Smooth everywhere: no breaks on any ray (any ray and interval types).
+  void append_breaks(const auto&, const auto&, std::vector<double>&) const {}
 };
 
 }  // namespace vrv

@@ -6,7 +6,7 @@
 #include <numbers>
 #include <vector>
 
-#include "lib/geometry.h"
+#include "analytic/vec3.h"
 
 namespace vrv {
 
@@ -21,7 +21,8 @@ struct MarschnerLobb {
     constexpr double pi = std::numbers::pi;
     return pi * pi * fM + pi / 2;
   }
-  void append_breaks(const Ray&, Interval, std::vector<double>&) const {}
+  // Smooth everywhere: no breaks on any ray (any ray and interval types).
+  void append_breaks(const auto&, const auto&, std::vector<double>&) const {}
   // Absolute rounding of value(): its terms are O(1) whatever f is, so f near 0 carries noise
   // of a few ulps of 1, not of f.  The phase 2 pi fM cos(pi r / 2) is rounded to ~1 ulp of
   // 2 pi fM, which rho_r passes on and alpha / (2 (1 + alpha)) scales; the rest is ~4 ulps.

@@ -1,11 +1,10 @@
 #pragma once
 // Points, boxes and rays in world space, and clipping a ray to a closed box.
-#include <Eigen/Core>
 #include <optional>
 
-namespace vrv {
+#include "analytic/vec3.h"
 
-using Vec3 = Eigen::Vector3d;
+namespace vrv {
 
 // Closed axis-aligned box [min, max].
 struct Box {

@@ -1,6 +1,6 @@
 #include "lib/opacity_correction.h"
 
-#include "lib/enum_names.h"
+#include "lib/util/enum_names.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 #include "lib/segment_rule.h"
 
-#include "lib/enum_names.h"
+#include "lib/util/enum_names.h"
 
 namespace vrv {
 namespace {

@@ -38,7 +38,7 @@
 #include "studies/benchmarks/bench_rays.h"
 #include "studies/benchmarks/counter_recorder.h"
 #include "lib/discrete_raycast.h"
-#include "lib/parallel.h"
+#include "lib/util/parallel.h"
 #include "lib/sampling.h"
 #include "lib/scene.h"
 

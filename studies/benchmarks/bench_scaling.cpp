@@ -43,10 +43,10 @@
 
 #include "lib/camera.h"
 #include "lib/discrete_raycast.h"
-#include "lib/parallel.h"
+#include "lib/util/parallel.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
-#include "lib/scene_file.h"
+#include "lib/io/scene_file.h"
 
 namespace {
 

@@ -1,0 +1,492 @@
+#include "lib/io/scene_file.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <initializer_list>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <toml++/toml.h>
+
+namespace vrv {
+namespace {
+
+constexpr std::string_view kDefaultScene = R"(# Marschner-Lobb test signal with a linear emission/extinction ramp.
+[volume]
+min = [-1.0, -1.0, -1.0]
+max = [1.0, 1.0, 1.0]
+dims = [64, 64, 64]
+
+[field]
+kind = "marschner_lobb"
+fM = 6.0
+alpha = 0.25
+
+[transfer]
+emission = [[0.0, 0.0], [1.0, 1.0]]
+extinction = [[0.0, 0.0], [1.0, 0.5]]
+
+[background]
+intensity = 0.0
+)";
+
+// Caps so that a hostile file cannot exhaust memory or time.
+constexpr std::int64_t kMaxAxis = 1 << 16;
+constexpr std::int64_t kMaxGridNodes = std::int64_t{1} << 27;  // 1 GiB of doubles
+constexpr std::size_t kMaxFileBytes = std::size_t{16} << 20;
+
+std::string child(std::string_view path, std::string_view key) {
+  return path.empty() ? std::string(key) : fmt::format("{}.{}", path, key);
+}
+
+std::string element(std::string_view path, std::size_t i) { return fmt::format("{}[{}]", path, i); }
+
+std::string_view type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a float";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::date:
+    case toml::node_type::time:
+    case toml::node_type::date_time: return "a date/time";
+    default: return "nothing";
+  }
+}
+
+// Reads typed values and reports every problem as "<source>: <path>: <reason>".
+class Reader {
+ public:
+  explicit Reader(std::string_view source) : source_(source) {}
+
+  [[noreturn]] void fail(std::string_view path, std::string_view reason) const {
+    std::string msg = fmt::format("{}: {}: {}", source_, path, reason);
+    // Keys, strings and file names may carry line breaks; the message stays one line.
+    std::replace_if(msg.begin(), msg.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+    throw SceneFileError(msg);
+  }
+
+  void check_keys(const toml::table& t, std::string_view path,
+                  std::initializer_list<std::string_view> allowed) const {
+    for (const auto& [key, value] : t)
+      if (std::find(allowed.begin(), allowed.end(), key.str()) == allowed.end())
+        fail(child(path, key.str()), fmt::format("unknown key (allowed: {})", fmt::join(allowed, ", ")));
+  }
+
+  const toml::node& require(const toml::table& t, std::string_view key, std::string_view path) const {
+    const toml::node* n = t.get(key);
+    if (!n) fail(child(path, key), "missing");
+    return *n;
+  }
+
+  const toml::table& table(const toml::node& n, std::string_view path) const {
+    if (!n.is_table()) fail(path, fmt::format("expected a table, got {}", type_name(n)));
+    return *n.as_table();
+  }
+
+  const toml::table* optional_table(const toml::table& t, std::string_view key,
+                                    std::string_view path) const {
+    const toml::node* n = t.get(key);
+    return n ? &table(*n, child(path, key)) : nullptr;
+  }
+
+  const toml::array& array(const toml::node& n, std::string_view path) const {
+    if (!n.is_array()) fail(path, fmt::format("expected an array, got {}", type_name(n)));
+    return *n.as_array();
+  }
+
+  const toml::array& array(const toml::node& n, std::string_view path, std::size_t size) const {
+    const toml::array& a = array(n, path);
+    if (a.size() != size) fail(path, fmt::format("expected {} elements, got {}", size, a.size()));
+    return a;
+  }
+
+  // Integers are accepted as numbers; nan and inf are not.
+  double number(const toml::node& n, std::string_view path) const {
+    double x = 0;
+    if (const auto* i = n.as_integer()) x = static_cast<double>(i->get());
+    else if (const auto* f = n.as_floating_point()) x = f->get();
+    else fail(path, fmt::format("expected a number, got {}", type_name(n)));
+    if (!std::isfinite(x)) fail(path, fmt::format("{} is not a finite number", x));
+    return x;
+  }
+
+  double number_or(const toml::table& t, std::string_view key, std::string_view path,
+                   double fallback) const {
+    const toml::node* n = t.get(key);
+    return n ? number(*n, child(path, key)) : fallback;
+  }
+
+  // A positive integer up to kMaxAxis; floats are rejected.
+  int count(const toml::node& n, std::string_view path) const {
+    const auto* i = n.as_integer();
+    if (!i) fail(path, fmt::format("expected an integer, got {}", type_name(n)));
+    const std::int64_t v = i->get();
+    if (v < 1) fail(path, fmt::format("must be positive, got {}", v));
+    if (v > kMaxAxis) fail(path, fmt::format("too large, got {} (at most {})", v, kMaxAxis));
+    return static_cast<int>(v);
+  }
+
+  std::string_view string(const toml::node& n, std::string_view path) const {
+    const auto* s = n.as_string();
+    if (!s) fail(path, fmt::format("expected a string, got {}", type_name(n)));
+    return s->get();
+  }
+
+  Vec3 vec3(const toml::node& n, std::string_view path) const {
+    const toml::array& a = array(n, path, 3);
+    Vec3 v;
+    for (std::size_t i = 0; i < 3; ++i) v[i] = number(*a.get(i), element(path, i));
+    return v;
+  }
+
+  std::array<int, 3> int3(const toml::node& n, std::string_view path) const {
+    const toml::array& a = array(n, path, 3);
+    std::array<int, 3> v{};
+    for (std::size_t i = 0; i < 3; ++i) v[i] = count(*a.get(i), element(path, i));
+    return v;
+  }
+
+  // [[v, y], ...] with non-decreasing v, each value at most twice (twice is a jump).
+  std::vector<ControlPoint> points(const toml::node& n, std::string_view path) const {
+    const toml::array& a = array(n, path);
+    if (a.empty()) fail(path, "empty array (needs at least one control point)");
+    std::vector<ControlPoint> pts;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::string p = element(path, i);
+      if (!a.get(i)->is_array() || a.get(i)->as_array()->size() != 2)
+        fail(p, fmt::format("expected a pair [value, y], got {}", type_name(*a.get(i))));
+      const toml::array& pair = *a.get(i)->as_array();
+      pts.push_back({number(*pair.get(0), element(p, 0)), number(*pair.get(1), element(p, 1))});
+      if (i > 0 && pts[i].v < pts[i - 1].v)
+        fail(p, fmt::format("control values out of order: {} after {}", pts[i].v, pts[i - 1].v));
+      if (i > 1 && pts[i].v == pts[i - 2].v)
+        fail(p, fmt::format("value {} appears more than twice (a jump takes exactly two)", pts[i].v));
+    }
+    return pts;
+  }
+
+  // One of `options` by name; the first option is the default.
+  template <class E>
+  E choice(const toml::table& t, std::string_view key, std::string_view path,
+           std::initializer_list<std::pair<std::string_view, E>> options) const {
+    const toml::node* n = t.get(key);
+    if (!n) return options.begin()->second;
+    const std::string p = child(path, key);
+    const std::string_view s = string(*n, p);
+    std::vector<std::string_view> names;
+    for (const auto& [name, value] : options) {
+      if (name == s) return value;
+      names.push_back(name);
+    }
+    fail(p, fmt::format("unknown value \"{}\" (expected {})", s, fmt::join(names, " or ")));
+  }
+
+ private:
+  std::string_view source_;
+};
+
+Box read_box(const Reader& r, const toml::table& t) {
+  Box box;
+  box.min = r.vec3(r.require(t, "min", "volume"), "volume.min");
+  box.max = r.vec3(r.require(t, "max", "volume"), "volume.max");
+  for (std::size_t a = 0; a < 3; ++a)
+    if (!(box.min[a] < box.max[a]))
+      r.fail(element("volume.max", a),
+             fmt::format("max {} must exceed min {}", box.max[a], box.min[a]));
+  if (!box.extent().allFinite()) r.fail("volume", "box extent overflows");
+  return box;
+}
+
+MarschnerLobb read_marschner_lobb(const Reader& r, const toml::table& t, std::string_view path) {
+  r.check_keys(t, path, {"kind", "fM", "alpha"});
+  MarschnerLobb f;
+  f.fM = r.number_or(t, "fM", path, f.fM);
+  f.alpha = r.number_or(t, "alpha", path, f.alpha);
+  // A negative fM would make the bandwidth bound negative; alpha <= -1 divides by zero.
+  if (f.fM < 0) r.fail(child(path, "fM"), fmt::format("must not be negative, got {}", f.fM));
+  if (f.alpha < 0) r.fail(child(path, "alpha"), fmt::format("must not be negative, got {}", f.alpha));
+  return f;
+}
+
+LinearRamp read_linear_ramp(const Reader& r, const toml::table& t, std::string_view path) {
+  r.check_keys(t, path, {"kind", "gradient", "offset"});
+  LinearRamp f;
+  f.gradient = r.vec3(r.require(t, "gradient", path), child(path, "gradient"));
+  f.offset = r.number_or(t, "offset", path, f.offset);
+  return f;
+}
+
+std::string_view read_kind(const Reader& r, const toml::table& t, std::string_view path) {
+  return r.string(r.require(t, "kind", path), child(path, "kind"));
+}
+
+[[noreturn]] void unknown_kind(const Reader& r, std::string_view path, std::string_view kind) {
+  r.fail(child(path, "kind"),
+         fmt::format("unknown field kind \"{}\" (expected marschner_lobb, linear_ramp or grid)", kind));
+}
+
+AnalyticField read_source(const Reader& r, const toml::table& t, std::string_view path) {
+  const std::string_view kind = read_kind(r, t, path);
+  if (kind == "marschner_lobb") return read_marschner_lobb(r, t, path);
+  if (kind == "linear_ramp") return read_linear_ramp(r, t, path);
+  if (kind == "grid")
+    r.fail(child(path, "kind"), "nested grid: a grid source must be an analytic field");
+  unknown_kind(r, path, kind);
+}
+
+GridField read_grid(const Reader& r, const toml::table& t, const Box& box) {
+  r.check_keys(t, "field", {"kind", "source", "resolution", "layout", "interpolation"});
+  const AnalyticField source =
+      read_source(r, r.table(r.require(t, "source", "field"), "field.source"), "field.source");
+  const auto layout = r.choice<GridLayout>(t, "layout", "field",
+                                           {{"node", GridLayout::node}, {"cell", GridLayout::cell}});
+  const auto interpolation = r.choice<Interpolation>(
+      t, "interpolation", "field",
+      {{"trilinear", Interpolation::trilinear}, {"nearest", Interpolation::nearest}});
+  const auto res = r.int3(r.require(t, "resolution", "field"), "field.resolution");
+  for (std::size_t a = 0; a < 3; ++a)
+    if (layout == GridLayout::node && res[a] < 2)
+      r.fail(element("field.resolution", a),
+             fmt::format("node layout needs at least 2 nodes per axis, got {}", res[a]));
+  const std::int64_t nodes = std::int64_t{res[0]} * res[1] * res[2];
+  if (nodes > kMaxGridNodes)
+    r.fail("field.resolution", fmt::format("too many nodes: {} (at most {})", nodes, kMaxGridNodes));
+  try {
+    return make_grid(box, source, res, layout, interpolation);
+  } catch (const std::invalid_argument& e) {
+    r.fail("field.resolution", e.what());
+  }
+}
+
+Field read_field(const Reader& r, const toml::table& t, const Box& box) {
+  const std::string_view kind = read_kind(r, t, "field");
+  if (kind == "marschner_lobb") return read_marschner_lobb(r, t, "field");
+  if (kind == "linear_ramp") return read_linear_ramp(r, t, "field");
+  if (kind == "grid") return read_grid(r, t, box);
+  unknown_kind(r, "field", kind);
+}
+
+// One curve of a pair; `partner` is the key that made this one required.
+PiecewiseLinear read_curve(const Reader& r, const toml::table& t, std::string_view key,
+                           std::string_view partner) {
+  const std::string path = child("transfer", key);
+  const toml::node* n = t.get(key);
+  if (!n) r.fail(path, fmt::format("missing ({} needs {})", partner, key));
+  const std::vector<ControlPoint> pts = r.points(*n, path);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (pts[i].y < 0) r.fail(element(path, i), fmt::format("negative {} {}", key, pts[i].y));
+    if (key == "opacity" && pts[i].y >= 1)
+      r.fail(element(path, i), fmt::format("opacity {} must be below 1 (1 is opaque)", pts[i].y));
+  }
+  try {
+    return PiecewiseLinear(pts);
+  } catch (const std::invalid_argument& e) {
+    r.fail(path, e.what());
+  }
+}
+
+TransferFunction read_transfer(const Reader& r, const toml::table& t) {
+  r.check_keys(t, "transfer", {"emission", "extinction", "opacity", "color", "unit_length"});
+  const bool ee = t.contains("emission") || t.contains("extinction");
+  if (ee)
+    for (std::string_view key : {"opacity", "color", "unit_length"})
+      if (t.contains(key))
+        r.fail(child("transfer", key),
+               "mixed conventions: use emission/extinction or opacity/color, not both");
+  try {
+    if (ee) {  // locals, so that errors come in file order (argument order is unspecified)
+      PiecewiseLinear emission = read_curve(r, t, "emission", "extinction");
+      PiecewiseLinear extinction = read_curve(r, t, "extinction", "emission");
+      return TransferFunction::emission_extinction(std::move(emission), std::move(extinction));
+    }
+    if (!t.contains("opacity") && !t.contains("color"))
+      r.fail("transfer", "needs emission and extinction, or opacity and color");
+    PiecewiseLinear opacity = read_curve(r, t, "opacity", "color");
+    PiecewiseLinear color = read_curve(r, t, "color", "opacity");
+    const double unit_length = r.number_or(t, "unit_length", "transfer", 1.0);
+    if (!(unit_length > 0))
+      r.fail("transfer.unit_length", fmt::format("must be positive, got {}", unit_length));
+    return TransferFunction::opacity_color(std::move(opacity), std::move(color), unit_length);
+  } catch (const std::invalid_argument& e) {
+    r.fail("transfer", e.what());
+  }
+}
+
+double read_background(const Reader& r, const toml::table* t) {
+  if (!t) return 0;
+  r.check_keys(*t, "background", {"intensity"});
+  const double b = r.number_or(*t, "intensity", "background", 0.0);
+  if (b < 0) r.fail("background.intensity", fmt::format("negative intensity {}", b));
+  return b;
+}
+
+// [camera]: only the keys the projection uses; `rays` is the fan's name for `width`.
+std::optional<Camera> read_camera(const Reader& r, const toml::table* t) {
+  if (!t) return std::nullopt;
+  Camera c;
+  c.projection = r.choice<Projection>(*t, "projection", "camera",
+                                      {{"perspective", Projection::perspective},
+                                       {"orthographic", Projection::orthographic},
+                                       {"fan", Projection::fan}});
+  std::vector<std::string_view> allowed{"projection", "eye"};
+  switch (c.projection) {
+    case Projection::perspective: allowed.insert(allowed.end(), {"target", "up", "fov", "width", "height"}); break;
+    case Projection::orthographic: allowed.insert(allowed.end(), {"target", "up", "extent", "width", "height"}); break;
+    case Projection::fan: allowed.insert(allowed.end(), {"angle", "fov", "rays", "width", "height"}); break;
+  }
+  constexpr std::string_view all[] = {"projection", "eye", "target", "up", "fov", "extent",
+                                      "width", "height", "angle", "rays"};
+  for (const auto& [key, value] : *t) {
+    if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
+    const bool known = std::find(std::begin(all), std::end(all), key.str()) != std::end(all);
+    r.fail(child("camera", key.str()),
+           fmt::format("{} (a {} camera takes: {})",
+                       known ? fmt::format("does not apply to a {} camera", to_string(c.projection))
+                             : std::string("unknown key"),
+                       to_string(c.projection), fmt::join(allowed, ", ")));
+  }
+  if (const toml::node* n = t->get("eye")) c.eye = r.vec3(*n, "camera.eye");
+  if (const toml::node* n = t->get("target")) c.target = r.vec3(*n, "camera.target");
+  if (const toml::node* n = t->get("up")) c.up = r.vec3(*n, "camera.up");
+  c.fov_degrees = r.number_or(*t, "fov", "camera", c.fov_degrees);
+  c.extent = r.number_or(*t, "extent", "camera", c.extent);
+  c.angle_degrees = r.number_or(*t, "angle", "camera", c.angle_degrees);
+  if (t->contains("rays") && t->contains("width"))
+    r.fail("camera.rays", "give rays or width, not both (rays is the fan's name for width)");
+  if (c.projection == Projection::fan) c.height = 1;
+  for (std::string_view key : {"width", "rays", "height"}) {
+    const toml::node* n = t->get(key);
+    if (!n) continue;
+    const std::string path = child("camera", key);
+    const int v = r.count(*n, path);
+    if (v > kMaxImageSide) r.fail(path, fmt::format("too large, got {} (at most {})", v, kMaxImageSide));
+    (key == "height" ? c.height : c.width) = v;
+  }
+  try {
+    validate(c);
+  } catch (const CameraError& e) {
+    // A fan's width may have been given as rays.
+    const std::string_view key = e.field() == "width" && t->contains("rays") ? "rays" : e.field();
+    r.fail(child("camera", key), e.reason());
+  }
+  return c;
+}
+
+// toml++ recurses once per key nesting level and overflows the stack on a dotted key of tens
+// of thousands of parts, so long dotted runs are rejected before parsing.  Dots in strings and
+// comments do not nest; ',', '=', brackets, braces and line ends end a run.  With inline
+// tables capped at 256 levels by toml++, this bounds the nesting to about 8500 levels.
+constexpr int kMaxDotsPerRun = 32;
+
+// Index of the last character of the string that opens at text[i] (a line end closes an
+// unterminated single-line string; the parser reports that).
+std::size_t string_end(std::string_view text, std::size_t i) {
+  const char q = text[i];
+  const bool multi = text.substr(i, 3) == std::string(3, q);
+  for (std::size_t j = i + (multi ? 3 : 1); j < text.size(); ++j) {
+    if (q == '"' && text[j] == '\\') {
+      ++j;
+    } else if (!multi && text[j] == '\n') {
+      return j - 1;
+    } else if (text[j] == q) {
+      if (!multi) return j;
+      std::size_t k = 1;  // up to two quotes may precede the closing three
+      while (j + k < text.size() && text[j + k] == q) ++k;
+      if (k >= 3) return j + k - 1;
+      j += k - 1;
+    }
+  }
+  return text.size() - 1;
+}
+
+// Index of the first dot beyond kMaxDotsPerRun in one dotted run outside strings and comments.
+std::optional<std::size_t> overlong_dotted_key(std::string_view text) {
+  int dots = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '"' || c == '\'') {
+      i = string_end(text, i);
+    } else if (c == '#') {
+      i = std::min(text.find('\n', i), text.size()) - 1;  // the line end resets the run
+    } else if (c == '.') {
+      if (++dots > kMaxDotsPerRun) return i;
+    } else if (std::string_view(",=[]{}\n").find(c) != std::string_view::npos) {
+      dots = 0;
+    }
+  }
+  return std::nullopt;
+}
+
+toml::table parse_toml(const Reader& r, std::string_view text, std::string_view source_name) {
+  if (const auto at = overlong_dotted_key(text)) {
+    const auto line = 1 + std::count(text.begin(), text.begin() + *at, '\n');
+    const auto column = *at - (text.rfind('\n', *at) + 1) + 1;  // npos + 1 wraps to 0
+    r.fail("(syntax)", fmt::format("line {}, column {}: key nested too deeply (more than {} dots)",
+                                   line, column, kMaxDotsPerRun));
+  }
+  try {
+    return toml::parse(text, source_name);
+  } catch (const toml::parse_error& e) {
+    const auto& at = e.source().begin;
+    r.fail("(syntax)", fmt::format("line {}, column {}: {}", at.line, at.column, e.description()));
+  }
+}
+
+}  // namespace
+
+Scene parse_scene(std::string_view toml_text, std::string_view source_name) {
+  const Reader r(source_name);
+  const toml::table doc = parse_toml(r, toml_text, source_name);
+  // Unknown keys first, so that a typo is reported as such and not as a missing key.
+  r.check_keys(doc, "", {"volume", "field", "transfer", "background", "camera"});
+  const toml::table& volume = r.table(r.require(doc, "volume", ""), "volume");
+  r.check_keys(volume, "volume", {"min", "max", "dims"});
+
+  Scene scene;
+  scene.box = read_box(r, volume);
+  const toml::node* dims = volume.get("dims");
+  if (dims) scene.dims = r.int3(*dims, "volume.dims");
+  scene.field = read_field(r, r.table(r.require(doc, "field", ""), "field"), scene.box);
+  if (const auto* grid = std::get_if<GridField>(&scene.field); grid && !dims)
+    scene.dims = grid->resolution();
+  scene.transfer = read_transfer(r, r.table(r.require(doc, "transfer", ""), "transfer"));
+  scene.background = read_background(r, r.optional_table(doc, "background", ""));
+  scene.camera = read_camera(r, r.optional_table(doc, "camera", ""));
+  return scene;
+}
+
+Scene load_scene(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  const Reader r(name);
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) r.fail("(file)", "is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) r.fail("(file)", fmt::format("cannot open: {}", std::strerror(errno)));
+  // Read in chunks with a cap, so that a device such as /dev/zero cannot hang the loader.
+  std::string text;
+  char buffer[1 << 16];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxFileBytes)
+      r.fail("(file)", fmt::format("larger than {} bytes", kMaxFileBytes));
+  }
+  if (in.bad()) r.fail("(file)", "read error");
+  return parse_scene(text, name);
+}
+
+std::string_view default_scene_toml() { return kDefaultScene; }
+
+Scene default_scene() { return parse_scene(default_scene_toml(), "<default scene>"); }
+
+}  // namespace vrv

@@ -1,0 +1,290 @@
+#include "lib/io/study_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "lib/io/scene_file.h"
+
+namespace vrv {
+namespace {
+constexpr std::size_t kMaxStudyBytes = std::size_t{16} << 20;
+constexpr double kMaxCaseSamples = 1e8;  // per discrete method and ray, a cap on run time
+
+std::string scene_to_toml(const toml::table& scene) {
+  std::ostringstream out;
+  out << scene;
+  return out.str();
+}
+}  // namespace
+
+std::string one_line(std::string s) {
+  std::replace_if(s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  return s;
+}
+
+void StudyReader::fail(std::string_view key, std::string_view reason) const {
+  throw StudyFileError(one_line(fmt::format("{}: {}: {}", source_, key, reason)));
+}
+
+void StudyReader::check_keys(const toml::table& t, std::string_view path,
+                             std::initializer_list<std::string_view> allowed) const {
+  for (const auto& [key, value] : t)
+    if (std::find(allowed.begin(), allowed.end(), key.str()) == allowed.end())
+      fail(child(path, key.str()), fmt::format("unknown key (allowed: {})", fmt::join(allowed, ", ")));
+}
+
+const toml::node& StudyReader::require(const toml::table& t, std::string_view key,
+                                       std::string_view path) const {
+  const toml::node* n = t.get(key);
+  if (!n) fail(child(path, key), "missing");
+  return *n;
+}
+
+const toml::table& StudyReader::table(const toml::node& n, std::string_view path) const {
+  if (!n.is_table()) fail(path, "expected a table");
+  return *n.as_table();
+}
+
+const toml::array& StudyReader::array(const toml::node& n, std::string_view path) const {
+  if (!n.is_array()) fail(path, "expected an array");
+  return *n.as_array();
+}
+
+std::string StudyReader::string(const toml::node& n, std::string_view path) const {
+  if (!n.is_string()) fail(path, "expected a string");
+  return std::string(n.as_string()->get());
+}
+
+double StudyReader::number(const toml::node& n, std::string_view path) const {
+  double x;
+  if (const auto* f = n.as_floating_point()) x = f->get();
+  else if (const auto* i = n.as_integer()) x = static_cast<double>(i->get());
+  else fail(path, "expected a number");
+  if (!std::isfinite(x)) fail(path, fmt::format("must be finite, got {}", x));
+  return x;
+}
+
+long StudyReader::integer(const toml::node& n, std::string_view path, long lo, long hi) const {
+  const auto* i = n.as_integer();
+  if (!i) fail(path, "expected an integer");
+  if (i->get() < lo || i->get() > hi)
+    fail(path, fmt::format("must be between {} and {}, got {}", lo, hi, i->get()));
+  return static_cast<long>(i->get());
+}
+
+bool StudyReader::boolean(const toml::node& n, std::string_view path) const {
+  if (!n.is_boolean()) fail(path, "expected true or false");
+  return n.as_boolean()->get();
+}
+
+double StudyReader::number_or(const toml::table& t, std::string_view key, std::string_view path,
+                              double def) const {
+  const toml::node* n = t.get(key);
+  return n ? number(*n, child(path, key)) : def;
+}
+
+long StudyReader::integer_or(const toml::table& t, std::string_view key, std::string_view path,
+                             long lo, long hi, long def) const {
+  const toml::node* n = t.get(key);
+  return n ? integer(*n, child(path, key), lo, hi) : def;
+}
+
+std::vector<double> StudyReader::numbers(const toml::table& t, std::string_view key,
+                                         std::string_view path, double lo, double hi) const {
+  const std::string at = child(path, key);
+  const toml::array& a = array(require(t, key, path), at);
+  if (a.empty()) fail(at, "empty");
+  std::vector<double> out;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::string p = fmt::format("{}[{}]", at, i);
+    const double x = number(*a.get(i), p);
+    if (!(x >= lo && x <= hi)) fail(p, fmt::format("must be in [{:g}, {:g}], got {:g}", lo, hi, x));
+    out.push_back(x);
+  }
+  return out;
+}
+
+Vec3 StudyReader::vec3(const toml::table& t, std::string_view key, std::string_view path) const {
+  const std::string at = child(path, key);
+  const toml::array* a = require(t, key, path).as_array();
+  if (!a || a->size() != 3) fail(at, "expected an array of three numbers");
+  Vec3 v;
+  for (std::size_t k = 0; k < 3; ++k) v[static_cast<int>(k)] = number(*a->get(k), fmt::format("{}[{}]", at, k));
+  return v;
+}
+
+std::string StudyReader::child(std::string_view path, std::string_view key) {
+  return path.empty() ? std::string(key) : fmt::format("{}.{}", path, key);
+}
+
+toml::table parse_study_toml(std::string_view text, std::string_view source_name) {
+  try {
+    return toml::parse(text, source_name);
+  } catch (const toml::parse_error& e) {
+    const auto& at = e.source().begin;
+    StudyReader(source_name).fail("(syntax)", fmt::format("line {}, column {}: {}", at.line, at.column,
+                                                          e.description()));
+  }
+}
+
+std::string read_study_text(const std::filesystem::path& path) {
+  const std::string source = path.string();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw StudyFileError(one_line(fmt::format("{}: (file): no such study file", source)));
+  if (std::filesystem::file_size(path, ec) > kMaxStudyBytes)
+    throw StudyFileError(one_line(fmt::format("{}: (file): larger than 16 MiB", source)));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw StudyFileError(one_line(fmt::format("{}: (file): cannot read", source)));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
+                       std::string& toml_text) {
+  const std::string at = StudyReader::child(path, "scene");
+  const toml::table& scene = r.table(r.require(parent, "scene", path), at);
+  toml_text = scene_to_toml(scene);
+  constexpr std::string_view marker = "\x01scene\x01";
+  try {
+    return parse_scene(toml_text, marker);
+  } catch (const SceneFileError& e) {
+    std::string msg = e.what();
+    const std::string prefix = std::string(marker) + ": ";
+    if (msg.starts_with(prefix)) msg = msg.substr(prefix.size());
+    throw StudyFileError(one_line(fmt::format("{}: {}.{}", r.source(), at, msg)));
+  }
+}
+
+bool step_based(Strategy st) {
+  return st == Strategy::step || st == Strategy::vtk || st == Strategy::inviwo;
+}
+
+std::string method_label(const StudyMethodSpec& m) {
+  if (m.reference) return fmt::format("reference tol={:g}", m.tol);
+  const DiscreteConfig& c = m.config;
+  std::string label = fmt::format("{} {} {}={:g}", segment_rule_name(c.rule),
+                                  strategy_name(c.sampling.strategy),
+                                  step_based(c.sampling.strategy) ? "h" : "rate",
+                                  step_based(c.sampling.strategy) ? c.sampling.step : c.sampling.rate);
+  if (c.oversample != 1) label += fmt::format(" N={}", c.oversample);
+  if (c.centred_oversamples) label += " centred";
+  if (c.correction != Correction::none) label += fmt::format(" {}", correction_name(c.correction));
+  label += c.precision == Precision::single_precision ? " float" : " double";
+  return label;
+}
+
+StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, const std::string& path,
+                                const Scene& scene) {
+  r.check_keys(m, path, {"method", "label", "tol", "strategy", "rate", "step", "oversample", "centred_oversamples",
+                         "correction", "precision", "max_error"});
+  StudyMethodSpec out;
+  const std::string name = r.string(r.require(m, "method", path), path + ".method");
+  auto only_for_discrete = [&](std::initializer_list<std::string_view> keys) {
+    for (std::string_view k : keys)
+      if (m.contains(k)) r.fail(StudyReader::child(path, k), "not used by the reference method");
+  };
+  if (name == "reference") {
+    only_for_discrete({"strategy", "rate", "step", "oversample", "centred_oversamples", "correction",
+                       "precision", "max_error"});
+    out.reference = true;
+    out.tol = r.number(r.require(m, "tol", path), path + ".tol");
+    if (!(out.tol >= 1e-15 && out.tol <= 1))
+      r.fail(path + ".tol", fmt::format("must be in [1e-15, 1], got {}", out.tol));
+  } else {
+    const auto rule = parse_segment_rule(name);
+    if (!rule)
+      r.fail(path + ".method", fmt::format("unknown method '{}' (one of reference, riemann, alpha, "
+                                           "trapezoid, exact_linear, moreland)", name));
+    if (m.contains("tol")) r.fail(path + ".tol", "only the reference method takes tol");
+    DiscreteConfig& c = out.config;
+    c.rule = *rule;
+    const std::string strategy =
+        r.string(r.require(m, "strategy", path), path + ".strategy");
+    const auto st = parse_strategy(strategy);
+    if (!st)
+      r.fail(path + ".strategy", fmt::format("unknown strategy '{}' (one of eye, entry, entry_exit, "
+                                             "entry_exit_corner, step, vtk, inviwo)", strategy));
+    c.sampling.strategy = *st;
+    c.sampling.dims = scene.dims;
+    double samples;  // a bound on the samples per ray
+    const double diagonal = scene.box.extent().norm();
+    if (step_based(*st)) {
+      if (m.contains("rate")) r.fail(path + ".rate", fmt::format("strategy {} takes step, not rate", strategy));
+      c.sampling.step = r.number(r.require(m, "step", path), path + ".step");
+      if (!(c.sampling.step > 0)) r.fail(path + ".step", fmt::format("must be positive, got {}", c.sampling.step));
+      samples = diagonal / c.sampling.step;
+    } else {
+      if (m.contains("step")) r.fail(path + ".step", fmt::format("strategy {} takes rate, not step", strategy));
+      c.sampling.rate = r.number(r.require(m, "rate", path), path + ".rate");
+      if (!(c.sampling.rate > 0)) r.fail(path + ".rate", fmt::format("must be positive, got {}", c.sampling.rate));
+      samples = c.sampling.rate * std::sqrt(3.0) *
+                *std::max_element(scene.dims.begin(), scene.dims.end());
+    }
+    if (m.contains("oversample"))
+      c.oversample = static_cast<int>(r.integer(*m.get("oversample"), path + ".oversample", 1, 65536));
+    if (m.contains("centred_oversamples"))
+      c.centred_oversamples = r.boolean(*m.get("centred_oversamples"), path + ".centred_oversamples");
+    if (samples * c.oversample > kMaxCaseSamples)
+      r.fail(path, fmt::format("about {:.3g} samples per ray (more than {:g})", samples * c.oversample,
+                               kMaxCaseSamples));
+    if (m.contains("correction")) {
+      const std::string corr = r.string(*m.get("correction"), path + ".correction");
+      const auto cc = parse_correction(corr);
+      if (!cc)
+        r.fail(path + ".correction", fmt::format("unknown correction '{}' (one of none, lacroute, "
+                                                 "schulze, lee_newman, lee_newman_quadratic)", corr));
+      c.correction = *cc;
+    }
+    if (m.contains("precision")) {
+      const std::string prec = r.string(*m.get("precision"), path + ".precision");
+      if (prec == "double") c.precision = Precision::double_precision;
+      else if (prec == "float") c.precision = Precision::single_precision;
+      else r.fail(path + ".precision", fmt::format("unknown precision '{}' (double or float)", prec));
+    }
+    if (m.contains("max_error")) {
+      out.max_error = r.number(*m.get("max_error"), path + ".max_error");
+      if (!(*out.max_error >= 0))
+        r.fail(path + ".max_error", fmt::format("must not be negative, got {}", *out.max_error));
+    }
+    try {
+      validate(c, std::holds_alternative<GridField>(scene.field));
+    } catch (const std::invalid_argument& e) {
+      std::string msg = e.what();  // "--option: reason"
+      if (msg.starts_with("--")) msg = msg.substr(2);
+      r.fail(path, msg);
+    }
+  }
+  out.label = m.contains("label") ? r.string(*m.get("label"), path + ".label") : method_label(out);
+  if (out.label.empty()) r.fail(path + ".label", "empty");
+  return out;
+}
+
+nlohmann::json method_json(const StudyMethodSpec& m) {
+  nlohmann::ordered_json j;
+  j["label"] = m.label;
+  if (m.reference) {
+    j["method"] = "reference";
+    j["tol"] = m.tol;
+  } else {
+    const DiscreteConfig& d = m.config;
+    j["method"] = std::string(segment_rule_name(d.rule));
+    j["strategy"] = std::string(strategy_name(d.sampling.strategy));
+    if (step_based(d.sampling.strategy)) j["step"] = d.sampling.step;
+    else j["rate"] = d.sampling.rate;
+    j["oversample"] = d.oversample;
+    j["centred_oversamples"] = d.centred_oversamples;
+    j["correction"] = std::string(correction_name(d.correction));
+    j["precision"] = d.precision == Precision::single_precision ? "float" : "double";
+    if (m.max_error) j["max_error"] = *m.max_error;
+  }
+  return nlohmann::json::parse(j.dump());
+}
+
+}  // namespace vrv

@@ -1,0 +1,124 @@
+#include "studies/cli/discrete_options.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace vrv::cli {
+namespace {
+
+template <class T, class Parse>
+T parse_choice(const std::string& text, const char* option, Parse&& parse, const char* choices) {
+  const auto value = parse(text);
+  if (!value)
+    throw std::invalid_argument(fmt::format("{}: unknown value '{}' (one of {})", option, text, choices));
+  return *value;
+}
+
+}  // namespace
+
+void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
+  cmd.add_option("--method", opt.method,
+                 "Discrete raycast: riemann | alpha | trapezoid | exact_linear | moreland "
+                 "(omit for the reference integrator; the options below need it)");
+  const std::size_t before = cmd.get_options().size();
+  cmd.add_option("--strategy", opt.strategy,
+                 "Sample placement: eye | entry | entry_exit | entry_exit_corner (default) | step | vtk | inviwo");
+  cmd.add_option("--rate", opt.rate, "Samples per voxel (eye, entry, entry_exit, entry_exit_corner; default 1)");
+  cmd.add_option("--step", opt.step, "World step H (step, vtk, inviwo; --step alone implies --strategy step)");
+  cmd.add_option("--oversample", opt.oversample, "Oversampling factor N dividing the unit step")
+      ->capture_default_str();
+  cmd.add_flag("--centred-oversamples", opt.centred_oversamples,
+               "Put the N oversamples at the centres of the unit step's N parts (default: from the unit sample on)");
+  cmd.add_option("--correction", opt.correction,
+                 "Opacity correction (alpha method): none | lacroute | schulze | lee_newman | lee_newman_quadratic")
+      ->capture_default_str();
+  cmd.add_option("--termination", opt.termination, "Early ray termination at this accumulated opacity (off by default)");
+  cmd.add_option("--skip", opt.skip, "Skip samples whose opacity is below this (off by default)");
+  cmd.add_option("--compositing", opt.compositing, "front_to_back | back_to_front")->capture_default_str();
+  cmd.add_option("--classification", opt.classification, "post | pre (grid fields)")->capture_default_str();
+  cmd.add_option("--precision", opt.precision, "double | float")->capture_default_str();
+  cmd.add_option("--max-work", opt.max_work,
+                 "Refuse runs estimated above this many samples (counted before casting)")
+      ->capture_default_str();
+  const auto all = cmd.get_options();
+  opt.given.assign(all.begin() + static_cast<long>(before), all.end());
+}
+
+std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene) {
+  if (opt.method.empty()) {
+    for (const CLI::Option* o : opt.given)
+      if (o->count() > 0)
+        throw std::invalid_argument(fmt::format(
+            "{}: applies to a discrete raycast only; add --method (the reference ignores it)",
+            o->get_name()));
+    return std::nullopt;
+  }
+  if (!(opt.max_work > 0))
+    throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", opt.max_work));
+  DiscreteConfig c;
+  c.rule = parse_choice<SegmentRule>(opt.method, "--method", parse_segment_rule,
+                                     "riemann, alpha, trapezoid, exact_linear, moreland");
+  const std::string strategy = opt.strategy.value_or(opt.step ? "step" : "entry_exit_corner");
+  c.sampling.strategy = parse_choice<Strategy>(strategy, "--strategy", parse_strategy,
+                                               "eye, entry, entry_exit, entry_exit_corner, step, vtk, inviwo");
+  const bool step_based = c.sampling.strategy == Strategy::step || c.sampling.strategy == Strategy::vtk ||
+                          c.sampling.strategy == Strategy::inviwo;
+  if (step_based && !opt.step)
+    throw std::invalid_argument(fmt::format("--step: strategy {} needs --step H", strategy));
+  if (!step_based && opt.step)
+    throw std::invalid_argument(fmt::format("--step: strategy {} takes --rate, not --step", strategy));
+  if (step_based && opt.rate)
+    throw std::invalid_argument("--rate: a step-based strategy takes --step, not --rate");
+  c.sampling.rate = opt.rate.value_or(1.0);
+  c.sampling.step = opt.step.value_or(0.0);
+  c.sampling.dims = scene.dims;
+  c.oversample = opt.oversample;
+  c.centred_oversamples = opt.centred_oversamples;
+  c.correction = parse_choice<Correction>(opt.correction, "--correction", parse_correction,
+                                          "none, lacroute, schulze, lee_newman, lee_newman_quadratic");
+  c.termination = opt.termination;
+  c.skip_below = opt.skip;
+  if (opt.compositing == "front_to_back") c.compositing = Compositing::front_to_back;
+  else if (opt.compositing == "back_to_front") c.compositing = Compositing::back_to_front;
+  else throw std::invalid_argument(fmt::format("--compositing: unknown value '{}' (front_to_back or back_to_front)", opt.compositing));
+  if (opt.classification == "post") c.classification = Classification::post;
+  else if (opt.classification == "pre") c.classification = Classification::pre;
+  else throw std::invalid_argument(fmt::format("--classification: unknown value '{}' (post or pre)", opt.classification));
+  if (opt.precision == "double") c.precision = Precision::double_precision;
+  else if (opt.precision == "float") c.precision = Precision::single_precision;
+  else throw std::invalid_argument(fmt::format("--precision: unknown value '{}' (double or float)", opt.precision));
+  validate(c, std::holds_alternative<GridField>(scene.field));
+  return c;
+}
+
+double samples_on_ray(const DiscreteConfig& config, const Scene& scene, const Ray& ray) {
+  const auto iv = clip(ray, scene.box);
+  if (!iv) return 0;
+  return static_cast<double>(plan_samples(config.sampling, ray, *iv, scene.box).count) * config.oversample;
+}
+
+namespace {
+// x rounded up to two significant digits, so that "--max-work <it>" printed with {:.2g} allows x.
+double round_up_2_digits(double x) {
+  const double unit = std::pow(10.0, std::floor(std::log10(x)) - 1);
+  return std::ceil(x / unit) * unit;
+}
+}  // namespace
+
+void refuse_work(const DiscreteOptions& opt, double samples, long rays) {
+  std::string asked;
+  for (const CLI::Option* o : opt.given) {
+    const std::string name = o->get_name();
+    if (o->count() > 0 && (name == "--step" || name == "--rate" || name == "--oversample"))
+      asked += fmt::format("{}{} {}", asked.empty() ? "" : ", ", name, o->as<std::string>());
+  }
+  throw std::invalid_argument(fmt::format(
+      "{}: about {:.3g} samples on {} ray{}, above the work limit of {:.3g}; coarsen the sampling "
+      "or allow it with --max-work {:.2g}",
+      asked.empty() ? std::string("--max-work") : asked, samples, rays, rays == 1 ? "" : "s",
+      opt.max_work, round_up_2_digits(samples)));
+}
+
+}  // namespace vrv::cli

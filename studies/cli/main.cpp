@@ -1,0 +1,112 @@
+// The vrv command line: one subcommand per job; errors are one line on stderr, exit code 2
+// (other codes: studies/cli_support.h and README, "Exit codes").
+#include <algorithm>
+#include <cstring>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "studies/cli/cli_support.h"
+#include "studies/cli/commands.h"
+
+namespace {
+
+// CLI11 would read "--origin -3,0.5,0" as the option "-3,0.5,0"; users type negative
+// vectors that way, so the value is glued on ("--origin=-3,0.5,0") before parsing.
+std::vector<std::string> glue_negative_values(int argc, char** argv) {
+  std::vector<std::string> args(argv, argv + argc);
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    const bool next_is_negative_number =
+        i + 1 < args.size() && args[i + 1].size() > 1 && args[i + 1][0] == '-' &&
+        (std::isdigit(static_cast<unsigned char>(args[i + 1][1])) || args[i + 1][1] == '.');
+    if (a.starts_with("--") && a.find('=') == std::string::npos && next_is_negative_number) {
+      out.push_back(a + "=" + args[i + 1]);
+      ++i;
+    } else {
+      out.push_back(a);
+    }
+  }
+  return out;
+}
+
+std::string one_line(std::string s) {
+  std::replace_if(s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+// CLI11's own wording (and exit codes 104, 106, 109, ...) never reaches the user: every parse
+// error becomes one "vrv: error: ..." line naming the option, with exit code 2.
+std::string parse_error_line(const CLI::App& app, const CLI::ParseError& e) {
+  const std::string what = one_line(e.what());
+  // By type: CLI11 names some errors after the subcommand (ExtrasError(name, args)).
+  if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
+    const std::string prefix = "not expected: ";
+    const auto at = what.find(prefix);
+    const std::string args = at == std::string::npos ? what : what.substr(at + prefix.size());
+    return fmt::format("unknown option or argument {} (vrv --help, vrv COMMAND --help)", args);
+  }
+  if (dynamic_cast<const CLI::RequiredError*>(&e) && what.starts_with("A subcommand")) {
+    const auto& extras = app.remaining();
+    if (!extras.empty() && !extras.front().starts_with("-"))
+      return fmt::format("unknown command '{}' (ray, render, study or demo; vrv --help)", extras.front());
+    return "a command is required: ray, render, study or demo (vrv --help)";
+  }
+  if (dynamic_cast<const CLI::ConversionError*>(&e)) {
+    // "Could not convert: --width = 1e9": say what the option takes.
+    const std::string prefix = "Could not convert: ";
+    const auto eq = what.find(" = ");
+    if (what.starts_with(prefix) && eq != std::string::npos) {
+      const std::string option = what.substr(prefix.size(), eq - prefix.size());
+      std::string type = "value";
+      for (const CLI::App* sub : app.get_subcommands())
+        for (const CLI::Option* o : sub->get_options())
+          if (o->check_name(option)) type = o->get_type_name();
+      if (type == "INT") type = "integer";
+      if (type == "FLOAT") type = "number";
+      return fmt::format("{}: '{}' is not a valid {}", option, what.substr(eq + 3), type);
+    }
+  }
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e)) {
+    // "--origin: 1 required TEXT missing"
+    const auto colon = what.find(": ");
+    if (colon != std::string::npos && what.ends_with(" missing"))
+      return fmt::format("{}: a value is required", what.substr(0, colon));
+    return fmt::format("{} (vrv COMMAND --help)", what);
+  }
+  return what;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"vrv: how wrong is a volume raycaster, why, and what accuracy costs"};
+  app.require_subcommand(1);
+  vrv::cli::add_ray_command(app);
+  vrv::cli::add_demo_command(app);
+  vrv::cli::add_render_command(app);
+  vrv::cli::add_study_command(app);
+  std::vector<std::string> args = glue_negative_values(argc, argv);
+  std::vector<char*> ptrs;
+  for (auto& a : args) ptrs.push_back(a.data());
+  try {
+    app.parse(static_cast<int>(ptrs.size()), ptrs.data());
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "vrv: error: " << parse_error_line(app, e) << '\n';
+    return vrv::cli::kExitBadInput;
+  } catch (const vrv::cli::CommandFailed& e) {
+    std::cerr << one_line(e.what()) << '\n';
+    return e.code();
+  } catch (const std::exception& e) {
+    std::cerr << "vrv: error: " << one_line(e.what()) << '\n';
+    return vrv::cli::kExitBadInput;
+  }
+  return 0;
+}

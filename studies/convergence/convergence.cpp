@@ -1,0 +1,386 @@
+#include "studies/convergence/convergence.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <type_traits>
+#include <variant>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "lib/io/atomic_file.h"
+#include "lib/io/scene_file.h"
+#include "lib/io/table.h"
+#include "lib/metrics.h"
+#include "lib/reference_integrator.h"
+#include "lib/util/parallel.h"
+#include "lib/util/progress.h"
+#include "studies/engine/study_rays.h"
+
+namespace vrv {
+namespace {
+
+constexpr long kMaxRays = 1'000'000;
+constexpr std::size_t kMaxSteps = 64;
+
+std::vector<int> read_resolutions(const StudyReader& r, const toml::table& t, std::string_view key) {
+  const std::string at = StudyReader::child("grid_refinement", key);
+  const std::vector<double> v = r.numbers(t, key, "grid_refinement", 2, 513);
+  if (v.size() < 2) r.fail(at, "one resolution gives no order (give at least two)");
+  std::vector<int> out;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (v[i] != std::floor(v[i])) r.fail(fmt::format("{}[{}]", at, i), "expected an integer");
+    if (std::find(out.begin(), out.end(), static_cast<int>(v[i])) != out.end())
+      r.fail(fmt::format("{}[{}]", at, i), fmt::format("{} is listed twice", v[i]));
+    out.push_back(static_cast<int>(v[i]));
+  }
+  return out;
+}
+
+void read_grid_refinement(const StudyReader& r, const toml::table& doc, StudyDefinition& s) {
+  const toml::table& g = r.table(*doc.get("grid_refinement"), "grid_refinement");
+  r.check_keys(g, "grid_refinement", {"resolutions", "quick_resolutions", "expected_order", "steps_per_cell"});
+  if (std::holds_alternative<GridField>(s.scene.field))
+    r.fail("grid_refinement", "needs an analytic field in [scene.field] (it builds the grids itself)");
+  s.grid_resolutions = read_resolutions(r, g, "resolutions");
+  s.quick_grid_resolutions =
+      g.contains("quick_resolutions") ? read_resolutions(r, g, "quick_resolutions") : s.grid_resolutions;
+  s.grid_expected_order = r.number_or(g, "expected_order", "grid_refinement", 2);
+  if (!(s.grid_expected_order > 0))
+    r.fail("grid_refinement.expected_order", fmt::format("must be positive, got {}", s.grid_expected_order));
+  s.grid_steps_per_cell = r.number_or(g, "steps_per_cell", "grid_refinement", 0.5);
+  if (!(s.grid_steps_per_cell >= 0.01 && s.grid_steps_per_cell <= 10))
+    r.fail("grid_refinement.steps_per_cell", fmt::format("must be in [0.01, 10], got {}", s.grid_steps_per_cell));
+}
+
+}  // namespace
+
+StudyDefinition read_convergence_study(const StudyInput& in) {
+  const StudyReader& r = in.reader;
+  const toml::table& doc = in.doc;
+  r.check_keys(doc, "", {"name", "kind", "description", "tolerance", "scene", "method", "sampling",
+                         "rays", "reference_tol", "grid_refinement"});
+  StudyDefinition s;
+  s.source = r.source();
+  s.name = in.name;
+  if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
+  if (doc.contains("tolerance")) {
+    s.tolerance = r.number(*doc.get("tolerance"), "tolerance");
+    if (!(s.tolerance > 0)) r.fail("tolerance", fmt::format("must be positive, got {}", s.tolerance));
+  }
+  if (doc.contains("reference_tol")) {
+    s.reference_tol = r.number(*doc.get("reference_tol"), "reference_tol");
+    if (!(s.reference_tol > 0))
+      r.fail("reference_tol", fmt::format("must be positive, got {}", s.reference_tol));
+  }
+
+  // [scene]: the usual scene tables, parsed by parse_scene; its keys reported as scene.<key>.
+  s.scene = read_study_scene(r, doc, "", s.scene_toml);
+
+  // [[method]]: rule and expected_order.
+  const toml::node& methods = r.require(doc, "method", "");
+  const toml::array* arr = methods.as_array();
+  if (!arr) r.fail("method", "expected an array of tables ([[method]])");
+  if (arr->empty()) r.fail("method", "no methods");
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    const std::string path = fmt::format("method[{}]", i);
+    const toml::table& m = r.table(*arr->get(i), path);
+    r.check_keys(m, path, {"rule", "expected_order"});
+    const std::string name = r.string(r.require(m, "rule", path), path + ".rule");
+    const auto rule = parse_segment_rule(name);
+    if (!rule)
+      r.fail(path + ".rule", fmt::format("unknown method '{}' (one of riemann, alpha, trapezoid, "
+                                         "exact_linear, moreland)", name));
+    for (const StudyMethod& earlier : s.methods)
+      if (earlier.rule == *rule) r.fail(path + ".rule", fmt::format("'{}' is listed twice", name));
+    const double order = r.number(r.require(m, "expected_order", path), path + ".expected_order");
+    if (!(order > 0)) r.fail(path + ".expected_order", fmt::format("must be positive, got {}", order));
+    s.methods.push_back({*rule, order});
+  }
+
+  // [sampling]: strategy and steps.
+  const toml::table& sampling = r.table(r.require(doc, "sampling", ""), "sampling");
+  r.check_keys(sampling, "sampling", {"strategy", "steps"});
+  const std::string strategy = r.string(r.require(sampling, "strategy", "sampling"), "sampling.strategy");
+  const auto st = parse_strategy(strategy);
+  if (!st || (*st != Strategy::step && *st != Strategy::inviwo))
+    r.fail("sampling.strategy",
+           fmt::format("unknown or unsupported strategy '{}' (step or inviwo)", strategy));
+  s.strategy = *st;
+  const toml::node& steps = r.require(sampling, "steps", "sampling");
+  const toml::array* sa = steps.as_array();
+  if (!sa) r.fail("sampling.steps", "expected an array of numbers");
+  if (sa->empty()) r.fail("sampling.steps", "empty (give at least two steps)");
+  if (sa->size() < 2) r.fail("sampling.steps", "one step gives no order (give at least two)");
+  if (sa->size() > kMaxSteps) r.fail("sampling.steps", fmt::format("more than {} steps", kMaxSteps));
+  for (std::size_t i = 0; i < sa->size(); ++i) {
+    const std::string path = fmt::format("sampling.steps[{}]", i);
+    const double h = r.number(*sa->get(i), path);
+    if (!(h > 0)) r.fail(path, fmt::format("must be positive, got {}", h));
+    if (std::find(s.steps.begin(), s.steps.end(), h) != s.steps.end())
+      r.fail(path, fmt::format("step {} is listed twice", h));
+    s.steps.push_back(h);
+  }
+
+  if (doc.contains("grid_refinement")) read_grid_refinement(r, doc, s);
+
+  // [rays]: count, quick_count, seed.
+  const toml::table& rays = r.table(r.require(doc, "rays", ""), "rays");
+  r.check_keys(rays, "rays", {"count", "quick_count", "seed"});
+  s.count = r.integer(r.require(rays, "count", "rays"), "rays.count", 1, kMaxRays);
+  s.quick_count = rays.contains("quick_count")
+                      ? r.integer(*rays.get("quick_count"), "rays.quick_count", 1, kMaxRays)
+                      : std::min(s.count, 8L);
+  if (rays.contains("seed"))
+    s.seed = static_cast<std::uint64_t>(
+        r.integer(*rays.get("seed"), "rays.seed", 0, std::numeric_limits<long>::max()));
+  return s;
+}
+
+StudyDefinition parse_study(std::string_view text, std::string_view source_name,
+                             std::string_view default_name) {
+  const StudyReader r(source_name);
+  const toml::table doc = parse_study_toml(text, source_name);
+  return read_convergence_study(StudyInput{doc, r, std::string(default_name)});
+}
+
+StudyDefinition load_study(const std::filesystem::path& path) {
+  return parse_study(read_study_text(path), path.string(), path.stem().string());
+}
+
+namespace {
+
+// Error of each method on node grids of increasing resolution against the analytic reference:
+// "reference" is the continuous integral through the trilinear grid (the reconstruction error
+// alone); each rule runs at steps_per_cell x cell, so its error mixes both discretisations and
+// its expected order is the smaller of the two.
+void refine_grid(const StudyDefinition& study, bool quick, const std::vector<Ray>& rays,
+                 bool progress, StudyResult& result) {
+  const std::vector<int>& res = quick ? study.quick_grid_resolutions : study.grid_resolutions;
+  const auto& source = std::visit(
+      [](const auto& f) -> AnalyticField {
+        if constexpr (std::is_same_v<std::decay_t<decltype(f)>, GridField>) throw std::logic_error("grid");
+        else return f;
+      },
+      study.scene.field);
+  const std::size_t n = rays.size(), M = study.methods.size() + 1, R = res.size();
+  std::vector<double> truth(n);
+  parallel_for_index(static_cast<long>(n), [&](long i) {
+    truth[static_cast<std::size_t>(i)] =
+        integrate_reference(study.scene, rays[static_cast<std::size_t>(i)], {study.reference_tol}).value;
+  });
+  std::vector<double> error(R * M * n);  // [resolution][method][ray]
+  Progress bar("study " + study.name + " (grids)", static_cast<long>(R * n), progress);
+  for (std::size_t k = 0; k < R; ++k) {
+    Scene grid_scene = study.scene;
+    const GridField grid = make_grid(study.scene.box, source, {res[k], res[k], res[k]}, GridLayout::node,
+                                     Interpolation::trilinear);
+    const double cell = study.scene.box.extent().maxCoeff() / (res[k] - 1);
+    std::vector<DiscreteRaycaster<GridField>> casters;
+    for (const StudyMethod& m : study.methods) {
+      DiscreteConfig c;
+      c.rule = m.rule;
+      c.sampling.strategy = study.strategy;
+      c.sampling.step = study.grid_steps_per_cell * cell;
+      casters.emplace_back(grid, study.scene.box, study.scene.transfer, study.scene.background, c);
+    }
+    parallel_for_index(static_cast<long>(n), [&](long i) {
+      const Ray& ray = rays[static_cast<std::size_t>(i)];
+      const double t = truth[static_cast<std::size_t>(i)];
+      double* e = &error[(k * M) * n + static_cast<std::size_t>(i)];
+      e[0] = std::abs(integrate_reference(grid, study.scene.box, study.scene.transfer,
+                                          study.scene.background, ray, {study.reference_tol}).value - t);
+      for (std::size_t m = 1; m < M; ++m) e[m * n] = std::abs(casters[m - 1].cast(ray).value - t);
+      bar.advance();
+    });
+  }
+  bar.finish();
+  for (std::size_t m = 0; m < M; ++m) {
+    const std::string name = m == 0 ? "reference" : std::string(segment_rule_name(study.methods[m - 1].rule));
+    std::vector<double> cells, means;
+    for (std::size_t k = 0; k < R; ++k) {
+      GridErrorRow row{name, res[k], study.scene.box.extent().maxCoeff() / (res[k] - 1), 0, 0};
+      for (std::size_t i = 0; i < n; ++i) {
+        const double e = error[(k * M + m) * n + i];
+        row.max_error = std::max(row.max_error, e);
+        row.mean_error += e / static_cast<double>(n);
+      }
+      cells.push_back(row.cell);
+      means.push_back(row.mean_error);
+      result.grid_errors.push_back(row);
+    }
+    const double expected = m == 0 ? study.grid_expected_order
+                                   : std::min(study.grid_expected_order, study.methods[m - 1].expected_order);
+    GridOrderRow o{name, expected, observed_order(cells, means), false};
+    o.pass = std::isfinite(o.observed) && std::abs(o.observed - o.expected) <= study.tolerance;
+    result.pass = result.pass && o.pass;
+    result.grid_orders.push_back(o);
+  }
+}
+
+}  // namespace
+
+StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress) {
+  const long n = quick ? study.quick_count : study.count;
+  const std::vector<Ray> rays = study_rays(study.scene.box, n, study.seed);
+  const std::size_t M = study.methods.size(), S = study.steps.size();
+  const std::size_t per_ray = M * S;
+  std::vector<double> error(static_cast<std::size_t>(n) * per_ray);
+  std::vector<long> samples(error.size());
+
+  visit_field(study.scene, [&](const auto& field) {
+    using F = std::decay_t<decltype(field)>;
+    std::vector<DiscreteRaycaster<F>> casters;
+    casters.reserve(per_ray);
+    for (const StudyMethod& m : study.methods)
+      for (double h : study.steps) {
+        DiscreteConfig c;
+        c.rule = m.rule;
+        c.sampling.strategy = study.strategy;
+        c.sampling.step = h;
+        c.sampling.dims = study.scene.dims;
+        validate(c, std::is_same_v<F, GridField>);
+        casters.emplace_back(field, study.scene.box, study.scene.transfer, study.scene.background, c);
+      }
+    Progress bar("study " + study.name, n, progress);
+    parallel_for_index(n, [&](long i) {
+      const Ray& ray = rays[static_cast<std::size_t>(i)];
+      const double reference = integrate_reference(field, study.scene.box, study.scene.transfer,
+                                                   study.scene.background, ray,
+                                                   {study.reference_tol}).value;
+      for (std::size_t k = 0; k < per_ray; ++k) {
+        const DiscreteResult d = casters[k].cast(ray);
+        error[static_cast<std::size_t>(i) * per_ray + k] = std::abs(d.value - reference);
+        samples[static_cast<std::size_t>(i) * per_ray + k] = d.samples;
+      }
+      bar.advance();
+    });
+    bar.finish();
+  });
+
+  // Reductions in ray order: the same bits for any thread count.
+  StudyResult result;
+  result.rays = n;
+  for (std::size_t m = 0; m < M; ++m) {
+    std::vector<double> means;
+    for (std::size_t s = 0; s < S; ++s) {
+      const std::size_t k = m * S + s;
+      double max_e = 0, sum_e = 0, sum_samples = 0;
+      for (long i = 0; i < n; ++i) {
+        const double e = error[static_cast<std::size_t>(i) * per_ray + k];
+        max_e = std::max(max_e, e);
+        sum_e += e;
+        sum_samples += static_cast<double>(samples[static_cast<std::size_t>(i) * per_ray + k]);
+      }
+      const double nd = static_cast<double>(n);
+      result.errors.push_back({study.methods[m].rule, study.steps[s], max_e, sum_e / nd, sum_samples / nd});
+      means.push_back(sum_e / nd);
+    }
+    OrderRow o{study.methods[m].rule, study.methods[m].expected_order,
+               observed_order(study.steps, means), false};
+    o.pass = std::isfinite(o.observed) && std::abs(o.observed - o.expected) <= study.tolerance;
+    result.pass = result.pass && o.pass;
+    result.orders.push_back(o);
+  }
+  if (!study.grid_resolutions.empty()) refine_grid(study, quick, rays, progress, result);
+  return result;
+}
+
+StudyFiles study_tables(const StudyDefinition& study, const StudyResult& result) {
+  Table errors({"method", "step", "max_error", "mean_error", "samples_per_ray"});
+  errors.set_format("max_error", "{:.3e}");
+  errors.set_format("mean_error", "{:.3e}");
+  for (const ErrorRow& e : result.errors)
+    errors.add_row({std::string(segment_rule_name(e.rule)), e.step, e.max_error, e.mean_error,
+                    e.samples_per_ray});
+  Table orders({"method", "expected", "observed", "pass"});
+  orders.allow_missing("observed");
+  orders.set_format("expected", "{:g}");
+  orders.set_format("observed", "{:.3f}");
+  for (const OrderRow& o : result.orders)
+    orders.add_row({std::string(segment_rule_name(o.rule)), o.expected, o.observed,
+                    std::string(o.pass ? "true" : "false")});
+  LatexStyle style;
+  style.caption = fmt::format("Observed convergence orders ({} rays, tolerance {:g}).", result.rays,
+                              study.tolerance);
+  style.label = "tab:" + study.name;
+  StudyFiles files;
+  files.errors_csv = errors.to_csv();
+  files.orders_csv = orders.to_csv();
+  files.orders_md = orders.to_markdown();
+  files.orders_tex = orders.to_latex(style);
+  if (result.grid_errors.empty()) return files;
+  Table grid_errors({"method", "resolution", "cell", "max_error", "mean_error"});
+  grid_errors.set_format("max_error", "{:.3e}");
+  grid_errors.set_format("mean_error", "{:.3e}");
+  for (const GridErrorRow& e : result.grid_errors)
+    grid_errors.add_row({e.method, static_cast<long>(e.resolution), e.cell, e.max_error, e.mean_error});
+  Table grid_orders({"method", "expected", "observed", "pass"});
+  grid_orders.allow_missing("observed");
+  grid_orders.set_format("expected", "{:g}");
+  grid_orders.set_format("observed", "{:.3f}");
+  for (const GridOrderRow& o : result.grid_orders)
+    grid_orders.add_row({o.method, o.expected, o.observed, std::string(o.pass ? "true" : "false")});
+  LatexStyle grid_style;
+  grid_style.caption = fmt::format(
+      "Observed orders under grid refinement (node grids, trilinear; discrete step {:g} cells; "
+      "{} rays, tolerance {:g}).", study.grid_steps_per_cell, result.rays, study.tolerance);
+  grid_style.label = "tab:" + study.name + "-grid";
+  files.grid_errors_csv = grid_errors.to_csv();
+  files.grid_orders_csv = grid_orders.to_csv();
+  files.grid_orders_md = grid_orders.to_markdown();
+  files.grid_orders_tex = grid_orders.to_latex(grid_style);
+  return files;
+}
+
+nlohmann::json study_parameters(const StudyDefinition& study, bool quick, int threads) {
+  nlohmann::ordered_json p;
+  p["study"] = study.name;
+  p["file"] = study.source;
+  p["kind"] = "convergence";
+  p["description"] = study.description;
+  p["scene"] = study.scene_toml;
+  nlohmann::ordered_json methods = nlohmann::ordered_json::array();
+  for (const StudyMethod& m : study.methods)
+    methods.push_back({{"rule", std::string(segment_rule_name(m.rule))},
+                       {"expected_order", m.expected_order}});
+  p["methods"] = methods;
+  p["strategy"] = std::string(strategy_name(study.strategy));
+  p["steps"] = study.steps;
+  p["rays"] = {{"count", study.count}, {"quick_count", study.quick_count}, {"seed", study.seed},
+               {"used", quick ? study.quick_count : study.count}};
+  p["tolerance"] = study.tolerance;
+  p["reference_tol"] = study.reference_tol;
+  if (!study.grid_resolutions.empty())
+    p["grid_refinement"] = {{"resolutions", study.grid_resolutions},
+                            {"quick_resolutions", study.quick_grid_resolutions},
+                            {"expected_order", study.grid_expected_order},
+                            {"steps_per_cell", study.grid_steps_per_cell}};
+  p["quick"] = quick;
+  p["threads"] = threads;  // recorded only; no number depends on it
+  return nlohmann::json::parse(p.dump());
+}
+
+void write_study_tables(const std::filesystem::path& dir, const StudyDefinition& study,
+                        const StudyResult& result) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir))
+    throw std::runtime_error(one_line(fmt::format("{}: cannot create the directory{}", dir.string(),
+                                                  ec ? ": " + ec.message() : std::string())));
+  const StudyFiles f = study_tables(study, result);
+  write_file_atomically(dir / "errors.csv", f.errors_csv);
+  write_file_atomically(dir / "orders.csv", f.orders_csv);
+  write_file_atomically(dir / "orders.md", f.orders_md);
+  write_file_atomically(dir / "orders.tex", f.orders_tex);
+  if (f.grid_errors_csv.empty()) return;
+  write_file_atomically(dir / "grid_errors.csv", f.grid_errors_csv);
+  write_file_atomically(dir / "grid_orders.csv", f.grid_orders_csv);
+  write_file_atomically(dir / "grid_orders.md", f.grid_orders_md);
+  write_file_atomically(dir / "grid_orders.tex", f.grid_orders_tex);
+}
+
+}  // namespace vrv

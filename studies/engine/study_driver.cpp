@@ -1,0 +1,52 @@
+#include "studies/engine/study_driver.h"
+
+#include <algorithm>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "lib/io/table.h"
+
+namespace vrv {
+namespace {
+// Function-local so registration from other translation units' static objects is order-safe.
+std::map<std::string, StudyParse, std::less<>>& registry() {
+  static std::map<std::string, StudyParse, std::less<>> kinds;
+  return kinds;
+}
+}  // namespace
+
+RegisterStudyKind::RegisterStudyKind(std::string kind, StudyParse parse) {
+  registry().emplace(std::move(kind), parse);
+}
+
+StudyParse find_study_kind(std::string_view kind) {
+  const auto it = registry().find(kind);
+  return it == registry().end() ? nullptr : it->second;
+}
+
+std::vector<std::string> study_kinds() {
+  std::vector<std::string> out;
+  for (const auto& [kind, parse] : registry()) out.push_back(kind);
+  return out;
+}
+
+CheckTables check_tables(const std::string& study_name, const std::vector<StudyCheck>& checks) {
+  Table t({"check", "value", "bound", "pass", "detail"});
+  t.allow_missing("value");
+  t.allow_missing("bound");
+  t.set_format("value", "{:.4g}");
+  t.set_format("bound", "{:.4g}");
+  long failed = 0;
+  for (const StudyCheck& c : checks) {
+    t.add_row({c.name, c.value, c.bound, std::string(c.pass ? "true" : "false"), c.detail});
+    failed += c.pass ? 0 : 1;
+  }
+  LatexStyle style;
+  style.caption = fmt::format("Checks of the {} study: {} of {} pass.", study_name,
+                              static_cast<long>(checks.size()) - failed, checks.size());
+  style.label = "tab:" + study_name + "-checks";
+  return {t.to_csv(), t.to_markdown(), t.to_latex(style)};
+}
+
+}  // namespace vrv

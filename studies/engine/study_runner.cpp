@@ -1,0 +1,202 @@
+#include "studies/engine/study_runner.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <chrono>
+#include <cstdlib>
+#include <iostream>
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <toml++/toml.h>
+#include <nlohmann/json.hpp>
+
+#include "lib/io/atomic_file.h"
+#include "lib/io/run_metadata.h"
+#include "lib/io/study_file.h"
+#include "lib/util/parallel.h"
+
+namespace vrv {
+namespace {
+
+namespace fs = std::filesystem;
+
+// One line naming the failed checks.
+std::string failures(const std::vector<StudyCheck>& checks) {
+  std::string out;
+  for (const StudyCheck& c : checks)
+    if (!c.pass)
+      out += fmt::format("{}{} (value {:.4g}, bound {:.4g})", out.empty() ? "" : ", ", c.name,
+                         c.value, c.bound);
+  return out;
+}
+
+// The plot script (studies/engine/plot_study.py) under the study directories, and a Python that
+// has matplotlib: $VRV_PYTHON, else Debian's /usr/bin/python3 (python3-matplotlib), else python3.
+fs::path plot_script() {
+  for (const fs::path& d : study_dirs())
+    if (std::error_code ec; fs::is_regular_file(d / "engine" / "plot_study.py", ec))
+      return d / "engine" / "plot_study.py";
+  return "studies/engine/plot_study.py";
+}
+
+std::string python() {
+  if (const char* env = std::getenv("VRV_PYTHON"); env && *env) return env;
+  if (std::error_code ec; fs::exists("/usr/bin/python3", ec)) return "/usr/bin/python3";
+  return "python3";
+}
+
+// Runs the plot script on `dir` (which has plots.json); its messages go to stderr.  Returns its
+// exit status (127 when it could not be started).
+int draw_plots(const fs::path& dir) {
+  const std::string py = python();
+  const std::string script = plot_script().string();
+  const std::string where = dir.string();
+  const pid_t pid = fork();
+  if (pid < 0) return 127;
+  if (pid == 0) {
+    const char* argv[] = {py.c_str(), script.c_str(), where.c_str(), nullptr};
+    execvp(argv[0], const_cast<char* const*>(argv));
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return 127;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+}  // namespace
+
+LoadedStudy load_study_file(const fs::path& path) {
+  LoadedStudy s;
+  s.source = path.string();
+  s.text = read_study_text(path);
+  const toml::table doc = parse_study_toml(s.text, s.source);
+  const StudyReader r(s.source);
+  s.kind = r.string(r.require(doc, "kind", ""), "kind");
+  const StudyParse parse = find_study_kind(s.kind);
+  if (!parse)
+    r.fail("kind", fmt::format("unknown kind '{}' (known: {})", s.kind, fmt::join(study_kinds(), ", ")));
+  s.name = doc.contains("name") ? r.string(*doc.get("name"), "name") : path.stem().string();
+  if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos || s.name == "." ||
+      s.name == "..")
+    r.fail("name", fmt::format("'{}' is not a plain directory name", s.name));
+  if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
+  s.job = parse(StudyInput{doc, r, s.name});
+  return s;
+}
+
+std::vector<fs::path> study_dirs() {
+  std::vector<fs::path> dirs{fs::path("studies")};
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) dirs.push_back(exe.parent_path().parent_path() / "studies");
+  if (const char* env = std::getenv("VRV_STUDY_PATH"); env && *env) dirs.emplace_back(env);
+  const fs::path here(__FILE__);  // studies/engine/study_runner.cpp
+  if (here.is_absolute()) dirs.push_back(here.parent_path().parent_path());
+  return dirs;
+}
+
+std::vector<std::pair<std::string, fs::path>> find_studies() {
+  std::vector<std::pair<std::string, fs::path>> found;
+  std::set<std::string> names;
+  for (const fs::path& dir : study_dirs()) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) continue;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+      const fs::path file = e.path() / (e.path().filename().string() + ".toml");
+      if (std::error_code fec; fs::is_regular_file(file, fec)) files.push_back(file);
+    }
+    std::sort(files.begin(), files.end());
+    for (const fs::path& f : files)
+      if (names.insert(f.stem().string()).second) found.emplace_back(f.stem().string(), f);
+  }
+  return found;
+}
+
+fs::path resolve_study(const std::string& arg) {
+  const fs::path p(arg);
+  if (p.extension() == ".toml" || arg.find('/') != std::string::npos) return p;
+  for (const auto& [name, path] : find_studies())
+    if (name == arg) return path;
+  std::string where;
+  for (const fs::path& d : study_dirs()) where += (where.empty() ? "" : ", ") + d.string();
+  throw std::invalid_argument(
+      fmt::format("study: no study named '{}' (looked for {}/{}.toml in {}; see vrv study --list)", arg,
+                  arg, arg, where));
+}
+
+int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
+  const fs::path dir = fs::path(opt.out) / study.name;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw std::runtime_error(fmt::format("{}: cannot create the directory{}", dir.string(),
+                                         ec ? ": " + ec.message() : std::string()));
+  const auto start = std::chrono::steady_clock::now();
+  StudyOutcome outcome;
+  {
+    const ThreadLimit limit(opt.threads);
+    outcome = study.job(StudyRun{dir, opt.quick, !opt.quiet});
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const bool pass = std::all_of(outcome.checks.begin(), outcome.checks.end(),
+                                [](const StudyCheck& c) { return c.pass; });
+  const CheckTables t = check_tables(study.name, outcome.checks);
+  write_file_atomically(dir / "checks.csv", t.csv);
+  write_file_atomically(dir / "checks.md", t.md);
+  write_file_atomically(dir / "checks.tex", t.tex);
+  nlohmann::ordered_json parameters;
+  parameters["study"] = study.name;
+  parameters["kind"] = study.kind;
+  parameters["file"] = study.source;
+  parameters["description"] = study.description;
+  parameters["quick"] = opt.quick;
+  parameters["threads"] = opt.threads;  // recorded only; no number depends on it
+  parameters["file_text"] = study.text;
+  parameters["run"] = outcome.parameters;
+  nlohmann::json meta = run_metadata(nlohmann::json::parse(parameters.dump()), seconds);
+  meta["pass"] = pass;
+  meta["summary"] = outcome.summary;
+  nlohmann::json checks = nlohmann::json::array();
+  for (const StudyCheck& c : outcome.checks)
+    checks.push_back({{"name", c.name},
+                      {"value", std::isfinite(c.value) ? nlohmann::json(c.value) : nlohmann::json()},
+                      {"bound", std::isfinite(c.bound) ? nlohmann::json(c.bound) : nlohmann::json()},
+                      {"pass", c.pass},
+                      {"detail", c.detail}});
+  meta["checks"] = checks;
+  write_file_atomically(dir / "meta.json", meta.dump(2) + "\n");
+
+  int plots_status = 0;
+  if (!opt.no_plots && fs::exists(dir / "plots.json")) plots_status = draw_plots(dir);
+  nlohmann::ordered_json j;
+  j["study"] = study.name;
+  j["out"] = dir.string();
+  j["pass"] = pass;
+  std::cout << j.dump() << '\n';
+  if (!pass) {
+    std::cerr << fmt::format("vrv study: {}: FAILED: {}\n", study.name, failures(outcome.checks));
+    return 1;
+  }
+  if (plots_status != 0) {
+    std::cerr << fmt::format(
+        "vrv study: {}: plots: {} {} exited with {} (matplotlib: Debian's python3-matplotlib; "
+        "set VRV_PYTHON, or pass --no-plots)\n",
+        study.name, python(), plot_script().string(), plots_status);
+    return 1;
+  }
+  if (!opt.quiet)
+    std::cerr << fmt::format("vrv study: {}: {}; {} checks pass in {:.2f} s; wrote {}\n", study.name,
+                             outcome.summary, outcome.checks.size(), seconds, dir.string());
+  return 0;
+}
+
+}  // namespace vrv

@@ -1,0 +1,149 @@
+#include "studies/opacity-correction/render.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "lib/util/parallel.h"
+#include "lib/util/progress.h"
+#include "lib/reference_integrator.h"
+
+namespace vrv {
+
+DiscreteConfig oversampled_config(Correction c, int N, double unit_step, bool centred) {
+  DiscreteConfig config;
+  config.rule = SegmentRule::alpha;
+  config.sampling.strategy = Strategy::step;
+  config.sampling.step = unit_step;
+  config.oversample = N;
+  config.correction = c;
+  config.centred_oversamples = centred;
+  return config;
+}
+
+RenderValues render_values(const RenderScenes& s, const Camera& camera, const std::vector<RenderMethod>& methods,
+                           bool progress) {
+  const long pixels = static_cast<long>(camera.width) * camera.height;
+  RenderValues out;
+  out.reference.assign(pixels, 0);
+  out.methods.assign(methods.size(), std::vector<double>(pixels, 0));
+  std::vector<double> estimate(pixels, 0);
+  std::vector<DiscreteConfig> configs;
+  for (const RenderMethod& m : methods) configs.push_back(oversampled_config(m.correction, m.N, s.unit_step, m.centred));
+  Progress bar("render", pixels, progress);
+  parallel_for_index(pixels, [&](long i) {
+    const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
+    const ReferenceResult ref = integrate_reference(s.analytic, ray, {s.reference_tol});
+    out.reference[i] = ref.value;
+    estimate[i] = ref.error_estimate;
+    for (std::size_t k = 0; k < configs.size(); ++k) out.methods[k][i] = discrete_raycast(s.sampled, ray, configs[k]).value;
+    bar.advance();
+  });
+  bar.finish();
+  for (double e : estimate) out.worst_estimate = std::max(out.worst_estimate, e);
+  return out;
+}
+
+Image to_image(const std::vector<double>& values, int width, int height) {
+  Image image(width, height);
+  for (std::size_t i = 0; i < values.size(); ++i) image.pixels[i] = static_cast<float>(values[i]);
+  return image;
+}
+
+PixelStats pixel_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  PixelStats s;
+  double sq = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const double d = std::fabs(a[i] - b[i]);
+    s.mean += d;
+    sq += d * d;
+    s.max = std::max(s.max, d);
+  }
+  if (!a.empty()) {
+    s.mean /= static_cast<double>(a.size());
+    s.rms = std::sqrt(sq / static_cast<double>(a.size()));
+  }
+  return s;
+}
+
+std::vector<double> render_groups(const RenderScenes& s, const Camera& camera, int N, bool centred) {
+  const DiscreteConfig config = oversampled_config(Correction::none, N, s.unit_step, centred);
+  const GridField& grid = std::get<GridField>(s.sampled.field);
+  const PiecewiseLinear& opacity = s.sampled.transfer.first();
+  const long pixels = static_cast<long>(camera.width) * camera.height;
+  std::vector<std::vector<double>> per_pixel(pixels);
+  parallel_for_index(pixels, [&](long i) {
+    const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
+    const auto iv = clip(ray, s.sampled.box);
+    if (!iv) return;
+    // The raycaster's own fine plan (lib/discrete_raycast_impl.h), so the groups are its groups.
+    const SamplePlan fine = detail::oversampled(plan_samples(config.sampling, ray, *iv, s.sampled.box), N, centred);
+    for (long m0 = 0; m0 + N <= fine.count; m0 += N)
+      for (long j = 0; j < N; ++j)
+        per_pixel[i].push_back(std::clamp(opacity(grid.value(ray.at(fine.t(m0 + j)))), 0.0, 1.0));
+  });
+  std::vector<double> out;
+  for (const auto& g : per_pixel) out.insert(out.end(), g.begin(), g.end());
+  return out;
+}
+
+std::vector<SweepRow> error_against_N(const RenderScenes& s, const std::vector<Ray>& rays,
+                                      const std::vector<Correction>& corrections, const std::vector<int>& Ns,
+                                      bool centred, bool progress) {
+  const long R = static_cast<long>(rays.size());
+  std::vector<double> reference(R);
+  Progress bar("N sweep", R * static_cast<long>(1 + corrections.size() * Ns.size()), progress);
+  parallel_for_index(R, [&](long i) {
+    reference[i] = integrate_reference(s.analytic, rays[i], {s.reference_tol}).value;
+    bar.advance();
+  });
+  std::vector<SweepRow> rows;
+  for (int N : Ns) {
+    // values[c][ray]; correction none first for the differences.
+    std::vector<std::vector<double>> values(corrections.size(), std::vector<double>(R));
+    std::vector<double> none(R);
+    parallel_for_index(R, [&](long i) {
+      none[i] = discrete_raycast(s.analytic, rays[i], oversampled_config(Correction::none, N, s.unit_step, centred)).value;
+      for (std::size_t c = 0; c < corrections.size(); ++c) {
+        values[c][i] = discrete_raycast(s.analytic, rays[i], oversampled_config(corrections[c], N, s.unit_step, centred)).value;
+        bar.advance();
+      }
+    });
+    for (std::size_t c = 0; c < corrections.size(); ++c) {
+      SweepRow row{corrections[c], N, centred, 0, 0, 0, true};
+      for (long i = 0; i < R; ++i) {
+        const double e = std::fabs(values[c][i] - reference[i]);
+        row.finite = row.finite && std::isfinite(values[c][i]);
+        row.mean_error += e;
+        row.max_error = std::max(row.max_error, e);
+        row.max_diff_from_none = std::max(row.max_diff_from_none, std::fabs(values[c][i] - none[i]));
+      }
+      row.mean_error /= static_cast<double>(std::max<long>(R, 1));
+      rows.push_back(row);
+    }
+  }
+  bar.finish();
+  return rows;
+}
+
+double render_seconds(const RenderScenes& s, const Camera& camera, const DiscreteConfig& config, int repeats) {
+  const GridField& grid = std::get<GridField>(s.sampled.field);
+  const DiscreteRaycaster<GridField> caster(grid, s.sampled.box, s.sampled.transfer, s.sampled.background, config);
+  std::vector<Ray> rays;
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) rays.push_back(camera.ray(x, y));
+  double best = std::numeric_limits<double>::infinity();
+  volatile double sink = 0;
+  for (int r = 0; r < std::max(1, repeats); ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    double sum = 0;
+    for (const Ray& ray : rays) sum += caster.cast(ray).value;
+    const auto t1 = std::chrono::steady_clock::now();
+    sink = sink + sum;
+    best = std::min(best, std::chrono::duration<double>(t1 - t0).count());
+  }
+  return best;
+}
+
+}  // namespace vrv

@@ -1,0 +1,102 @@
+// Image error of each segment rule against the reference integrator, per pixel, at a ladder of
+// steps; the observed order is the least-squares slope of log(mean error) against log(step).
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+
+#include "lib/discrete_raycast.h"
+#include "lib/util/parallel.h"
+#include "lib/util/progress.h"
+#include "lib/reference_integrator.h"
+#include "lib/metrics.h"
+#include "studies/segment-rules/segment_rules.h"
+
+namespace vrv {
+
+RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rules, Strategy strategy,
+                        double reference_tol, bool quick, bool progress) {
+  Camera camera = *spec.scene.camera;
+  if (quick) {
+    camera.width = spec.quick_width;
+    camera.height = spec.quick_height;
+  }
+  const std::vector<double>& steps = quick ? spec.quick_steps : spec.steps;
+  const std::size_t R = rules.size(), S = steps.size(), per_pixel = R * S;
+  const long n = static_cast<long>(camera.width) * camera.height;
+  const auto map_index = static_cast<std::size_t>(
+      std::find(steps.begin(), steps.end(), spec.map_step) - steps.begin());
+
+  RenderResult out;
+  out.width = camera.width;
+  out.height = camera.height;
+  out.reference = Image(camera.width, camera.height);
+  std::vector<double> error(static_cast<std::size_t>(n) * per_pixel);  // signed
+  std::vector<long> samples(error.size());
+  std::vector<char> hit(static_cast<std::size_t>(n));
+
+  const Scene& scene = spec.scene;
+  visit_field(scene, [&](const auto& field) {
+    using F = std::decay_t<decltype(field)>;
+    std::vector<DiscreteRaycaster<F>> casters;
+    casters.reserve(per_pixel);
+    for (const RuleSpec& r : rules)
+      for (double h : steps) {
+        DiscreteConfig c;
+        c.rule = r.rule;
+        c.sampling.strategy = strategy;
+        c.sampling.step = h;
+        c.sampling.dims = scene.dims;
+        validate(c, std::is_same_v<F, GridField>);
+        casters.emplace_back(field, scene.box, scene.transfer, scene.background, c);
+      }
+    Progress bar("segment-rules " + spec.name, n, progress);
+    parallel_for_index(n, [&](long i) {
+      const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
+      const ReferenceResult ref =
+          integrate_reference(field, scene.box, scene.transfer, scene.background, ray, {reference_tol});
+      const auto pixel = static_cast<std::size_t>(i);
+      hit[pixel] = ref.hit;
+      out.reference.pixels[pixel] = static_cast<float>(ref.value);
+      for (std::size_t k = 0; k < per_pixel; ++k) {
+        const DiscreteResult d = casters[k].cast(ray);
+        error[pixel * per_pixel + k] = d.value - ref.value;
+        samples[pixel * per_pixel + k] = d.samples;
+      }
+      bar.advance();
+    });
+    bar.finish();
+  });
+
+  // Reductions in pixel order: the same bits for any thread count.
+  for (long i = 0; i < n; ++i) out.hit_pixels += hit[static_cast<std::size_t>(i)];
+  const double hits = static_cast<double>(std::max(out.hit_pixels, 1L));
+  for (std::size_t r = 0; r < R; ++r) {
+    std::vector<double> means;
+    for (std::size_t s = 0; s < S; ++s) {
+      const std::size_t k = r * S + s;
+      ImageErrorRow row{spec.name, rules[r].rule, steps[s], 0, 0, 0};
+      for (long i = 0; i < n; ++i) {
+        const auto pixel = static_cast<std::size_t>(i);
+        if (!hit[pixel]) continue;
+        const double e = std::abs(error[pixel * per_pixel + k]);
+        row.max_error = std::max(row.max_error, e);
+        row.mean_error += e;
+        row.samples_per_ray += static_cast<double>(samples[pixel * per_pixel + k]);
+      }
+      row.mean_error /= hits;
+      row.samples_per_ray /= hits;
+      means.push_back(row.mean_error);
+      out.rows.push_back(row);
+    }
+    out.observed.push_back(observed_order(steps, means));
+    Image map(camera.width, camera.height);
+    for (long i = 0; i < n; ++i) {
+      const auto pixel = static_cast<std::size_t>(i);
+      map.pixels[pixel] = static_cast<float>(error[pixel * per_pixel + r * S + map_index]);
+    }
+    out.error_maps.push_back(std::move(map));
+  }
+  return out;
+}
+
+}  // namespace vrv

@@ -1,0 +1,344 @@
+#include "studies/speed-vs-error/speed_vs_error.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <span>
+
+#include <fmt/format.h>
+
+#include "lib/io/atomic_file.h"
+#include "lib/discrete_raycast.h"
+#include "lib/util/parallel.h"
+#include "lib/util/progress.h"
+#include "lib/reference_integrator.h"
+#include "lib/metrics.h"
+#include "studies/engine/study_rays.h"
+#include "lib/io/table.h"
+#include "studies/engine/study_driver.h"
+
+namespace vrv {
+
+std::vector<bool> pareto_front(const std::vector<double>& cost, const std::vector<double>& error) {
+  const std::size_t n = cost.size();
+  std::vector<bool> front(n, true);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n && front[i]; ++j) {
+      const bool no_worse = cost[j] <= cost[i] && error[j] <= error[i];
+      const bool better = cost[j] < cost[i] || error[j] < error[i];
+      if (no_worse && better) front[i] = false;
+    }
+  return front;
+}
+
+std::optional<std::size_t> cheapest_reaching(const std::vector<SpeedErrorPoint>& points,
+                                             const std::string& method, double target) {
+  std::optional<std::size_t> best;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (points[i].method == method && points[i].max_error <= target &&
+        (!best || points[i].seconds_per_ray < points[*best].seconds_per_ray))
+      best = i;
+  return best;
+}
+
+namespace {
+
+constexpr long kMaxRays = 100'000;
+
+// One configuration: the reference at `tol`, or a discrete raycast.
+struct Level {
+  std::string series;  // the method's `label`, else its name
+  StudyMethodSpec spec;
+  bool quick = true;  // part of the --quick run
+};
+
+struct Definition {
+  std::string scene_toml;
+  Scene scene;
+  double reference_tol = 1e-13;
+  std::vector<double> targets;
+  long repeats = 3, quick_repeats = 1;
+  long count = 64, quick_count = 6;
+  std::uint64_t seed = 1;
+  std::vector<std::string> methods;  // in file order
+  std::vector<Level> levels;         // method-major, levels in file order
+};
+
+// The method table with `key` replaced by one value of its list, read as a single method.
+StudyMethodSpec one_level(const StudyReader& r, const toml::table& m, const std::string& path,
+                          const Scene& scene, std::string_view key, double value) {
+  toml::table copy = m;
+  for (const char* list : {"steps", "quick_steps", "tols", "quick_tols"}) copy.erase(list);
+  copy.insert_or_assign(key, value);
+  return read_study_method(r, copy, path, scene);
+}
+
+void read_method(const StudyReader& r, const toml::table& m, const std::string& path, Definition& d) {
+  const std::string name = r.string(r.require(m, "method", path), path + ".method");
+  const bool reference = name == "reference";
+  const char* list = reference ? "tols" : "steps";
+  const char* quick_list = reference ? "quick_tols" : "quick_steps";
+  static constexpr const char* kNotForReference[] = {"tol", "steps", "quick_steps"};
+  static constexpr const char* kNotForDiscrete[] = {"step", "rate", "tols", "quick_tols"};
+  const std::span<const char* const> wrong_keys =
+      reference ? std::span<const char* const>(kNotForReference) : std::span<const char* const>(kNotForDiscrete);
+  for (const char* wrong : wrong_keys)
+    if (m.contains(wrong))
+      r.fail(StudyReader::child(path, wrong),
+             reference ? "the reference takes tols (a list)" : "discrete methods take steps (a list)");
+  const std::vector<double> all = r.numbers(m, list, path, 1e-15, 10);
+  std::vector<double> quick = m.contains(quick_list) ? r.numbers(m, quick_list, path, 1e-15, 10) : all;
+  for (std::size_t i = 0; i < quick.size(); ++i)
+    if (std::find(all.begin(), all.end(), quick[i]) == all.end())
+      r.fail(fmt::format("{}.{}[{}]", path, quick_list, i), fmt::format("{:g} is not in {}", quick[i], list));
+  const std::string series = m.contains("label") ? r.string(*m.get("label"), path + ".label") : name;
+  if (std::find(d.methods.begin(), d.methods.end(), series) != d.methods.end())
+    r.fail(path + (m.contains("label") ? ".label" : ".method"),
+           fmt::format("'{}' is listed twice (give a distinct label)", series));
+  d.methods.push_back(series);
+  for (double v : all) {
+    Level level{series, one_level(r, m, path, d.scene, reference ? "tol" : "step", v),
+                std::find(quick.begin(), quick.end(), v) != quick.end()};
+    if (!reference && level.spec.config.sampling.strategy != Strategy::step &&
+        level.spec.config.sampling.strategy != Strategy::inviwo &&
+        level.spec.config.sampling.strategy != Strategy::vtk)
+      r.fail(path + ".strategy", "must be step-based (step, vtk or inviwo)");
+    d.levels.push_back(level);
+  }
+}
+
+Definition read_definition(const StudyInput& in) {
+  const StudyReader& r = in.reader;
+  r.check_keys(in.doc, "", {"kind", "name", "description", "reference_tol", "targets", "repeats",
+                            "quick_repeats", "scene", "rays", "method"});
+  Definition d;
+  d.scene = read_study_scene(r, in.doc, "", d.scene_toml);
+  d.reference_tol = r.number_or(in.doc, "reference_tol", "", 1e-13);
+  if (!(d.reference_tol >= 1e-15 && d.reference_tol <= 1e-6))
+    r.fail("reference_tol", fmt::format("must be in [1e-15, 1e-6], got {:g}", d.reference_tol));
+  d.targets = r.numbers(in.doc, "targets", "", 1e-14, 1);
+  d.repeats = r.integer_or(in.doc, "repeats", "", 1, 100, 3);
+  d.quick_repeats = r.integer_or(in.doc, "quick_repeats", "", 1, 100, 1);
+  const toml::table& rays = r.table(r.require(in.doc, "rays", ""), "rays");
+  r.check_keys(rays, "rays", {"count", "quick_count", "seed"});
+  d.count = r.integer(r.require(rays, "count", "rays"), "rays.count", 1, kMaxRays);
+  d.quick_count = r.integer_or(rays, "quick_count", "rays", 1, kMaxRays, std::min(d.count, 6L));
+  d.seed = static_cast<std::uint64_t>(
+      r.integer_or(rays, "seed", "rays", 0, std::numeric_limits<long>::max(), 1));
+  const toml::array& methods = r.array(r.require(in.doc, "method", ""), "method");
+  if (methods.empty()) r.fail("method", "no methods");
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    const std::string path = fmt::format("method[{}]", i);
+    read_method(r, r.table(*methods.get(i), path), path, d);
+  }
+  return d;
+}
+
+// Values and work of one configuration on every ray, in one single-threaded pass; returns the
+// pass's wall time.  A discrete raycaster is built once, as a renderer would.
+double one_pass(const Scene& scene, const StudyMethodSpec& spec, const std::vector<Ray>& rays,
+                std::vector<double>& value, std::vector<double>& work) {
+  const auto start = std::chrono::steady_clock::now();
+  if (spec.reference) {
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const ReferenceResult res = integrate_reference(scene, rays[i], ReferenceOptions{spec.tol});
+      value[i] = res.value;
+      work[i] = static_cast<double>(res.evaluations);
+    }
+  } else {
+    visit_field(scene, [&](const auto& field) {
+      const DiscreteRaycaster caster(field, scene.box, scene.transfer, scene.background, spec.config);
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        const DiscreteResult res = caster.cast(rays[i]);
+        value[i] = res.value;
+        work[i] = static_cast<double>(res.samples);
+      }
+    });
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+SpeedErrorPoint measure(const Definition& d, const Level& level, const std::vector<Ray>& rays,
+                        const std::vector<ReferenceResult>& truth, long repeats) {
+  const StudyMethodSpec& spec = level.spec;
+  const std::size_t n = rays.size();
+  std::vector<double> value(n), work(n);
+  double best = std::numeric_limits<double>::infinity();
+  for (long k = 0; k < repeats; ++k) best = std::min(best, one_pass(d.scene, spec, rays, value, work));
+  SpeedErrorPoint p;
+  p.method = level.series;
+  p.level_name = spec.reference ? "tol" : "step";
+  p.level = spec.reference ? spec.tol : spec.config.sampling.step;
+  p.seconds_per_ray = best / static_cast<double>(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double e = std::abs(value[i] - truth[i].value);
+    if (!(e <= p.max_error)) p.max_error = e;  // a NaN propagates (std::max would drop it)
+    p.mean_error += e / static_cast<double>(n);
+    p.work_per_ray += work[i] / static_cast<double>(n);
+  }
+  if (spec.reference)  // the estimate is recomputed once; it is deterministic
+    for (std::size_t i = 0; i < n; ++i)
+      p.max_estimate = std::max(p.max_estimate,
+                                integrate_reference(d.scene, rays[i], ReferenceOptions{spec.tol}).error_estimate);
+  return p;
+}
+
+Table points_table(const std::vector<SpeedErrorPoint>& pts, const std::vector<bool>& front_time,
+                   const std::vector<bool>& front_work) {
+  Table t({"method", "level_name", "level", "max_error", "mean_error", "max_estimate",
+           "seconds_per_ray", "work_per_ray", "on_front", "on_work_front"});
+  t.set_format("level", "{:g}");
+  for (const char* c : {"max_error", "mean_error", "max_estimate", "seconds_per_ray"}) t.set_format(c, "{:.3e}");
+  t.allow_missing("max_error");  // a non-finite error shows as missing and fails its check
+  t.allow_missing("mean_error");
+  t.set_format("work_per_ray", "{:.1f}");
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const SpeedErrorPoint& p = pts[i];
+    t.add_row({p.method, p.level_name, p.level, p.max_error, p.mean_error, p.max_estimate,
+               p.seconds_per_ray, p.work_per_ray, std::string(front_time[i] ? "true" : "false"),
+               std::string(front_work[i] ? "true" : "false")});
+  }
+  return t;
+}
+
+Table targets_table(const Definition& d, const std::vector<SpeedErrorPoint>& pts) {
+  Table t({"target", "method", "level", "max_error", "seconds_per_ray", "work_per_ray",
+           "cost_vs_fastest", "fastest"});
+  for (const char* c : {"level", "max_error", "seconds_per_ray", "work_per_ray", "cost_vs_fastest"})
+    t.allow_missing(c);
+  t.set_format("target", "{:g}");
+  t.set_format("level", "{:g}");
+  t.set_format("max_error", "{:.2e}");
+  t.set_format("seconds_per_ray", "{:.3e}");
+  t.set_format("work_per_ray", "{:.1f}");
+  t.set_format("cost_vs_fastest", "{:.1f}");
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  for (double target : d.targets) {
+    double fastest = std::numeric_limits<double>::infinity();
+    for (const std::string& m : d.methods)
+      if (const auto i = cheapest_reaching(pts, m, target)) fastest = std::min(fastest, pts[*i].seconds_per_ray);
+    for (const std::string& m : d.methods) {
+      const auto i = cheapest_reaching(pts, m, target);
+      if (!i) {
+        t.add_row({target, m, nan, nan, nan, nan, nan, std::string("not reached")});
+        continue;
+      }
+      const SpeedErrorPoint& p = pts[*i];
+      t.add_row({target, m, p.level, p.max_error, p.seconds_per_ray, p.work_per_ray,
+                 p.seconds_per_ray / fastest, std::string(p.seconds_per_ray == fastest ? "yes" : "")});
+    }
+  }
+  return t;
+}
+
+constexpr const char* kPlots = R"json({
+  "plots": [
+    {"name": "speed_vs_error", "csv": "points.csv", "style": "lines", "x": "seconds_per_ray",
+     "y": "max_error", "group": "method", "xscale": "log", "yscale": "log", "front": true,
+     "hlines": [1e-3, 1e-6], "xlabel": "time per ray (s, one thread, best of repeats)",
+     "ylabel": "max |value - reference| over the rays", "title": "Speed against error"},
+    {"name": "work_vs_error", "csv": "points.csv", "style": "lines", "x": "work_per_ray",
+     "y": "max_error", "group": "method", "xscale": "log", "yscale": "log", "fit": true,
+     "hlines": [1e-3, 1e-6], "xlabel": "field evaluations (reference) or samples per ray",
+     "ylabel": "max |value - reference| over the rays", "title": "Work against error"}
+  ]
+}
+)json";
+
+std::vector<StudyCheck> checks_of(const Definition& d, const std::vector<SpeedErrorPoint>& pts,
+                                  double truth_estimate) {
+  std::vector<StudyCheck> checks;
+  for (const SpeedErrorPoint& p : pts) {
+    if (p.method == "reference") {
+      checks.push_back({fmt::format("reference tol={:g}: error within its estimate", p.level), p.max_error,
+                        p.max_estimate + truth_estimate, p.max_error <= p.max_estimate + truth_estimate,
+                        "max error against the truth <= largest own estimate + the truth's estimate"});
+      checks.push_back({fmt::format("reference tol={:g}: meets its tolerance", p.level), p.max_estimate,
+                        p.level, p.max_estimate <= p.level, "largest own error estimate <= tol"});
+    }
+    const bool finite = std::isfinite(p.max_error) && std::isfinite(p.mean_error) &&
+                        std::isfinite(p.seconds_per_ray) && p.seconds_per_ray > 0;
+    if (!finite)
+      checks.push_back({fmt::format("{} {}={:g}: finite", p.method, p.level_name, p.level), p.max_error, 0,
+                        false, "error and time finite, time > 0"});
+  }
+  // Convergence, loosely (the convergence study checks orders): the least-squares slope of
+  // log max error against log step is at least 1/2.  Max errors of sample rules jump with where
+  // the exit falls in the last step, so a two-point ratio would be too noisy to gate on.
+  for (const std::string& m : d.methods) {
+    std::vector<double> steps, errors;
+    for (const SpeedErrorPoint& p : pts)
+      if (p.method == m && p.level_name == "step") {
+        steps.push_back(p.level);
+        errors.push_back(p.max_error);
+      }
+    if (steps.size() < 2) continue;  // the reference, or a single level
+    const double order = observed_order(steps, errors);
+    checks.push_back({fmt::format("{}: converges", m), order, 0.5, order >= 0.5,
+                      "observed order of the max error over the steps >= 1/2"});
+  }
+  for (double target : d.targets) {
+    bool reached = false;
+    for (const std::string& m : d.methods) reached = reached || cheapest_reaching(pts, m, target).has_value();
+    checks.push_back({fmt::format("target {:g} reached", target), target, target, reached,
+                      "some method reaches max error <= target"});
+  }
+  return checks;
+}
+
+StudyJob parse_speed_vs_error(const StudyInput& in) {
+  Definition d = read_definition(in);
+  return [d](const StudyRun& run) {
+    const long n = run.quick ? d.quick_count : d.count;
+    const std::vector<Ray> rays = study_rays(d.scene.box, n, d.seed);
+    std::vector<ReferenceResult> truth(static_cast<std::size_t>(n));
+    parallel_for_index(n, [&](long i) {
+      truth[static_cast<std::size_t>(i)] =
+          integrate_reference(d.scene, rays[static_cast<std::size_t>(i)], ReferenceOptions{d.reference_tol});
+    });
+    double truth_estimate = 0;
+    for (const ReferenceResult& t : truth) truth_estimate = std::max(truth_estimate, t.error_estimate);
+    std::vector<SpeedErrorPoint> pts;
+    Progress progress("speed-vs-error", static_cast<long>(d.levels.size()), run.progress);
+    for (const Level& level : d.levels) {  // one at a time: the timings must not share the cores
+      if (!run.quick || level.quick)
+        pts.push_back(measure(d, level, rays, truth, run.quick ? d.quick_repeats : d.repeats));
+      progress.advance();
+    }
+    progress.finish();
+    std::vector<double> time, work, error;
+    for (const SpeedErrorPoint& p : pts) {
+      time.push_back(p.seconds_per_ray);
+      work.push_back(p.work_per_ray);
+      error.push_back(p.max_error);
+    }
+    const Table points = points_table(pts, pareto_front(time, error), pareto_front(work, error));
+    const Table targets = targets_table(d, pts);
+    LatexStyle style;
+    style.caption = fmt::format("Cheapest configuration of each method reaching each target max error "
+                                "({} rays; one thread; times are this machine's).", n);
+    style.label = "tab:speed-vs-error";
+    write_file_atomically(run.dir / "points.csv", points.to_csv());
+    write_file_atomically(run.dir / "points.md", points.to_markdown());
+    write_file_atomically(run.dir / "targets.csv", targets.to_csv());
+    write_file_atomically(run.dir / "targets.md", targets.to_markdown());
+    write_file_atomically(run.dir / "targets.tex", targets.to_latex(style));
+    write_file_atomically(run.dir / "plots.json", kPlots);
+    StudyOutcome out;
+    out.checks = checks_of(d, pts, truth_estimate);
+    std::string load;
+    if (std::ifstream f("/proc/loadavg"); f) std::getline(f, load);
+    out.parameters = {{"rays", n}, {"repeats", run.quick ? d.quick_repeats : d.repeats},
+                      {"configurations", pts.size()}, {"loadavg_after", load},
+                      {"truth_max_estimate", truth_estimate}};
+    out.summary = fmt::format("{} configurations on {} rays", pts.size(), n);
+    return out;
+  };
+}
+
+const RegisterStudyKind kSpeedVsError{"speed_vs_error", parse_speed_vs_error};
+
+}  // namespace
+}  // namespace vrv

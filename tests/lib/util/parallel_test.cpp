@@ -1,0 +1,39 @@
+// Results do not depend on the number of threads.
+#include "lib/util/parallel.h"
+
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "lib/discrete_raycast.h"
+#include "lib/reference_integrator.h"
+#include "lib/io/scene_file.h"
+
+namespace vrv {
+namespace {
+
+std::vector<double> row_of_values(int threads, bool reference) {
+  const ThreadLimit limit(threads);
+  const Scene scene = default_scene();
+  DiscreteConfig config;
+  config.rule = SegmentRule::trapezoid;
+  constexpr int n = 64;
+  std::vector<double> out(n);
+  parallel_for_index(n, [&](long i) {
+    const Ray ray = make_ray(Vec3(-3, -1 + (i + 0.5) * 2.0 / n, 0.1), Vec3(1, 0.01, 0.02));
+    out[i] = reference ? integrate_reference(scene, ray).value : discrete_raycast(scene, ray, config).value;
+  });
+  return out;
+}
+
+TEST(Parallel, OneAndTwoThreadsGiveBitwiseIdenticalResults) {
+  for (bool reference : {true, false}) {
+    const auto one = row_of_values(1, reference);
+    const auto two = row_of_values(2, reference);
+    ASSERT_EQ(one.size(), two.size());
+    for (std::size_t i = 0; i < one.size(); ++i) EXPECT_EQ(one[i], two[i]) << i;  // bitwise
+  }
+}
+
+}  // namespace
+}  // namespace vrv

@@ -1,0 +1,138 @@
+// The convergence study passes in quick mode, does not depend on the thread count, refines
+// grids at the expected order, and rejects bad study files with one line naming the file and key.
+#include "studies/convergence/convergence.h"
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "lib/util/parallel.h"
+
+namespace vrv {
+namespace {
+
+const std::filesystem::path kConvergence =
+    std::filesystem::path(VRV_SOURCE_DIR) / "studies" / "convergence" / "convergence.toml";
+
+TEST(ConvergenceStudy, ConvergenceQuickPassesWithObservedOrdersWithinTolerance) {
+  const StudyDefinition study = load_study(kConvergence);
+  EXPECT_EQ(study.name, "convergence");
+  const StudyResult r = run_convergence(study, /*quick=*/true, /*progress=*/false);
+  EXPECT_EQ(r.rays, study.quick_count);
+  ASSERT_EQ(r.orders.size(), 5u);
+  ASSERT_EQ(r.errors.size(), 5u * study.steps.size());
+  for (const OrderRow& o : r.orders) {
+    EXPECT_NEAR(o.observed, o.expected, study.tolerance) << segment_rule_name(o.rule);
+    EXPECT_TRUE(o.pass) << segment_rule_name(o.rule);
+  }
+  EXPECT_TRUE(r.pass);
+}
+
+TEST(ConvergenceStudy, ErrorsAreBitwiseIdenticalForOneAndTwoThreads) {
+  const StudyDefinition study = load_study(kConvergence);
+  std::string one, two;
+  {
+    const ThreadLimit limit(1);
+    one = study_tables(study, run_convergence(study, true, false)).errors_csv;
+  }
+  {
+    const ThreadLimit limit(2);
+    two = study_tables(study, run_convergence(study, true, false)).errors_csv;
+  }
+  EXPECT_FALSE(one.empty());
+  EXPECT_EQ(one, two);
+}
+
+std::string valid_study() {
+  return "kind = \"convergence\"\n"
+         "[scene.volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n"
+         "[scene.field]\nkind = \"marschner_lobb\"\nfM = 2.0\n"
+         "[scene.transfer]\nemission = [[-1, 1.5], [2, 0]]\nextinction = [[-1, 0.1], [2, 2.5]]\n"
+         "[[method]]\nrule = \"riemann\"\nexpected_order = 1\n"
+         "[sampling]\nstrategy = \"inviwo\"\nsteps = [0.1, 0.05]\n"
+         "[rays]\ncount = 2\n";
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_study(text, "bad.toml", "bad");
+  } catch (const StudyFileError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// A bad study file and the start of the one-line error it must give.
+struct BadFile {
+  std::string text, prefix;
+};
+
+template <std::size_t N>
+void expect_one_line_errors(const BadFile (&cases)[N]) {
+  for (const auto& c : cases) {
+    const std::string e = error_of(c.text);
+    EXPECT_TRUE(e.starts_with(c.prefix)) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+}
+
+TEST(ConvergenceStudy, BadStudyFilesGiveOneLineNamingFileAndKey) {
+  EXPECT_EQ(error_of(valid_study()), "(no error)");
+  auto replace = [](std::string s, const std::string& from, const std::string& to) {
+    const auto at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return s.replace(at, from.size(), to);
+  };
+  const BadFile cases[] = {
+      {replace(valid_study(), "\"riemann\"", "\"simpson\""), "bad.toml: method[0].rule: unknown method 'simpson'"},
+      {replace(valid_study(), "[0.1, 0.05]", "[]"), "bad.toml: sampling.steps: empty"},
+      {replace(valid_study(), "[0.1, 0.05]", "[0.1, -0.05]"), "bad.toml: sampling.steps[1]: must be positive"},
+      {replace(valid_study(), "[rays]\ncount = 2\n", ""), "bad.toml: rays: missing"},
+      {replace(valid_study(), "count = 2", "count = 2\ncolour = 1"), "bad.toml: rays.colour: unknown key"},
+      {replace(valid_study(), "fM = 2.0", "fM = -2.0"), "bad.toml: scene.field.fM"},
+      {"kind = \"convergence\"\n", "bad.toml: scene: missing"},
+      {valid_study() + "[grid_refinement]\nresolutions = [9]\n",
+       "bad.toml: grid_refinement.resolutions: one resolution gives no order"},
+      {valid_study() + "[grid_refinement]\nresolutions = [9, 17.5]\n",
+       "bad.toml: grid_refinement.resolutions[1]: expected an integer"},
+      {valid_study() + "[grid_refinement]\nresolutions = [9, 17]\nsteps_per_cell = 0\n",
+       "bad.toml: grid_refinement.steps_per_cell: must be in"},
+      {valid_study() + "[grid_refinement]\nresolution = [9, 17]\n",
+       "bad.toml: grid_refinement.resolution: unknown key"},
+      {replace(valid_study(), "kind = \"marschner_lobb\"\nfM = 2.0\n",
+               "kind = \"grid\"\nresolution = [5, 5, 5]\n[scene.field.source]\nkind = \"marschner_lobb\"\n") +
+           "[grid_refinement]\nresolutions = [9, 17]\n",
+       "bad.toml: grid_refinement: needs an analytic field"},
+  };
+  expect_one_line_errors(cases);
+}
+
+// Grid refinement of a linear ramp with a linear transfer function: trilinear reconstruction is
+// exact, so the reference through every grid equals the analytic one (to its tolerance), and a
+// smooth field's reconstruction error falls at second order.
+TEST(ConvergenceStudy, GridRefinementIsExactForARampAndSecondOrderForMarschnerLobb) {
+  std::string ramp = valid_study() + "[grid_refinement]\nresolutions = [3, 5, 9]\n";
+  const std::string ml_field = "kind = \"marschner_lobb\"\nfM = 2.0";
+  ramp.replace(ramp.find(ml_field), ml_field.size(),
+               "kind = \"linear_ramp\"\ngradient = [0.3, 0.2, 0.1]\noffset = 0.5");
+  const StudyResult exact = run_convergence(parse_study(ramp, "ramp.toml", "ramp"), false, false);
+  ASSERT_EQ(exact.grid_errors.size(), 6u);  // reference and riemann, 3 resolutions
+  for (const GridErrorRow& row : exact.grid_errors)
+    if (row.method == "reference") {
+      EXPECT_LT(row.max_error, 1e-12) << row.resolution;
+    }
+
+  const StudyDefinition ml = parse_study(
+      valid_study() + "[grid_refinement]\nresolutions = [17, 33, 65]\n", "ml.toml", "ml");
+  const StudyResult smooth = run_convergence(ml, false, false);
+  ASSERT_EQ(smooth.grid_orders.size(), 2u);
+  EXPECT_EQ(smooth.grid_orders[0].method, "reference");
+  EXPECT_NEAR(smooth.grid_orders[0].observed, 2, 0.25);
+  EXPECT_NEAR(smooth.grid_orders[1].observed, 1, 0.25);  // riemann at half a cell: first order
+}
+
+}  // namespace
+}  // namespace vrv
+

@@ -1,0 +1,99 @@
+// The hard-cases study passes in quick mode with no NaN in its tables, does not depend on the
+// thread count, and rejects bad study files with one line naming the file and key.
+#include "studies/hard-cases/hard_cases.h"
+
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "lib/util/parallel.h"
+
+namespace vrv {
+namespace {
+
+const std::filesystem::path kHardCases =
+    std::filesystem::path(VRV_SOURCE_DIR) / "studies" / "hard-cases" / "hard-cases.toml";
+
+TEST(HardCases, HardCasesQuickPassesAndItsTablesHaveNoNan) {
+  const HardCasesStudy study = load_hard_cases_study(kHardCases);
+  EXPECT_GE(study.cases.size(), 8u);
+  const HardCasesResult r = run_hard_cases(study, /*progress=*/false);
+  std::size_t rows = 0;
+  for (const HardCase& c : study.cases) rows += c.methods.size();
+  ASSERT_EQ(r.cases.size(), rows);
+  for (const CaseRow& row : r.cases) {
+    EXPECT_TRUE(row.finite) << row.case_name << " " << row.method;
+    EXPECT_TRUE(row.pass) << row.case_name << " " << row.method << " error " << row.error;
+  }
+  for (const CaseSummary& c : r.case_summary) EXPECT_EQ(c.nan_count, 0) << c.name;
+  EXPECT_TRUE(r.pass);
+  const HardCaseFiles f = hard_case_tables(study, r);
+  EXPECT_EQ(f.cases_csv.find("nan"), std::string::npos);
+  EXPECT_EQ(f.cases_csv.find("inf"), std::string::npos);
+  EXPECT_EQ(f.cases_md.find("nan"), std::string::npos);
+  // Any thread count gives the same bits.
+  std::string one, two;
+  {
+    const ThreadLimit limit(1);
+    one = hard_case_tables(study, run_hard_cases(study, false)).cases_csv;
+  }
+  {
+    const ThreadLimit limit(2);
+    two = hard_case_tables(study, run_hard_cases(study, false)).cases_csv;
+  }
+  EXPECT_EQ(one, two);
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_hard_cases_study(text, "bad.toml", "bad");
+  } catch (const StudyFileError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// A bad study file and the start of the one-line error it must give.
+struct BadFile {
+  std::string text, prefix;
+};
+
+template <std::size_t N>
+void expect_one_line_errors(const BadFile (&cases)[N]) {
+  for (const auto& c : cases) {
+    const std::string e = error_of(c.text);
+    EXPECT_TRUE(e.starts_with(c.prefix)) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+}
+
+std::string hard_case(const std::string& method_lines) {
+  return "kind = \"hard_cases\"\n"
+         "[[case]]\nname = \"c\"\norigin = [-3, 0.1, 0.2]\ndirection = [1, 0, 0]\n"
+         "[case.scene.volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n"
+         "[case.scene.field]\nkind = \"marschner_lobb\"\n"
+         "[case.scene.transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n"
+         "[[case.method]]\n" + method_lines;
+}
+
+TEST(HardCases, BadHardCaseFilesGiveOneLineNamingFileAndKey) {
+  EXPECT_EQ(error_of(hard_case("method = \"reference\"\ntol = 1e-10\n")), "(no error)");
+  EXPECT_EQ(error_of(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\nmax_error = 1e-3\n")),
+            "(no error)");
+  const BadFile cases[] = {
+      {hard_case("method = \"simpson\"\n"), "bad.toml: case[0].method[0].method: unknown method 'simpson'"},
+      {hard_case("method = \"alpha\"\nstrategy = \"step\"\n"), "bad.toml: case[0].method[0].step: missing"},
+      {hard_case("method = \"riemann\"\nstrategy = \"step\"\nstep = 0.1\ncorrection = \"lacroute\"\n"),
+       "bad.toml: case[0].method[0]: correction: only the alpha rule"},
+      {hard_case("method = \"reference\"\n"), "bad.toml: case[0].method[0].tol: missing"},
+      {hard_case("method = \"reference\"\ntol = 1e-10\nmax_error = 1\n"),
+       "bad.toml: case[0].method[0].max_error: not used by the reference method"},
+      {hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 1e-9\n"), "bad.toml: case[0].method[0]: about"},
+      {"kind = \"hard_cases\"\n", "bad.toml: case: missing"},
+  };
+  expect_one_line_errors(cases);
+}
+
+}  // namespace
+}  // namespace vrv
