@@ -4,8 +4,9 @@
 // word, so drivers compute their truths through audited_reference(), which counts the rays and the
 // misses, and the study runner adds one check to every study:
 //   reference_within_tolerance   value: truths that missed, bound 0 (kind derived)
-// The counters are process-wide (the runner runs one study at a time); a truth restored from a
-// checkpoint by --resume was audited when it was computed.
+// The counters are process-wide (the runner runs one study at a time).  A truth restored from a
+// checkpoint by --resume is not audited again (checkpoints keep values, not verdicts): a resumed
+// run audits the truths it computes.
 #include "lib/reference_integrator.h"
 #include "studies/engine/study_driver.h"
 

@@ -171,7 +171,10 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
     run.checkpoints = &checkpoints;
     reset_reference_audit();
     outcome = study.job(run);
-    outcome.checks.push_back(reference_audit_check(reference_audit_counts()));
+    const ReferenceAuditCounts audit = reference_audit_counts();
+    outcome.checks.push_back(reference_audit_check(audit));
+    outcome.parameters["reference_audit"] = {{"truths_computed", audit.rays}, {"missed", audit.missed},
+                                             {"largest_estimate", audit.largest_estimate}};
   }
   for (StudyCheck& c : outcome.checks)  // a check must say where its bound comes from
     if (c.kind == CheckKind::unlabelled) {
