@@ -820,6 +820,30 @@ def section_startup(build_dir, runs=20):
     ])
 
 
+# ---- Reference image against the discrete image it judges --------------------------------------
+
+def section_reference_image(build_dir, rounds=3):
+    """reference_image_cost.py's table, run in this report."""
+    script = BENCH_SOURCES / "reference_image_cost.py"
+    cmd = [sys.executable, str(script), str(build_dir), "--rounds", str(rounds)]
+    title = "## Reference image against the trapezoid image it judges"
+    try:
+        out = subprocess.run(cmd, capture_output=True, text=True, timeout=1200)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        return f"{title}\n\nNot measured: {e}"
+    if out.returncode != 0:
+        return f"{title}\n\nNot measured: `{shlex.join(cmd)}` exited {out.returncode}: {out.stderr.strip()}"
+    return "\n".join([
+        title,
+        "",
+        f"`python3 studies/benchmarks/reference_image_cost.py {build_dir} --rounds {rounds}`: the default "
+        "scene's reference image at tol 1e-10 against the trapezoid image about 5e-6 off (issue 10's goal: "
+        "the reference costs no more). Old against new builds side by side: `--before OLD_BUILD`.",
+        "",
+        out.stdout.strip(),
+    ])
+
+
 # ---- Main --------------------------------------------------------------------------------------
 
 def main():
@@ -853,6 +877,7 @@ def main():
         build_arg = str(build_dir)
 
     startup_text = section_startup(build_dir)
+    reference_image_text = section_reference_image(build_dir)
     scaling_text, fits = section_scaling(by_name.get("bench_scaling"))
     largest_text, largest_headline = section_largest(by_name.get("bench_scaling"), fits, machine)
     built = [p.name for p in programs if p.built]
@@ -879,6 +904,8 @@ def main():
         headline_corrections(by_name.get("bench_corrections")),
         "",
         startup_text,
+        "",
+        reference_image_text,
         "",
         scaling_text,
         "",

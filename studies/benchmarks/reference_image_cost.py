@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""What a reference image costs against the discrete image it judges (issue 10).
+
+    python3 studies/benchmarks/reference_image_cost.py BUILD_DIR [--before OTHER_BUILD_DIR]
+                                                       [--rounds N] [--size N] [--step H]
+
+Renders the default scene (SIZE x SIZE pixels, one thread) with the reference integrator at
+tol 1e-10 and with the trapezoid rule (inviwo placement, step H, default 0.007: about 5e-6 off at
+most), each ROUNDS times, alternating the builds when --before is given so that both see the same
+load, and prints a Markdown table: the median render time each `vrv render` reports (the pixels
+only: no start-up, no image writing), the trapezoid image's max |error| against that build's
+reference, and the ratio reference / trapezoid.  The goal: a ratio of at most 1.
+
+Python 3 standard library only; writes nothing but a scratch directory it removes.
+"""
+import argparse
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+TIME = re.compile(r" in ([0-9.]+) s$", re.M)
+MAX_ERROR = re.compile(r"max \|e\| ([0-9.eE+-]+)")
+
+
+def render(vrv, args, out):
+    cmd = [vrv, "render", "--threads", "1", "--quiet", "-o", str(out)] + args
+    run = subprocess.run(cmd, capture_output=True, text=True, timeout=1200)
+    if run.returncode != 0:
+        sys.exit(f"reference_image_cost: {' '.join(cmd)} exited {run.returncode}: {run.stderr.strip()}")
+    seconds = TIME.search(run.stderr)
+    if not seconds:
+        sys.exit(f"reference_image_cost: no render time in the output of {' '.join(cmd)}")
+    error = MAX_ERROR.search(run.stderr)
+    return float(seconds.group(1)), float(error.group(1)) if error else None
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("build_dir")
+    ap.add_argument("--before", help="another build directory, measured alternately in the same run")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--step", type=float, default=0.007)
+    args = ap.parse_args()
+    builds = ([("before", args.before)] if args.before else []) + [("this build", args.build_dir)]
+    for _, d in builds:
+        if not (Path(d) / "vrv").is_file():
+            sys.exit(f"reference_image_cost: {d}/vrv: not found")
+    size = ["--width", str(args.size), "--height", str(args.size)]
+    times = {name: {"reference": [], "trapezoid": []} for name, _ in builds}
+    errors = {}
+    with tempfile.TemporaryDirectory() as scratch:
+        for _ in range(args.rounds):
+            for name, d in builds:
+                vrv = str(Path(d) / "vrv")
+                ref = Path(scratch) / f"ref_{len(errors)}_{name.replace(' ', '_')}.exr"
+                t_ref, _ = render(vrv, ["--reference", "--tol", "1e-10"] + size, ref)
+                t_trap, err = render(vrv, ["--method", "trapezoid", "--strategy", "inviwo", "--step",
+                                           str(args.step), "--error-against", str(ref)] + size,
+                                     Path(scratch) / "trap.exr")
+                times[name]["reference"].append(t_ref)
+                times[name]["trapezoid"].append(t_trap)
+                errors[name] = err
+    print(f"| build | reference, tol 1e-10 | trapezoid, inviwo step {args.step} | its max abs error | "
+          "reference / trapezoid |")
+    print("|---|---|---|---|---|")
+    for name, d in builds:
+        r = statistics.median(times[name]["reference"])
+        t = statistics.median(times[name]["trapezoid"])
+        print(f"| {name} (`{d}`) | {1e3 * r:.0f} ms | {1e3 * t:.0f} ms | {errors[name]:.2e} | {r / t:.2f} |")
+    print(f"\n{args.size}² pixels of the default scene, one thread, median of {args.rounds} rounds "
+          "(the time `vrv render` reports for the pixels).")
+
+
+if __name__ == "__main__":
+    main()
