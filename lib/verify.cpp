@@ -425,6 +425,19 @@ std::vector<double> cast_pixels(const Scene& scene, const Camera& camera, const 
   return out;
 }
 
+// Whether two models' pixels agree to rounding (1e-11 of the largest value): then the later,
+// more elaborate one (a centred table of a transfer function whose breakpoints fall on its
+// entries, premultiplied colour where alpha = a) says nothing the earlier one does not.
+bool same_pixels(const std::vector<std::vector<double>>& a, const std::vector<std::vector<double>>& b) {
+  double scale = 1, diff = 0;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    for (std::size_t j = 0; j < a[k].size(); ++j) {
+      scale = std::max(scale, std::abs(a[k][j]));
+      diff = std::max(diff, std::abs(a[k][j] - b[k][j]));
+    }
+  return diff <= 1e-11 * scale;
+}
+
 std::vector<Candidate> diagnose(const Scene& scene, const Camera& camera,
                                 const std::vector<const ImageWithStep*>& sorted, int channel,
                                 const VerifyOptions& opt) {
@@ -432,21 +445,25 @@ std::vector<Candidate> diagnose(const Scene& scene, const Camera& camera,
   for (const auto* im : sorted) steps.push_back(im->step);
   const std::vector<long> pixels = diagnosis_pixels(camera.width, camera.height);
   std::vector<Candidate> out;
+  std::vector<std::vector<std::vector<double>>> kept;  // the pixels of every model kept, per step
   for (Model& m : models(scene, steps, opt)) {
+    std::vector<std::vector<double>> casts;
+    for (std::size_t k = 0; k < sorted.size(); ++k) casts.push_back(cast_pixels(scene, camera, m.per_step[k], pixels));
+    if (std::any_of(kept.begin(), kept.end(), [&](const auto& other) { return same_pixels(casts, other); }))
+      continue;
     double sum_sq = 0, max = 0;
     long count = 0;
-    for (std::size_t k = 0; k < sorted.size(); ++k) {
-      const std::vector<double> v = cast_pixels(scene, camera, m.per_step[k], pixels);
+    for (std::size_t k = 0; k < sorted.size(); ++k)
       for (std::size_t j = 0; j < pixels.size(); ++j) {
         const double u = comparable(sorted[k]->image, channel, pixels[j], scene.background, opt.alpha);
         if (!std::isfinite(u)) continue;
-        const double d = u - v[j];
+        const double d = u - casts[k][j];
         sum_sq += d * d, max = std::max(max, std::abs(d)), ++count;
       }
-    }
     m.label.rms = count ? std::sqrt(sum_sq / count) : kNaN;
     m.label.max = max;
     out.push_back(m.label);
+    kept.push_back(std::move(casts));
   }
   std::stable_sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) { return a.rms < b.rms; });
   return out;

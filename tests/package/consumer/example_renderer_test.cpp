@@ -65,7 +65,13 @@ TEST(ExampleRenderer, VerifyNamesTheMidpointRule) {
   ASSERT_FALSE(report.diagnosis.empty());
   EXPECT_EQ(report.diagnosis.front().placement, "inviwo") << report.diagnosis.front().name;
   EXPECT_EQ(report.diagnosis.front().rule, "alpha") << report.diagnosis.front().name;
-  EXPECT_LT(report.diagnosis.front().rms, 1e-9);
+  // Not to rounding (the example cuts a ray into ceil(length / step) segments, inviwo into
+  // round(length / step)), but ten times nearer than any other placement or rule.
+  for (const vrv::Candidate& c : report.diagnosis)
+    if (c.placement != "inviwo" || c.rule != "alpha") {
+      EXPECT_LT(report.diagnosis.front().rms, 0.1 * c.rms) << c.name;
+      break;
+    }
   EXPECT_TRUE(report.faults.empty()) << report.faults.front().name;
 }
 
