@@ -1,6 +1,6 @@
 #pragma once
-// The toy raycaster of toy_raycaster.h (step rounded to the ray, one sample at the middle of each
-// step, front-to-back alpha) reading an opacity/colour transfer function the ways renderers do,
+// The toy raycaster of toy_raycaster.h (its loop: step rounded to the ray, one sample at the middle
+// of each step; front-to-back alpha) reading an opacity/colour transfer function the ways renderers do,
 // written without vrv's raycaster or tables: for the verify tests that vrv's diagnosis names
 // the convention a renderer uses.
 //   opacity a per unit distance L, corrected to the sample distance h: alpha = 1 - (1 - a)^(h/L);
@@ -15,6 +15,7 @@
 
 #include "lib/camera.h"
 #include "lib/scene.h"
+#include "tests/lib/toy_raycaster.h"
 
 namespace vrv::toy {
 
@@ -58,21 +59,13 @@ inline std::vector<double> render(const Scene& scene, const Camera& camera, doub
   visit_field(scene, [&](const auto& field) {
     for (int y = 0; y < camera.height; ++y)
       for (int x = 0; x < camera.width; ++x) {
-        const Ray ray = camera.ray(x, y);
-        const auto iv = clip(ray, scene.box);
         double colour = 0, transparency = 1;
-        if (iv && iv->t1 > iv->t0) {
-          const double length = iv->t1 - iv->t0;
-          const long n = std::max(1L, std::lround(length / step));
-          const double h = length / static_cast<double>(n);
-          for (long k = 0; k < n; ++k) {
-            const double v = field.value(ray.at(iv->t0 + (static_cast<double>(k) + 0.5) * h));
-            const double a = opacity(v), c = colour_of(v);
-            const double alpha = -std::expm1(std::log1p(-a) * h / L);
-            colour += transparency * c * (convention.premultiplied ? a : alpha);
-            transparency *= 1 - alpha;
-          }
-        }
+        for_each_sample(scene, field, camera.ray(x, y), step, 0.5, [&](double v, double h) {
+          const double a = opacity(v), c = colour_of(v);
+          const double alpha = -std::expm1(std::log1p(-a) * h / L);
+          colour += transparency * c * (convention.premultiplied ? a : alpha);
+          transparency *= 1 - alpha;
+        });
         out[static_cast<std::size_t>(y) * camera.width + x] = colour + transparency * scene.background;
       }
   });
