@@ -16,6 +16,8 @@ install(DIRECTORY lib analytic DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/vrv
   FILES_MATCHING PATTERN "*.h")
 install(FILES lib/vrv.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/vrv)
 install(TARGETS vrv RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The image module (lib/io/image_module.h), where the installed loader looks for it.
+install(TARGETS vrv_image LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/vrv)
 if(TARGET vrv_python)
   install(TARGETS vrv_python LIBRARY DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()

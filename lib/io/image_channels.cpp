@@ -5,8 +5,9 @@
 #include <cstdint>
 #include <stdexcept>
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
+
+#include "lib/io/image_module.h"
 
 namespace vrv {
 namespace {
@@ -27,35 +28,35 @@ double ulp_at(double largest, int mantissa) {
   return std::ldexp(1.0, std::ilogb(largest) - mantissa);
 }
 
+// The quantum of ChannelImage for a stored pixel type (the image module's names).
+double quantum_of(const fs::path& path, const std::string& type, double largest) {
+  if (type == "uint8") return 1.0 / 255;
+  if (type == "uint16") return 1.0 / 65535;
+  if (type == "uint" || type == "uint32") return 1.0 / 4294967295.0;
+  if (type == "half") return ulp_at(largest, 10);
+  if (type == "float") return ulp_at(largest, 23);
+  if (type == "double") return ulp_at(largest, 52);
+  fail(path, fmt::format("pixel type {} is not supported", type));
+}
+
 }  // namespace
 
 ChannelImage read_channel_image(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail(path, "cannot read: no such file");
-  if (fs::is_directory(path, ec)) fail(path, "cannot read: is a directory");
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) fail(path, fmt::format("cannot read: {}", OIIO::geterror()));
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.deep) fail(path, "deep images are not supported");
-  if (spec.depth != 1) fail(path, fmt::format("expected a 2D image, got depth {}", spec.depth));
-  if (spec.nchannels < 1 || spec.nchannels > 4)
-    fail(path, fmt::format("expected 1 to 4 channels (grey, grey+alpha, RGB, RGBA), got {}", spec.nchannels));
-  if (spec.width < 1 || spec.height < 1 || spec.width > kMaxSide || spec.height > kMaxSide ||
-      std::int64_t{spec.width} * spec.height > kMaxPixels)
-    fail(path, fmt::format("bad image size {} x {}", spec.width, spec.height));
+  image_module::ReadRequest request;
+  request.type = image_module::PixelType::float64;
+  request.max_channels = 4;
+  request.max_side = kMaxSide;
+  request.max_pixels = kMaxPixels;
+  const image_module::ReadResult read = image_module::read_file(path, request);
   ChannelImage img;
-  img.width = spec.width;
-  img.height = spec.height;
-  const int nc = spec.nchannels;
-  std::vector<double> interleaved(static_cast<std::size_t>(img.width) * img.height * nc);
-  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::DOUBLE, interleaved.data()))
-    fail(path, fmt::format("cannot read: {}", in->geterror()));
-  in->close();
-  img.alpha = spec.alpha_channel;
+  img.width = read.width;
+  img.height = read.height;
+  const int nc = read.channels;
+  img.alpha = read.alpha_channel;
   const std::vector<std::string> grey = {"Y"}, grey_alpha = {"Y", "A"}, rgb = {"R", "G", "B"},
                                   rgba = {"R", "G", "B", "A"};
   for (int c = 0; c < nc; ++c) {
-    std::string name = c < static_cast<int>(spec.channelnames.size()) ? spec.channelnames[c] : "";
+    std::string name = c < static_cast<int>(read.channel_names.size()) ? read.channel_names[c] : "";
     if (name.empty()) name = (nc == 1 ? grey : nc == 2 ? grey_alpha : nc == 3 ? rgb : rgba)[c];
     img.names.push_back(name);
     if (img.alpha < 0 && (name == "A" || name == "a" || name == "alpha")) img.alpha = c;
@@ -65,19 +66,12 @@ ChannelImage read_channel_image(const fs::path& path) {
   double largest = 0;
   for (std::size_t i = 0; i < img.planes[0].size(); ++i)
     for (int c = 0; c < nc; ++c) {
-      const double v = interleaved[i * nc + c];
+      const double v = read.doubles[i * nc + c];
       img.planes[c][i] = v;
       if (std::isfinite(v)) largest = std::max(largest, std::abs(v));
     }
-  const OIIO::TypeDesc t = spec.format;
-  img.pixel_type = t.c_str();
-  if (t == OIIO::TypeDesc::UINT8) img.quantum = 1.0 / 255;
-  else if (t == OIIO::TypeDesc::UINT16) img.quantum = 1.0 / 65535;
-  else if (t == OIIO::TypeDesc::HALF) img.quantum = ulp_at(largest, 10);
-  else if (t == OIIO::TypeDesc::FLOAT) img.quantum = ulp_at(largest, 23);
-  else if (t == OIIO::TypeDesc::DOUBLE) img.quantum = ulp_at(largest, 52);
-  else if (t.basetype == OIIO::TypeDesc::UINT32) img.quantum = 1.0 / 4294967295.0;
-  else fail(path, fmt::format("pixel type {} is not supported", img.pixel_type));
+  img.pixel_type = read.pixel_type;
+  img.quantum = quantum_of(path, img.pixel_type, largest);
   return img;
 }
 

@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <memory>
 #include <stdexcept>
 #include <string>
 #include <system_error>
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+
+#include "lib/io/image_module.h"
 
 namespace vrv {
 namespace {
@@ -38,30 +38,16 @@ void check_image(const Image& image, const fs::path& path) {
                            image.pixels.size()));
 }
 
-// Writes `data` (laid out as `spec` says, in `type`) with the writer for `format` to
-// path + ".tmp", then renames it onto path.
-void write_atomically(const fs::path& path, const char* format, const OIIO::ImageSpec& spec,
-                      OIIO::TypeDesc type, const void* data) {
+// Writes the request with the image module to path + ".tmp", then renames it onto path.
+void write_atomically(const fs::path& path, const image_module::WriteRequest& request) {
   const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(parent, ec)) fail(path, "cannot write: the directory does not exist");
   if (fs::is_directory(path, ec)) fail(path, "cannot write: is a directory");
   fs::path tmp = path;
   tmp += ".tmp";
-  auto out = OIIO::ImageOutput::create(format);
-  if (!out) fail(path, fmt::format("no {} writer in OpenImageIO: {}", format, OIIO::geterror()));
-  if (!out->open(tmp.string(), spec)) {
-    const std::string why = out->geterror();
-    out.reset();
-    fs::remove(tmp, ec);
-    fail(path, fmt::format("cannot write: {}", why));
-  }
-  const bool wrote = out->write_image(type, data);
-  std::string why = wrote ? std::string() : out->geterror();
-  const bool closed = out->close();
-  if (!closed && why.empty()) why = out->geterror();
-  out.reset();
-  if (!wrote || !closed) {
+  const std::string why = image_module::functions().write(tmp.string(), request);
+  if (!why.empty()) {
     fs::remove(tmp, ec);
     fail(path, fmt::format("cannot write: {}", why));
   }
@@ -73,38 +59,46 @@ void write_atomically(const fs::path& path, const char* format, const OIIO::Imag
   }
 }
 
-void stamp(OIIO::ImageSpec& spec, const ImageProvenance* p) {
+image_module::WriteRequest request(const char* format, int width, int height, int channels,
+                                   image_module::PixelType type, const void* pixels) {
+  image_module::WriteRequest r;
+  r.format = format;
+  r.width = width;
+  r.height = height;
+  r.channels = channels;
+  r.type = type;
+  r.pixels = pixels;
+  return r;
+}
+
+void stamp(image_module::WriteRequest& r, const ImageProvenance* p) {
   if (!p) return;
-  spec.attribute("vrv:scene_hash", p->scene_hash);
-  spec.attribute("vrv:camera", p->camera);
-  spec.attribute("vrv:method", p->method);
-  if (p->step) spec.attribute("vrv:step", fmt::format("{:.17g}", *p->step));
-  spec.attribute("ImageDescription", p->to_json());
+  r.attributes.emplace_back("vrv:scene_hash", p->scene_hash);
+  r.attributes.emplace_back("vrv:camera", p->camera);
+  r.attributes.emplace_back("vrv:method", p->method);
+  if (p->step) r.attributes.emplace_back("vrv:step", fmt::format("{:.17g}", *p->step));
+  r.attributes.emplace_back("ImageDescription", p->to_json());
 }
 
-// Opens an image file for reading, or throws naming the file.
-std::unique_ptr<OIIO::ImageInput> open_image(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) fail(path, "cannot read: no such file");
-  if (fs::is_directory(path, ec)) fail(path, "cannot read: is a directory");
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) fail(path, fmt::format("cannot read: {}", OIIO::geterror()));
-  return in;
+image_module::ReadResult read_header(const fs::path& path) {
+  image_module::ReadRequest request;
+  request.pixels = false;
+  return image_module::read_file(path, request);
 }
 
-// Opens the first subimage for reading with the checks every pixel reader shares.
-std::unique_ptr<OIIO::ImageInput> open_one_channel(const fs::path& path) {
-  auto in = open_image(path);
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.deep) fail(path, "deep images are not supported");
-  if (spec.nchannels != 1)
-    fail(path, fmt::format("expected one channel, got {}", spec.nchannels));
-  if (spec.depth != 1) fail(path, fmt::format("expected a 2D image, got depth {}", spec.depth));
-  if (spec.width < 1 || spec.height < 1 || spec.width > kMaxReadSide ||
-      spec.height > kMaxReadSide ||
-      std::int64_t{spec.width} * spec.height > kMaxReadPixels)
-    fail(path, fmt::format("bad image size {} x {}", spec.width, spec.height));
-  return in;
+// The pixels of a one-channel image, as `type`.
+image_module::ReadResult read_one_channel(const fs::path& path, image_module::PixelType type) {
+  image_module::ReadRequest request;
+  request.type = type;
+  request.max_side = kMaxReadSide;
+  request.max_pixels = kMaxReadPixels;
+  return image_module::read_file(path, request);
+}
+
+std::string attribute(const image_module::ReadResult& r, const std::string& name) {
+  for (const auto& [key, value] : r.attributes)
+    if (key == name) return value;
+  return {};
 }
 
 unsigned char to_byte(double unit) {  // [0, 1] -> 0..255, rounded
@@ -124,14 +118,15 @@ Image::Image(int w, int h, float fill) : width(w), height(h) {
 
 void write_exr(const Image& image, const fs::path& path, const ImageProvenance* provenance) {
   check_image(image, path);
-  OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"Y"};
-  spec.attribute("compression", "zip");
-  stamp(spec, provenance);
+  auto r = request("openexr", image.width, image.height, 1, image_module::PixelType::float32,
+                   image.pixels.data());
+  r.channel_names = {"Y"};
+  r.attributes = {{"compression", "zip"}};
+  stamp(r, provenance);
   // OpenImageIO stamps EXRs with the time of writing unless told a date; an empty one keeps
   // reruns byte-identical (results/ must not change when the numbers do not).
-  spec.attribute("DateTime", "");
-  write_atomically(path, "openexr", spec, OIIO::TypeDesc::FLOAT, image.pixels.data());
+  r.attributes.emplace_back("DateTime", "");
+  write_atomically(path, r);
 }
 
 void write_png_preview(const Image& image, const fs::path& path, double lo, double hi,
@@ -145,10 +140,10 @@ void write_png_preview(const Image& image, const fs::path& path, double lo, doub
     const double v = image.pixels[i];
     bytes[i] = std::isnan(v) ? 0 : to_byte((v - lo) / (hi - lo));
   }
-  OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::UINT8);
-  spec.channelnames = {"Y"};
-  stamp(spec, provenance);
-  write_atomically(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+  auto r = request("png", image.width, image.height, 1, image_module::PixelType::uint8, bytes.data());
+  r.channel_names = {"Y"};
+  stamp(r, provenance);
+  write_atomically(path, r);
 }
 
 Rgb8 diverging_colour(double value, double max_abs) {
@@ -177,27 +172,26 @@ void write_error_map_png(const Image& error, const fs::path& path, double max_ab
     const double v = h > 1 ? max_abs * (1 - 2.0 * y / (h - 1)) : 0.0;
     for (int x = error.width + kErrorBarGap; x < w; ++x) put(x, y, diverging_colour(v, max_abs));
   }
-  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
-  spec.attribute("ImageDescription", fmt::format("signed error, colour range +-{:.6g}", max_abs));
-  write_atomically(path, "png", spec, OIIO::TypeDesc::UINT8, rgb.data());
+  auto r = request("png", w, h, 3, image_module::PixelType::uint8, rgb.data());
+  r.attributes = {{"ImageDescription", fmt::format("signed error, colour range +-{:.6g}", max_abs)}};
+  write_atomically(path, r);
 }
 
 void write_rgb8_png(int width, int height, const std::vector<unsigned char>& rgb, const fs::path& path,
                     const std::string& description) {
   if (width < 1 || height < 1 || rgb.size() != static_cast<std::size_t>(width) * height * 3)
     fail(path, fmt::format("bad RGB image size {} x {} with {} bytes", width, height, rgb.size()));
-  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-  if (!description.empty()) spec.attribute("ImageDescription", description);
-  write_atomically(path, "png", spec, OIIO::TypeDesc::UINT8, rgb.data());
+  auto r = request("png", width, height, 3, image_module::PixelType::uint8, rgb.data());
+  if (!description.empty()) r.attributes = {{"ImageDescription", description}};
+  write_atomically(path, r);
 }
 
 Image read_exr(const fs::path& path) {
-  auto in = open_one_channel(path);
-  const OIIO::ImageSpec& spec = in->spec();
-  Image image(spec.width, spec.height);
-  if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, image.pixels.data()))
-    fail(path, fmt::format("cannot read: {}", in->geterror()));
-  in->close();
+  image_module::ReadResult read = read_one_channel(path, image_module::PixelType::float32);
+  Image image;
+  image.width = read.width;
+  image.height = read.height;
+  image.pixels = std::move(read.floats);
   return image;
 }
 
@@ -211,19 +205,18 @@ std::string ImageProvenance::to_json() const {
 }
 
 std::optional<ImageProvenance> read_provenance(const fs::path& path) {
-  auto in = open_image(path);
-  const OIIO::ImageSpec& spec = in->spec();
+  const image_module::ReadResult header = read_header(path);
   ImageProvenance p;
-  p.scene_hash = spec.get_string_attribute("vrv:scene_hash");
+  p.scene_hash = attribute(header, "vrv:scene_hash");
   if (!p.scene_hash.empty()) {
-    p.camera = spec.get_string_attribute("vrv:camera");
-    p.method = spec.get_string_attribute("vrv:method");
-    const std::string step = spec.get_string_attribute("vrv:step");
+    p.camera = attribute(header, "vrv:camera");
+    p.method = attribute(header, "vrv:method");
+    const std::string step = attribute(header, "vrv:step");
     if (!step.empty()) p.step = std::stod(step);
     return p;
   }
   // Formats without free attributes: the JSON in ImageDescription.
-  const auto j = nlohmann::json::parse(spec.get_string_attribute("ImageDescription"), nullptr, false);
+  const auto j = nlohmann::json::parse(attribute(header, "ImageDescription"), nullptr, false);
   if (j.is_discarded() || !j.is_object() || !j.contains("vrv_provenance")) return std::nullopt;
   const auto& v = j["vrv_provenance"];
   if (!v.is_object() || !v.contains("scene_hash") || !v["scene_hash"].is_string())
@@ -240,36 +233,30 @@ void write_tiff_f64(const ImageF64& image, const fs::path& path, const ImageProv
       image.pixels.size() != static_cast<std::size_t>(image.width) * image.height)
     fail(path, fmt::format("bad image size {} x {} with {} pixels", image.width, image.height,
                            image.pixels.size()));
-  OIIO::ImageSpec spec(image.width, image.height, 1, OIIO::TypeDesc::DOUBLE);
-  spec.channelnames = {"Y"};
-  spec.attribute("compression", "zip");
-  spec.attribute("DateTime", "");
-  stamp(spec, provenance);
-  write_atomically(path, "tiff", spec, OIIO::TypeDesc::DOUBLE, image.pixels.data());
+  auto r = request("tiff", image.width, image.height, 1, image_module::PixelType::float64,
+                   image.pixels.data());
+  r.channel_names = {"Y"};
+  r.attributes = {{"compression", "zip"}, {"DateTime", ""}};
+  stamp(r, provenance);
+  write_atomically(path, r);
 }
 
 ImageInfo read_image_info(const fs::path& path) {
-  auto in = open_image(path);
-  const OIIO::ImageSpec& spec = in->spec();
+  const image_module::ReadResult header = read_header(path);
   ImageInfo info;
-  info.width = spec.width;
-  info.height = spec.height;
-  info.channels = spec.nchannels;
-  info.format = in->format_name();
-  info.pixel_type = spec.format.c_str();
-  info.floating = spec.format.is_floating_point();
-  info.bits = spec.get_int_attribute("oiio:BitsPerSample", static_cast<int>(spec.format.size() * 8));
+  info.width = header.width;
+  info.height = header.height;
+  info.channels = header.channels;
+  info.format = header.format_name;
+  info.pixel_type = header.pixel_type;
+  info.floating = header.floating;
+  info.bits = header.bits;
   return info;
 }
 
 ImageF64 read_image_f64(const fs::path& path) {
-  auto in = open_one_channel(path);
-  const OIIO::ImageSpec& spec = in->spec();
-  ImageF64 image{spec.width, spec.height, std::vector<double>(static_cast<std::size_t>(spec.width) * spec.height)};
-  if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::DOUBLE, image.pixels.data()))
-    fail(path, fmt::format("cannot read: {}", in->geterror()));
-  in->close();
-  return image;
+  image_module::ReadResult read = read_one_channel(path, image_module::PixelType::float64);
+  return ImageF64{read.width, read.height, std::move(read.doubles)};
 }
 
 }  // namespace vrv

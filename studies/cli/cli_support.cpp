@@ -44,18 +44,28 @@ Scene load_scene_or_default(const std::string& path) {
 
 nlohmann::ordered_json to_json(const ReferenceResult& r) {
   nlohmann::ordered_json j;
-  j["value"] = r.value;
-  j["error_estimate"] = r.error_estimate;
+  j["value"] = finite_or_null(r.value);
+  j["error_estimate"] = finite_or_null(r.error_estimate);
   j["evaluations"] = r.evaluations;
   j["t_entry"] = r.hit ? nlohmann::ordered_json(r.t_entry) : nlohmann::ordered_json(nullptr);
   j["t_exit"] = r.hit ? nlohmann::ordered_json(r.t_exit) : nlohmann::ordered_json(nullptr);
-  j["optical_depth"] = r.optical_depth;
+  j["optical_depth"] = finite_or_null(r.optical_depth);
+  j["tolerance_met"] = r.tolerance_met;
   return j;
 }
 
 void check_tolerance(double tol) {
   if (!(tol > 0) || !std::isfinite(tol))
     throw std::invalid_argument(fmt::format("--tol: must be a positive finite number, got {}", tol));
+}
+
+void check_threads(int threads) {
+  if (threads < 0)
+    throw std::invalid_argument(fmt::format("--threads: must not be negative, got {}", threads));
+}
+
+nlohmann::ordered_json finite_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
 }
 
 }  // namespace vrv::cli

@@ -1,5 +1,6 @@
 #include "studies/cli/discrete_options.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -45,7 +46,8 @@ void set_conventions(const DiscreteOptions& opt, DiscreteConfig& c) {
 void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
   cmd.add_option("--method", opt.method,
                  "Discrete raycast: riemann | alpha | trapezoid | exact_linear | moreland "
-                 "(omit for the reference integrator)");
+                 "(omit for the reference integrator; the options below need it)");
+  const std::size_t before = cmd.get_options().size();
   cmd.add_option("--strategy", opt.strategy,
                  "Sample placement: eye | entry | entry_exit | entry_exit_corner (default) | step | vtk | inviwo");
   cmd.add_option("--rate", opt.rate, "Samples per voxel (eye, entry, entry_exit, entry_exit_corner; default 1)");
@@ -63,10 +65,24 @@ void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
   cmd.add_option("--classification", opt.classification, "post | pre (grid fields)")->capture_default_str();
   cmd.add_option("--precision", opt.precision, "double | float")->capture_default_str();
   add_convention_options(cmd, opt);
+  cmd.add_option("--max-work", opt.max_work,
+                 "Refuse runs estimated above this many samples (counted before casting)")
+      ->capture_default_str();
+  const auto all = cmd.get_options();
+  opt.given.assign(all.begin() + static_cast<long>(before), all.end());
 }
 
 std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene) {
-  if (opt.method.empty()) return std::nullopt;
+  if (opt.method.empty()) {
+    for (const CLI::Option* o : opt.given)
+      if (o->count() > 0)
+        throw std::invalid_argument(fmt::format(
+            "{}: applies to a discrete raycast only; add --method (the reference ignores it)",
+            o->get_name()));
+    return std::nullopt;
+  }
+  if (!(opt.max_work > 0))
+    throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", opt.max_work));
   DiscreteConfig c;
   c.rule = parse_choice<SegmentRule>(opt.method, "--method", parse_segment_rule,
                                      "riemann, alpha, trapezoid, exact_linear, moreland");
@@ -102,6 +118,34 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
   set_conventions(opt, c);
   validate(c, std::holds_alternative<GridField>(scene.field), scene.transfer);
   return c;
+}
+
+double samples_on_ray(const DiscreteConfig& config, const Scene& scene, const Ray& ray) {
+  const auto iv = clip(ray, scene.box);
+  if (!iv) return 0;
+  return static_cast<double>(plan_samples(config.sampling, ray, *iv, scene.box).count) * config.oversample;
+}
+
+namespace {
+// x rounded up to two significant digits, so that "--max-work <it>" printed with {:.2g} allows x.
+double round_up_2_digits(double x) {
+  const double unit = std::pow(10.0, std::floor(std::log10(x)) - 1);
+  return std::ceil(x / unit) * unit;
+}
+}  // namespace
+
+void refuse_work(const DiscreteOptions& opt, double samples, long rays) {
+  std::string asked;
+  for (const CLI::Option* o : opt.given) {
+    const std::string name = o->get_name();
+    if (o->count() > 0 && (name == "--step" || name == "--rate" || name == "--oversample"))
+      asked += fmt::format("{}{} {}", asked.empty() ? "" : ", ", name, o->as<std::string>());
+  }
+  throw std::invalid_argument(fmt::format(
+      "{}: about {:.3g} samples on {} ray{}, above the work limit of {:.3g}; coarsen the sampling "
+      "or allow it with --max-work {:.2g}",
+      asked.empty() ? std::string("--max-work") : asked, samples, rays, rays == 1 ? "" : "s",
+      opt.max_work, round_up_2_digits(samples)));
 }
 
 }  // namespace vrv::cli

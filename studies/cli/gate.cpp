@@ -187,9 +187,9 @@ int run_gate(const GateOptions& o) {
   j["pass"] = pass;
   j["worst"] = bound_verdict_name(worst(rows));
   j["cases"] = case_json;
-  j["exit"] = pass ? kExitPass : kExitFail;
+  j["exit"] = pass ? kExitPass : kExitCheckFailed;
   std::cout << j.dump() << '\n';
-  return pass ? kExitPass : kExitFail;
+  return pass ? kExitPass : kExitCheckFailed;
 }
 
 }  // namespace

@@ -1,10 +1,15 @@
-// The vrv command line: one subcommand per job; errors are one line on stderr, exit code 2.
+// The vrv command line: one subcommand per job; errors are one line on stderr, exit code 2
+// (other codes: studies/cli_support.h and README, "Exit codes").
+#include <algorithm>
 #include <cstring>
 #include <exception>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
+#include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 
 namespace {
@@ -29,6 +34,54 @@ std::vector<std::string> glue_negative_values(int argc, char** argv) {
   return out;
 }
 
+std::string one_line(std::string s) {
+  std::replace_if(s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+// CLI11's own wording (and exit codes 104, 106, 109, ...) never reaches the user: every parse
+// error becomes one "vrv: error: ..." line naming the option, with exit code 2.
+std::string parse_error_line(const CLI::App& app, const CLI::ParseError& e) {
+  const std::string what = one_line(e.what());
+  // By type: CLI11 names some errors after the subcommand (ExtrasError(name, args)).
+  if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
+    const std::string prefix = "not expected: ";
+    const auto at = what.find(prefix);
+    const std::string args = at == std::string::npos ? what : what.substr(at + prefix.size());
+    return fmt::format("unknown option or argument {} (vrv --help, vrv COMMAND --help)", args);
+  }
+  if (dynamic_cast<const CLI::RequiredError*>(&e) && what.starts_with("A subcommand")) {
+    const auto& extras = app.remaining();
+    if (!extras.empty() && !extras.front().starts_with("-"))
+      return fmt::format("unknown command '{}' (ray, render, study or demo; vrv --help)", extras.front());
+    return "a command is required: ray, render, study or demo (vrv --help)";
+  }
+  if (dynamic_cast<const CLI::ConversionError*>(&e)) {
+    // "Could not convert: --width = 1e9": say what the option takes.
+    const std::string prefix = "Could not convert: ";
+    const auto eq = what.find(" = ");
+    if (what.starts_with(prefix) && eq != std::string::npos) {
+      const std::string option = what.substr(prefix.size(), eq - prefix.size());
+      std::string type = "value";
+      for (const CLI::App* sub : app.get_subcommands())
+        for (const CLI::Option* o : sub->get_options())
+          if (o->check_name(option)) type = o->get_type_name();
+      if (type == "INT") type = "integer";
+      if (type == "FLOAT") type = "number";
+      return fmt::format("{}: '{}' is not a valid {}", option, what.substr(eq + 3), type);
+    }
+  }
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e)) {
+    // "--origin: 1 required TEXT missing"
+    const auto colon = what.find(": ");
+    if (colon != std::string::npos && what.ends_with(" missing"))
+      return fmt::format("{}: a value is required", what.substr(0, colon));
+    return fmt::format("{} (vrv COMMAND --help)", what);
+  }
+  return what;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -47,11 +100,17 @@ int main(int argc, char** argv) {
   for (auto& a : args) ptrs.push_back(a.data());
   try {
     app.parse(static_cast<int>(ptrs.size()), ptrs.data());
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    std::cerr << "vrv: error: " << parse_error_line(app, e) << '\n';
+    return vrv::cli::kExitBadInput;
+  } catch (const vrv::cli::CommandFailed& e) {
+    std::cerr << one_line(e.what()) << '\n';
+    return e.code();
   } catch (const std::exception& e) {
-    std::cerr << "vrv: error: " << e.what() << '\n';
-    return 2;
+    std::cerr << "vrv: error: " << one_line(e.what()) << '\n';
+    return vrv::cli::kExitBadInput;
   }
   return 0;
 }

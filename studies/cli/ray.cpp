@@ -1,14 +1,23 @@
-// vrv ray: the reference value along one ray, or along every ray of a JSON-lines file.
+// vrv ray: the reference value (or a discrete raycast) along one ray, or along every ray of a
+// JSON-lines file or standard input, cast in parallel and printed in input order.
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include <fmt/format.h>
 
+#include "lib/io/rays_file.h"
+#include "lib/util/parallel.h"
+#include "lib/util/progress.h"
 #include "studies/cli/cli_support.h"
-#include "studies/cli/discrete_options.h"
 #include "studies/cli/commands.h"
+#include "studies/cli/discrete_options.h"
 
 namespace vrv::cli {
 namespace {
@@ -20,98 +29,159 @@ struct RayOptions {
   std::string rays;
   double tol = 1e-12;
   bool json = false;
+  int threads = 0;
+  bool quiet = false;
   DiscreteOptions discrete;
+  CLI::Option* tol_option = nullptr;
+  CLI::Option* threads_option = nullptr;
 };
 
-void print_discrete(const DiscreteResult& r, bool json) {
-  if (json) {
-    nlohmann::ordered_json j;
-    j["value"] = r.value;
-    j["samples"] = r.samples;
-    std::cout << j.dump() << '\n';
-    return;
-  }
-  fmt::print("value          {:.17g}\nsamples        {}\n", r.value, r.samples);
+// One ray's answer, whichever integrator gave it.
+struct Answer {
+  nlohmann::ordered_json json;
+  bool finite = true;
+  bool tolerance_met = true;
+};
+
+Answer reference_answer(const ReferenceResult& r) {
+  return {to_json(r), std::isfinite(r.value) && std::isfinite(r.error_estimate), r.tolerance_met};
 }
 
-void print_result(const ReferenceResult& r, bool json) {
-  if (json) {
-    std::cout << to_json(r).dump() << '\n';
+Answer discrete_answer(const DiscreteResult& r) {
+  nlohmann::ordered_json j;
+  j["value"] = finite_or_null(r.value);
+  j["samples"] = r.samples;
+  return {j, std::isfinite(r.value), true};
+}
+
+Answer answer(const Scene& scene, const Ray& ray, const RayOptions& opt,
+              const std::optional<DiscreteConfig>& discrete) {
+  if (discrete) return discrete_answer(discrete_raycast(scene, ray, *discrete));
+  return reference_answer(integrate_reference(scene, ray, {opt.tol}));
+}
+
+void print_text(const Answer& a, const std::optional<DiscreteConfig>& discrete) {
+  const auto& j = a.json;
+  fmt::print("value          {:.17g}\n", j["value"].get<double>());
+  if (discrete) {
+    fmt::print("samples        {}\n", j["samples"].get<long>());
     return;
   }
-  fmt::print("value          {:.17g}\nerror_estimate {:.3g}\nevaluations    {}\n", r.value,
-             r.error_estimate, r.evaluations);
-  if (r.hit)
+  fmt::print("error_estimate {:.3g}\nevaluations    {}\n", j["error_estimate"].get<double>(),
+             j["evaluations"].get<long>());
+  if (!j["t_entry"].is_null())
     fmt::print("t_entry        {:.17g}\nt_exit         {:.17g}\noptical_depth  {:.17g}\n",
-               r.t_entry, r.t_exit, r.optical_depth);
+               j["t_entry"].get<double>(), j["t_exit"].get<double>(), j["optical_depth"].get<double>());
   else
     fmt::print("(the ray misses the volume: value is the background)\n");
+  fmt::print("tolerance_met  {}\n", a.tolerance_met);
 }
 
-Vec3 json_vec3(const nlohmann::json& line, const char* key, const std::string& where) {
-  if (!line.contains(key)) throw std::invalid_argument(fmt::format("{}: {}: missing", where, key));
-  const auto& a = line[key];
-  if (!a.is_array() || a.size() != 3)
-    throw std::invalid_argument(fmt::format("{}: {}: expected an array of three numbers", where, key));
-  Vec3 v;
-  for (int i = 0; i < 3; ++i) {
-    if (!a[i].is_number())
-      throw std::invalid_argument(fmt::format("{}: {}[{}]: not a number", where, key, i));
-    v[i] = a[i].get<double>();
+// "lines 3, 7, 12 and 5 more" from 1-based input line numbers.
+std::string line_list(const std::vector<long>& lines) {
+  constexpr std::size_t kShown = 5;
+  std::string s;
+  for (std::size_t i = 0; i < lines.size() && i < kShown; ++i)
+    s += fmt::format("{}{}", i ? ", " : "", lines[i]);
+  if (lines.size() > kShown) s += fmt::format(" and {} more", lines.size() - kShown);
+  return fmt::format("line{} {}", lines.size() == 1 ? "" : "s", s);
+}
+
+std::vector<RayLine> read_rays_input(const std::string& path) {
+  if (path == "-") return read_rays(std::cin, "<stdin>");
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw std::invalid_argument(fmt::format("--rays: {}: is a directory, not a rays file", path));
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(fmt::format("--rays: {}: cannot be read", path));
+  return read_rays(in, path);
+}
+
+// Every ray, validated first, cast in parallel (each into its own slot) and printed in input
+// order, so the output is the same for any thread count.
+void run_rays(const Scene& scene, const RayOptions& opt, const std::optional<DiscreteConfig>& discrete) {
+  const std::vector<RayLine> rays = read_rays_input(opt.rays);
+  const long n = static_cast<long>(rays.size());
+  if (discrete) check_work(opt.discrete, *discrete, scene, n, [&](long i) { return rays[i].ray; });
+  std::vector<Answer> answers(rays.size());
+  {
+    const ThreadLimit threads(opt.threads);
+    Progress progress("rays", n, !opt.quiet);
+    parallel_for_index(n, [&](long i) {
+      answers[i] = answer(scene, rays[i].ray, opt, discrete);
+      progress.advance();
+    });
   }
-  return v;
-}
-
-// One ray: the discrete raycast when a method is configured, else the reference.
-void answer(const Scene& scene, const Ray& ray, const RayOptions& opt,
-            const std::optional<DiscreteConfig>& discrete, bool json) {
-  if (discrete)
-    print_discrete(discrete_raycast(scene, ray, *discrete), json);
-  else
-    print_result(integrate_reference(scene, ray, {opt.tol}), json);
-}
-
-void run_rays_file(const Scene& scene, const RayOptions& opt, const std::optional<DiscreteConfig>& discrete) {
-  std::ifstream in(opt.rays);
-  if (!in) throw std::invalid_argument(fmt::format("{}: cannot be read", opt.rays));
-  std::string text;
-  for (int number = 1; std::getline(in, text); ++number) {
-    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const std::string where = fmt::format("{}:{}", opt.rays, number);
-    const auto line = nlohmann::json::parse(text, nullptr, false);
-    if (line.is_discarded() || !line.is_object())
-      throw std::invalid_argument(fmt::format("{}: not a JSON object", where));
-    Ray ray;
-    try {
-      ray = make_ray(json_vec3(line, "origin", where), json_vec3(line, "direction", where));
-    } catch (const std::invalid_argument& e) {
-      const std::string m = e.what();
-      throw std::invalid_argument(m.starts_with(where) ? m : fmt::format("{}: {}", where, m));
-    }
-    answer(scene, ray, opt, discrete, true);
+  std::vector<long> missed, not_finite;
+  std::string out;
+  for (long i = 0; i < n; ++i) {
+    nlohmann::ordered_json line;
+    if (!rays[i].id.is_null()) line["id"] = rays[i].id;
+    line.update(answers[i].json);
+    out += line.dump() + '\n';
+    if (!answers[i].finite) not_finite.push_back(rays[i].line);
+    else if (!answers[i].tolerance_met) missed.push_back(rays[i].line);
   }
+  std::cout << out << std::flush;
+  const std::string name = opt.rays == "-" ? "<stdin>" : opt.rays;
+  if (!not_finite.empty())
+    throw CommandFailed(kExitNotFinite,
+                        fmt::format("vrv ray: {}: {} of {} rays gave a non-finite value (null in the "
+                                    "output): {}", name, not_finite.size(), n, line_list(not_finite)));
+  if (!missed.empty())
+    throw CommandFailed(kExitToleranceMissed,
+                        fmt::format("vrv ray: {}: {} of {} rays missed --tol {:g} (\"tolerance_met\": "
+                                    "false): {}", name, missed.size(), n, opt.tol, line_list(missed)));
 }
 
-void run_ray(const RayOptions& opt) {
-  check_tolerance(opt.tol);
-  const Scene scene = load_scene_or_default(opt.scene);
-  const auto discrete = discrete_config(opt.discrete, scene);
-  if (!opt.rays.empty()) {
-    if (!opt.origin.empty() || !opt.direction.empty())
-      throw std::invalid_argument("--rays: give either --rays or --origin/--direction, not both");
-    run_rays_file(scene, opt, discrete);
-    return;
-  }
+Ray ray_from_options(const RayOptions& opt) {
   if (opt.origin.empty() || opt.direction.empty())
     throw std::invalid_argument("--origin and --direction are required (or --rays FILE)");
-  Ray ray;
   try {
-    ray = make_ray(parse_vec3(opt.origin, "--origin"), parse_vec3(opt.direction, "--direction"));
+    return make_ray(parse_vec3(opt.origin, "--origin"), parse_vec3(opt.direction, "--direction"));
   } catch (const std::invalid_argument& e) {
     const std::string m = e.what();
     throw std::invalid_argument(m.starts_with("--") ? m : "--direction: " + m);
   }
-  answer(scene, ray, opt, discrete, opt.json);
+}
+
+void run_one(const Scene& scene, const RayOptions& opt, const std::optional<DiscreteConfig>& discrete) {
+  if (opt.threads_option->count() > 0)
+    throw std::invalid_argument("--threads: applies to --rays only (one ray runs on one thread)");
+  const Ray ray = ray_from_options(opt);
+  if (discrete) {
+    const double samples = check_work(opt.discrete, *discrete, scene, 1, [&](long) { return ray; });
+    if (samples > 1e8 && !opt.quiet && isatty(STDERR_FILENO))  // one ray has no progress steps
+      std::cerr << fmt::format("vrv ray: casting about {:.3g} samples...\n", samples);
+  }
+  const Answer a = answer(scene, ray, opt, discrete);
+  if (!a.finite)
+    throw CommandFailed(kExitNotFinite,
+                        fmt::format("vrv: error: the {} gave a non-finite value ({}); nothing printed",
+                                    discrete ? "discrete raycast" : "reference",
+                                    discrete ? "check --precision and the transfer function's range"
+                                             : "value or error estimate is NaN or infinite"));
+  if (opt.json) std::cout << a.json.dump() << '\n';
+  else print_text(a, discrete);
+  std::cout << std::flush;
+  if (!a.tolerance_met)
+    throw CommandFailed(kExitToleranceMissed,
+                        fmt::format("vrv ray: tolerance missed: error estimate {:.3g} > --tol {:g} "
+                                    "(\"tolerance_met\": false)",
+                                    a.json["error_estimate"].get<double>(), opt.tol));
+}
+
+void run_ray(const RayOptions& opt) {
+  check_tolerance(opt.tol);
+  check_threads(opt.threads);
+  if (!opt.discrete.method.empty() && opt.tol_option->count() > 0)
+    throw std::invalid_argument("--tol: applies to the reference only, not to --method");
+  if (!opt.rays.empty() && (!opt.origin.empty() || !opt.direction.empty()))
+    throw std::invalid_argument("--rays: give either --rays or --origin/--direction, not both");
+  const Scene scene = load_scene_or_default(opt.scene);
+  const auto discrete = discrete_config(opt.discrete, scene);
+  if (!opt.rays.empty()) run_rays(scene, opt, discrete);
+  else run_one(scene, opt, discrete);
 }
 
 }  // namespace
@@ -120,13 +190,23 @@ void add_ray_command(CLI::App& app) {
   auto opt = std::make_shared<RayOptions>();
   CLI::App* cmd = app.add_subcommand(
       "ray", "Reference value of the emission-absorption integral along a ray (or rays)");
+  cmd->footer(
+      "--rays FILE|-: one JSON object per line, {\"origin\": [x,y,z], \"direction\": [x,y,z], "
+      "\"id\": any}; the whole input is checked before any ray is cast; one JSON line per ray, in "
+      "input order, with the id first.\n"
+      "Exit: 0; 2 bad input (nothing printed); 3 a reference value missed --tol (printed with "
+      "\"tolerance_met\": false, named on stderr); 4 a value is NaN or infinite (single ray: "
+      "nothing printed; --rays: null, lines named on stderr).");
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
   cmd->add_option("--origin", opt->origin, "Ray origin x,y,z (world units)");
   cmd->add_option("--direction", opt->direction, "Ray direction x,y,z (any length but zero)");
-  cmd->add_option("--rays", opt->rays,
-                  "JSON-lines file, one {\"origin\": [x,y,z], \"direction\": [x,y,z]} per line");
-  cmd->add_option("--tol", opt->tol, "Absolute tolerance on I")->capture_default_str();
+  cmd->add_option("--rays", opt->rays, "JSON-lines file of rays, or - for standard input");
+  opt->tol_option =
+      cmd->add_option("--tol", opt->tol, "Absolute tolerance on I (the reference)")->capture_default_str();
   cmd->add_flag("--json", opt->json, "One JSON line per ray, values to full double precision");
+  opt->threads_option = cmd->add_option(
+      "--threads", opt->threads, "Threads for --rays (default: all cores); results do not depend on it");
+  cmd->add_flag("--quiet", opt->quiet, "No progress bar on stderr");
   add_discrete_options(*cmd, opt->discrete);
   cmd->callback([opt] { run_ray(*opt); });
 }

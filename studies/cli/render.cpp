@@ -14,12 +14,14 @@
 #include <string>
 #include <type_traits>
 #include <variant>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include "lib/camera.h"
 #include "lib/discrete_raycast.h"
 #include "lib/io/image_io.h"
+#include "lib/io/image_module.h"
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
@@ -47,9 +49,14 @@ struct RenderOptions {
   CLI::Option* tol_option = nullptr;
 };
 
-// The files written next to `-o out.exr` (f64: the same values in double, OUT.f64.tiff).
+// The files written next to `-o out.exr` (f64: the same values in double, OUT.f64.tiff; the
+// error pair only with --error-against).
 struct OutputPaths {
   fs::path exr, png, error_exr, error_png, f64;
+  std::vector<fs::path> all(bool with_error) const {
+    if (with_error) return {exr, png, f64, error_exr, error_png};
+    return {exr, png, f64};
+  }
 };
 
 OutputPaths output_paths(const std::string& output) {
@@ -67,26 +74,59 @@ OutputPaths output_paths(const std::string& output) {
   return {exr, png, dir / (stem + "_error.exr"), dir / (stem + "_error.png"), dir / (stem + ".f64.tiff")};
 }
 
-// Fails now, not after the render, when the outputs cannot be written: creates and removes
-// the temporary file the writers would use.
-void check_writable(const fs::path& exr) {
-  const fs::path dir = exr.has_parent_path() ? exr.parent_path() : fs::path(".");
+// Fails now, not after the render, when an output cannot be written: creates and removes the
+// temporary file the writers would use.  Every output is checked before any is written, so a
+// render writes all its files or none.
+void check_writable(const fs::path& file) {
+  const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw std::invalid_argument(
-        fmt::format("-o: {}: the directory {} does not exist", exr.string(), dir.string()));
-  if (fs::is_directory(exr, ec))
-    throw std::invalid_argument(fmt::format("-o: {}: is a directory", exr.string()));
-  fs::path probe = exr;
+        fmt::format("-o: {}: the directory {} does not exist", file.string(), dir.string()));
+  if (fs::is_directory(file, ec))
+    throw std::invalid_argument(fmt::format("-o: {}: is a directory", file.string()));
+  if (fs::exists(file, ec) && !fs::is_regular_file(file, ec))
+    throw std::invalid_argument(fmt::format("-o: {}: exists and is not a regular file", file.string()));
+  fs::path probe = file;
   probe += ".tmp";
+  if (fs::is_directory(probe, ec))
+    throw std::invalid_argument(fmt::format("-o: {}: its temporary {} is a directory", file.string(),
+                                            probe.string()));
   const bool existed = fs::exists(probe, ec);
   {
     std::ofstream out(probe, std::ios::app);
     if (!out)
       throw std::invalid_argument(
-          fmt::format("-o: {}: cannot write into {}", exr.string(), dir.string()));
+          fmt::format("-o: {}: cannot write into {}", file.string(), dir.string()));
   }
   if (!existed) fs::remove(probe, ec);
+}
+
+// The same file under two names (or one name): never overwrite the render's own input.
+bool same_file(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+  return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+}
+
+// The double image beside a reference EXR (REF.f64.tiff next to REF.exr), if there is one.
+fs::path double_sibling(const fs::path& exr) {
+  fs::path f64 = exr;
+  f64.replace_extension(".f64.tiff");
+  return f64;
+}
+
+// Every output writable and none of them the reference being read (or the double beside it).
+void check_outputs(const OutputPaths& out, const std::string& error_against) {
+  for (const fs::path& f : out.all(!error_against.empty())) {
+    if (!error_against.empty())
+      for (const fs::path& input : {fs::path(error_against), double_sibling(error_against)})
+        if (same_file(f, input))
+          throw std::invalid_argument(fmt::format(
+              "-o: {} would overwrite the --error-against input {}; choose another output name",
+              f.string(), input.string()));
+    check_writable(f);
+  }
 }
 
 Camera choose_camera(const Scene& scene, const RenderOptions& opt) {
@@ -113,6 +153,9 @@ struct Rendered {
   ImageF64 values;                // the same pixels in double
   long work = 0;                  // field evaluations (reference) or samples (discrete)
   double max_error_estimate = 0;  // reference only
+  long tolerance_missed = 0;      // reference pixels whose estimate exceeds --tol
+  long not_finite = 0;            // pixels whose value is NaN or infinite as a float
+  long first_not_finite = -1;     // the first such pixel (row-major index)
 };
 
 // Every pixel on TBB's threads, each writing its own slots; the sums run afterwards in pixel
@@ -124,20 +167,27 @@ Rendered render_pixels(const Camera& camera, bool quiet, PerPixel&& per_pixel) {
   const long pixels = static_cast<long>(camera.width) * camera.height;
   std::vector<long> work(pixels);
   std::vector<double> estimate(pixels);
+  std::vector<char> met(pixels);
   Progress progress("render", pixels, !quiet);
   parallel_for_index(pixels, [&](long i) {
     const int x = static_cast<int>(i % camera.width), y = static_cast<int>(i / camera.width);
-    const auto [value, w, e] = per_pixel(camera.ray(x, y));
+    const auto [value, w, e, m] = per_pixel(camera.ray(x, y));
     r.image.at(x, y) = static_cast<float>(value);
     r.values.pixels[i] = value;
     work[i] = w;
     estimate[i] = e;
+    met[i] = m;
     progress.advance();
   });
   progress.finish();
   for (long i = 0; i < pixels; ++i) {
     r.work += work[i];
     r.max_error_estimate = std::max(r.max_error_estimate, estimate[i]);
+    if (!std::isfinite(r.image.pixels[i])) {
+      if (r.not_finite++ == 0) r.first_not_finite = i;
+    } else if (!met[i]) {
+      ++r.tolerance_missed;
+    }
   }
   return r;
 }
@@ -146,6 +196,7 @@ struct PixelResult {
   double value;
   long work;
   double estimate;
+  bool tolerance_met;
 };
 
 Rendered render_reference(const Scene& scene, const Camera& camera, double tol, bool quiet) {
@@ -153,7 +204,7 @@ Rendered render_reference(const Scene& scene, const Camera& camera, double tol, 
     return render_pixels(camera, quiet, [&](const Ray& ray) {
       const ReferenceResult v =
           integrate_reference(field, scene.box, scene.transfer, scene.background, ray, {tol});
-      return PixelResult{v.value, v.evaluations, v.error_estimate};
+      return PixelResult{v.value, v.evaluations, v.error_estimate, v.tolerance_met};
     });
   });
 }
@@ -165,16 +216,9 @@ Rendered render_discrete(const Scene& scene, const Camera& camera, const Discret
     const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config);
     return render_pixels(camera, quiet, [&](const Ray& ray) {
       const DiscreteResult v = caster.cast(ray);
-      return PixelResult{v.value, v.samples, 0.0};
+      return PixelResult{v.value, v.samples, 0.0, true};
     });
   });
-}
-
-// The double image beside a reference EXR (REF.f64.tiff next to REF.exr), if there is one.
-fs::path double_sibling(const fs::path& exr) {
-  fs::path f64 = exr;
-  f64.replace_extension(".f64.tiff");
-  return f64;
 }
 
 // A reference a verification can trust: floating point (an 8-bit preview is refused), the render's
@@ -226,17 +270,6 @@ ImageF64 read_reference_image(const std::string& path, const Camera& camera, con
   return ref;
 }
 
-// Refuses outputs that would overwrite the reference being read (or the double beside it).
-void check_not_input(const OutputPaths& out, const std::string& error_against) {
-  if (error_against.empty()) return;
-  std::error_code ec;
-  for (const fs::path& input : {fs::path(error_against), double_sibling(error_against)})
-    for (const fs::path& output : {out.exr, out.png, out.error_exr, out.error_png, out.f64})
-      if (fs::weakly_canonical(input, ec) == fs::weakly_canonical(output, ec))
-        throw std::invalid_argument(fmt::format(
-            "-o: {} would overwrite the reference {} read by --error-against", output.string(), input.string()));
-}
-
 // Scene hash, camera, method and step, for the images' metadata.
 ImageProvenance render_provenance(const Scene& scene, const Camera& camera,
                                   const std::optional<DiscreteConfig>& discrete, double tol) {
@@ -285,14 +318,20 @@ void run_render(const RenderOptions& opt) {
   if (discrete_asked && opt.tol_option && opt.tol_option->count() > 0)
     throw std::invalid_argument("--tol: applies to --reference only");
   check_tolerance(opt.tol);
+  check_threads(opt.threads);
   const Scene scene = load_scene_or_default(opt.scene);
   const auto discrete = discrete_config(opt.discrete, scene);
   const Camera camera = choose_camera(scene, opt);
   const ImageProvenance provenance = render_provenance(scene, camera, discrete, opt.tol);
+  check_outputs(out, opt.error_against);
+  image_module::functions();  // a missing image module fails now, not after the render
   std::optional<ImageF64> ref;
-  check_not_input(out, opt.error_against);
   if (!opt.error_against.empty()) ref = read_reference_image(opt.error_against, camera, provenance.scene_hash);
-  check_writable(out.exr);
+  if (discrete)
+    check_work(opt.discrete, *discrete, scene, static_cast<long>(camera.width) * camera.height,
+               [&](long i) {
+                 return camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
+               });
 
   if (!scene.camera)
     std::cerr << fmt::format(
@@ -306,6 +345,12 @@ void run_render(const RenderOptions& opt) {
                               : render_reference(scene, camera, opt.tol, opt.quiet);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (r.not_finite > 0)
+    throw CommandFailed(kExitNotFinite, fmt::format(
+        "vrv: error: {} of {} pixels are NaN or infinite (the first at x = {}, y = {}); nothing "
+        "written{}", r.not_finite, pixels, r.first_not_finite % camera.width,
+        r.first_not_finite / camera.width,
+        discrete ? " (check --precision and the transfer function's range)" : ""));
   std::cerr << fmt::format("vrv render: {} pixels ({} x {}, {} camera, {}) in {:.3f} s\n", pixels,
                            camera.width, camera.height, to_string(camera.projection),
                            discrete ? "--method " + opt.discrete.method : std::string("reference"),
@@ -329,6 +374,7 @@ void run_render(const RenderOptions& opt) {
   else {
     j["evaluations"] = r.work;
     j["max_error_estimate"] = r.max_error_estimate;
+    j["tolerance_missed"] = r.tolerance_missed;
   }
   if (ref) {
     Image error;
@@ -344,7 +390,11 @@ void run_render(const RenderOptions& opt) {
     j["mean_abs_error"] = s.mean_abs;
     j["rms_error"] = s.rms;
   }
-  std::cout << j.dump() << '\n';
+  std::cout << j.dump() << '\n' << std::flush;
+  if (r.tolerance_missed > 0)
+    throw CommandFailed(kExitToleranceMissed, fmt::format(
+        "vrv render: {} of {} pixels missed --tol {:g} (largest error estimate {:.3g}); images "
+        "written", r.tolerance_missed, pixels, opt.tol, r.max_error_estimate));
 }
 
 }  // namespace
@@ -363,7 +413,9 @@ void add_render_command(CLI::App& app) {
       "method, step) in its metadata; with "
       "--error-against REF.exr also OUT_error.exr (this - REF, signed float) and OUT_error.png "
       "(blue < 0 < red, symmetric range +-max|e|, colour bar on the right).\n"
-      "stdout: one JSON line; stderr: pixel count, time and error statistics.");
+      "stdout: one JSON line; stderr: pixel count, time and error statistics.\n"
+      "Exit: 0; 2 bad input (nothing written); 3 reference pixels missed --tol (images written, "
+      "count on stderr and as \"tolerance_missed\"); 4 NaN or infinite pixels (nothing written).");
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
   cmd->add_flag("--reference", opt->reference, "Render with the reference integrator");
   opt->tol_option =

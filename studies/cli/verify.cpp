@@ -112,9 +112,9 @@ int run_verify(const VerifyCliOptions& o) {
   j["pass"] = run.pass;
   if (bounds) j["bounds"] = nlohmann::ordered_json::parse(bound_table(run.rows).to_json());
   if (!o.out.empty()) j["out"] = o.out;
-  j["exit"] = run.pass ? kExitPass : kExitFail;
+  j["exit"] = run.pass ? kExitPass : kExitCheckFailed;
   std::cout << j.dump() << '\n';
-  return run.pass ? kExitPass : kExitFail;
+  return run.pass ? kExitPass : kExitCheckFailed;
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 // What `vrv verify` and `vrv gate` share: the reference cache directory, one verification with
 // its bounds, its files and its exit code.
 //
-// Exit codes (docs/verify.md), after OpenImageIO's idiff where they fit:
+// Exit codes (studies/cli/cli_support.h, docs/verify.md), after OpenImageIO's idiff where they fit:
 //   0  pass: every bound within its fail limit (warnings are reported, as idiff's warnings are,
 //      but do not fail: a gate fails on its fail levels)
 //   1  failure: a fail or hard-fail bound crossed, the expected order missed, the reference
@@ -21,10 +21,10 @@
 
 #include "lib/gate.h"
 #include "lib/verify.h"
+#include "studies/cli/cli_support.h"
 
 namespace vrv::cli {
 
-inline constexpr int kExitPass = 0, kExitFail = 1, kExitBadInput = 2;
 
 // --cache-dir, else $XDG_CACHE_HOME/vrv, else $HOME/.cache/vrv; empty when none is set.
 std::filesystem::path default_cache_dir();

@@ -148,7 +148,7 @@ void fit_part(const OpacityStudy& s, const StudyRun& run, StudyOutcome& out) {
   t.allow_missing("groups");
   t.allow_missing("max");
   for (const char* c : {"mean", "sd", "max"}) t.set_format(c, "{:.4g}");
-  t.set_format("fraction_above", "{:.4%}");
+  t.set_format("fraction_above", "{:.4g}");
   bool in_unit = true;
   double mean5 = kMissing;
   const long count = run.quick ? s.fit_quick_groups : s.fit_groups;

@@ -1,4 +1,5 @@
 #include "lib/io/image_io.h"
+#include "lib/io/image_module.h"
 
 #include <gtest/gtest.h>
 
@@ -84,6 +85,43 @@ TEST_F(ImageIO, ExrRoundTripIsBitExact) {
   EXPECT_EQ(in->spec().nchannels, 1);
   EXPECT_EQ(in->spec().format, OIIO::TypeDesc::FLOAT);
   EXPECT_EQ(in->spec().channelnames.at(0), "Y");
+}
+
+// The module's general interface: the header and metadata alone, or the pixels as doubles.
+TEST_F(ImageIO, ModuleReadsHeadersAndDoubles) {
+  Image image(3, 2);
+  image.pixels = {1, 2, 3, 4, 5, 0.1f};
+  const fs::path path = dir_ / "h.exr";
+  write_exr(image, path);
+  const auto& module = image_module::functions();
+  image_module::ReadRequest header_only;
+  header_only.pixels = false;
+  image_module::ReadResult h;
+  ASSERT_EQ(module.read(path.string(), header_only, h), "");
+  EXPECT_EQ(h.width, 3);
+  EXPECT_EQ(h.height, 2);
+  EXPECT_EQ(h.channels, 1);
+  EXPECT_EQ(h.format_name, "openexr");
+  EXPECT_EQ(h.pixel_type, "float");
+  EXPECT_TRUE(h.floating);
+  EXPECT_EQ(h.bits, 32);
+  EXPECT_TRUE(h.floats.empty());
+  bool zip = false;
+  for (const auto& [key, value] : h.attributes) zip |= key == "compression" && value == "zip";
+  EXPECT_TRUE(zip);
+
+  image_module::ReadRequest as_double;
+  as_double.type = image_module::PixelType::float64;
+  image_module::ReadResult d;
+  ASSERT_EQ(module.read(path.string(), as_double, d), "");
+  ASSERT_EQ(d.doubles.size(), 6u);
+  EXPECT_EQ(d.doubles[5], static_cast<double>(0.1f));
+
+  image_module::ReadRequest small;
+  small.max_side = 2;
+  image_module::ReadResult refused;
+  EXPECT_EQ(module.read(path.string(), small, refused), "bad image size 3 x 2");
+  EXPECT_TRUE(refused.floats.empty());
 }
 
 TEST_F(ImageIO, ExrOverwritesAtomically) {

@@ -24,6 +24,32 @@ function(expect_failure name pattern)
   endif()
 endfunction()
 
+# Runs vrv with `input` on stdin ("" for none) and expects exit code `code`; when `pattern` is
+# not empty, stderr's last line must match it.  Leaves stdout in LAST_OUT.
+function(expect_exit name code pattern input)
+  if(input STREQUAL "")
+    execute_process(COMMAND ${VRV} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  else()
+    execute_process(COMMAND ${VRV} ${ARGN} INPUT_FILE ${input} RESULT_VARIABLE rc
+      OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  endif()
+  if(NOT rc EQUAL ${code})
+    message(FATAL_ERROR "${name}: expected exit ${code}, got ${rc}\n${out}\n${err}")
+  endif()
+  string(STRIP "${err}" err)
+  if(NOT pattern STREQUAL "")
+    # An error (2, 4) is the only line; after a result (3) the last line names what was missed.
+    string(REGEX REPLACE "^.*\n" "" last "${err}")
+    if(NOT last MATCHES "${pattern}")
+      message(FATAL_ERROR "${name}: stderr does not match '${pattern}':\n${err}")
+    endif()
+    if(NOT code EQUAL 3 AND err MATCHES "\n")
+      message(FATAL_ERROR "${name}: stderr is more than one line:\n${err}")
+    endif()
+  endif()
+  set(LAST_OUT "${out}" PARENT_SCOPE)
+endfunction()
+
 # Negative components, both spellings, give the same full-precision JSON line.
 expect_success(negative_space ray --origin -3,0.5,0 --direction 1,0,0 --json)
 set(a "${LAST_OUT}")
@@ -31,7 +57,7 @@ expect_success(negative_equals ray --origin=-3,0.5,0 --direction=1,0,0 --json)
 if(NOT a STREQUAL LAST_OUT)
   message(FATAL_ERROR "--origin -3,.. and --origin=-3,.. differ:\n${a}\n${LAST_OUT}")
 endif()
-foreach(key value error_estimate evaluations t_entry t_exit optical_depth)
+foreach(key value error_estimate evaluations t_entry t_exit optical_depth tolerance_met)
   if(NOT a MATCHES "\"${key}\":")
     message(FATAL_ERROR "JSON line lacks ${key}: ${a}")
   endif()
@@ -54,6 +80,11 @@ string(REGEX MATCHALL "\n" lines "${LAST_OUT}")
 list(LENGTH lines n)
 if(NOT n EQUAL 2)
   message(FATAL_ERROR "--rays: expected 2 lines, got ${n}:\n${LAST_OUT}")
+endif()
+
+string(JSON met GET "${a}" tolerance_met)
+if(NOT met STREQUAL "ON")
+  message(FATAL_ERROR "tolerance_met should be true on the default ray: ${a}")
 endif()
 
 expect_success(help_ray ray --help)
@@ -280,3 +311,175 @@ if(hard_csv MATCHES "[Nn][Aa][Nn]")
 endif()
 file(WRITE ${OUT}/bad_hard.toml "kind = \"hard_cases\"\n[[case]]\nname = \"c\"\norigin = [-3, 0, 0]\ndirection = [1, 0, 0]\n[case.scene.volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[case.scene.field]\nkind = \"marschner_lobb\"\n[case.scene.transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[[case.method]]\nmethod = \"simpson\"\n")
 expect_failure(bad_hard_case "bad_hard.toml: case\\[0\\]\\.method\\[0\\]\\.method: unknown method 'simpson'" study ${OUT}/bad_hard.toml --quiet)
+
+# ---------------------------------------------------------------------------------------------
+# Exit codes (README, "Exit codes"): 2 bad input, 3 a reference value missed --tol, 4 non-finite.
+
+# A tolerance below what a double can resolve is missed on every ray: the value is printed with
+# "tolerance_met": false, stderr names it in one line, exit 3.  A linear ramp makes it cheap.
+file(WRITE ${OUT}/ramp.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"linear_ramp\"\ngradient = [0.2, 0.1, 0]\noffset = 0.5\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[camera]\nprojection = \"orthographic\"\neye = [0, 0, -4]\ntarget = [0, 0, 0]\nup = [0, 1, 0]\nextent = 1.5\nwidth = 4\nheight = 3\n")
+expect_exit(tol_missed 3 "^vrv ray: tolerance missed: error estimate .* > --tol 1e-30" ""
+  ray --scene ${OUT}/ramp.toml --origin -3,0.1,0.2 --direction 1,0,0 --tol 1e-30 --json)
+if(NOT LAST_OUT MATCHES "\"tolerance_met\":false" OR NOT LAST_OUT MATCHES "\"value\":0\\.")
+  message(FATAL_ERROR "tol_missed: ${LAST_OUT}")
+endif()
+file(REMOVE ${OUT}/tol.exr ${OUT}/tol.png)
+expect_exit(render_tol_missed 3 "^vrv render: 12 of 12 pixels missed --tol 1e-30" ""
+  render --scene ${OUT}/ramp.toml --reference --tol 1e-30 --quiet -o ${OUT}/tol.exr)
+string(JSON missed GET "${LAST_OUT}" tolerance_missed)
+if(NOT missed EQUAL 12 OR NOT EXISTS ${OUT}/tol.exr OR NOT EXISTS ${OUT}/tol.png)
+  message(FATAL_ERROR "render_tol_missed: images and a count of 12 expected: ${LAST_OUT}")
+endif()
+expect_success(render_tol_met render --scene ${OUT}/ramp.toml --reference --quiet -o ${OUT}/tol.exr)
+string(JSON missed GET "${LAST_OUT}" tolerance_missed)
+if(NOT missed EQUAL 0)
+  message(FATAL_ERROR "render_tol_met: ${LAST_OUT}")
+endif()
+
+# A NaN is never printed as a number: float precision overflows at extinction 1e300.
+file(WRITE ${OUT}/huge.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 1e300]]\n[camera]\nprojection = \"orthographic\"\neye = [0, 0, -4]\ntarget = [0, 0, 0]\nup = [0, 1, 0]\nextent = 1.5\nwidth = 4\nheight = 4\n")
+expect_exit(float_nan 4 "^vrv: error: the discrete raycast gave a non-finite value" ""
+  ray --scene ${OUT}/huge.toml --origin -3,0.1,0.2 --direction 1,0,0 --method exact_linear --precision float --json)
+if(NOT LAST_OUT STREQUAL "")
+  message(FATAL_ERROR "float_nan: printed ${LAST_OUT}")
+endif()
+file(REMOVE ${OUT}/nan.exr ${OUT}/nan.png)
+expect_exit(render_nan 4 "^vrv: error: [0-9]+ of 16 pixels are NaN or infinite .*nothing written" ""
+  render --scene ${OUT}/huge.toml --method exact_linear --precision float --quiet -o ${OUT}/nan.exr)
+if(EXISTS ${OUT}/nan.exr OR EXISTS ${OUT}/nan.png)
+  message(FATAL_ERROR "render_nan: wrote an image with NaN pixels")
+endif()
+
+# --rays from standard input, with ids passed through, in input order, bitwise the same for 1 and
+# 2 threads; a later bad line prints nothing (the whole input is checked first).
+file(WRITE ${OUT}/rays_id.jsonl "{\"id\": \"a\", \"origin\": [-3, 0.1, 0.2], \"direction\": [1, 0, 0]}\n\n{\"origin\": [0, 0, -5], \"direction\": [0.1, 0.2, 1], \"id\": 7}\n{\"origin\": [-3, 5, 0], \"direction\": [1, 0, 0]}\n{\"id\": {\"k\": [1]}, \"origin\": [0.3, -4, 0.1], \"direction\": [0, 1, 0.05]}\n")
+expect_exit(rays_stdin 0 "" ${OUT}/rays_id.jsonl ray --rays - --threads 1)
+set(one_thread "${LAST_OUT}")
+string(REGEX MATCHALL "[^\n]+" lines "${LAST_OUT}")
+list(LENGTH lines n)
+list(GET lines 0 l0)
+list(GET lines 1 l1)
+list(GET lines 2 l2)
+list(GET lines 3 l3)
+if(NOT n EQUAL 4 OR NOT l0 MATCHES "^\\{\"id\":\"a\",\"value\"" OR NOT l1 MATCHES "^\\{\"id\":7,"
+   OR NOT l2 MATCHES "^\\{\"value\"" OR NOT l3 MATCHES "^\\{\"id\":\\{\"k\":\\[1\\]\\},")
+  message(FATAL_ERROR "rays_stdin: ids or order wrong:\n${LAST_OUT}")
+endif()
+expect_exit(rays_two_threads 0 "" "" ray --rays ${OUT}/rays_id.jsonl --threads 2)
+if(NOT LAST_OUT STREQUAL one_thread)
+  message(FATAL_ERROR "--rays: 1 and 2 threads differ:\n${one_thread}\n${LAST_OUT}")
+endif()
+foreach(case "nan|[NaN, 0, 0]|column [0-9]+: NaN is not a JSON number"
+              "inf|[-Infinity, 0, 0]|column [0-9]+: -Infinity is not a JSON number"
+              "huge|[1e999, 0, 0]|1e999 is beyond the range of a double"
+              "cut|[1, 0, 0]|truncated: the line ends before its JSON object is complete")
+  string(REPLACE "|" ";" parts "${case}")
+  list(GET parts 0 tag)
+  list(GET parts 1 origin)
+  list(GET parts 2 reason)
+  set(line "{\"origin\": ${origin}, \"direction\": [1, 0, 0]}")
+  if(tag STREQUAL "cut")
+    set(line "{\"origin\": ${origin}, \"direction\": [1, 0")
+  endif()
+  file(WRITE ${OUT}/rays_${tag}.jsonl "{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0]}\n${line}\n")
+  expect_exit(rays_${tag} 2 "^vrv: error: .*rays_${tag}.jsonl:2: ${reason}" "" ray --rays ${OUT}/rays_${tag}.jsonl)
+  if(NOT LAST_OUT STREQUAL "")
+    message(FATAL_ERROR "rays_${tag}: printed results before failing:\n${LAST_OUT}")
+  endif()
+endforeach()
+file(WRITE ${OUT}/rays_key.jsonl "{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0], \"dir\": 1}\n")
+expect_exit(rays_unknown_key 2 "rays_key.jsonl:1: unknown key 'dir'" "" ray --rays ${OUT}/rays_key.jsonl)
+file(WRITE ${OUT}/rays_array.jsonl "[1, 2, 3]\n")
+expect_exit(rays_not_object 2 "rays_array.jsonl:1: expected a JSON object .*got array" "" ray --rays ${OUT}/rays_array.jsonl)
+file(MAKE_DIRECTORY ${OUT}/rays_dir)
+expect_exit(rays_directory 2 "^vrv: error: --rays: .*rays_dir: is a directory" "" ray --rays ${OUT}/rays_dir)
+expect_exit(rays_stdin_bad 2 "<stdin>:2: column" ${OUT}/rays_nan.jsonl ray --rays -)
+# Tolerance missed on some rays: all printed, the lines named, exit 3.
+file(WRITE ${OUT}/rays_ramp.jsonl "{\"origin\": [-3, 0.1, 0.2], \"direction\": [1, 0, 0]}\n{\"origin\": [-3, 5, 0], \"direction\": [1, 0, 0]}\n")
+expect_exit(rays_tol_missed 3 "rays_ramp.jsonl: 1 of 2 rays missed --tol 1e-30 .*: line 1$" ""
+  ray --scene ${OUT}/ramp.toml --rays ${OUT}/rays_ramp.jsonl --tol 1e-30)
+
+# Options that would do nothing are refused.
+foreach(opt "--rate;2" "--oversample;4" "--correction;lacroute" "--step;0.1" "--precision;float"
+            "--termination;0.9" "--max-work;1e12")
+  list(GET opt 0 name)
+  expect_exit(no_method${name} 2 "^vrv: error: ${name}: applies to a discrete raycast only" ""
+    ray --origin -3,0,0 --direction 1,0,0 ${opt})
+endforeach()
+expect_exit(render_no_method_rate 2 "^vrv: error: --rate: applies to a discrete raycast only" ""
+  render --reference --rate 2 -o ${OUT}/render_never.exr)
+expect_exit(tol_with_method 2 "^vrv: error: --tol: applies to the reference only" ""
+  ray --origin -3,0,0 --direction 1,0,0 --method riemann --tol 1e-6)
+expect_exit(threads_one_ray 2 "^vrv: error: --threads: applies to --rays only" ""
+  ray --origin -3,0,0 --direction 1,0,0 --threads 2)
+# --threads -3: refused by every command that takes it, with the same words.
+expect_exit(threads_ray 2 "^vrv: error: --threads: must not be negative, got -3$" ""
+  ray --rays ${OUT}/rays.jsonl --threads -3)
+expect_exit(threads_render 2 "^vrv: error: --threads: must not be negative, got -3$" ""
+  render --reference --threads -3 -o ${OUT}/render_never.exr)
+expect_exit(threads_study 2 "^vrv: error: --threads: must not be negative, got -3$" ""
+  study convergence --threads -3)
+
+# CLI11's own words and exit codes (104, 106, 109) never reach the user.
+expect_exit(unknown_option 2 "^vrv: error: unknown option or argument --frobnicate" ""
+  ray --origin -3,0,0 --direction 1,0,0 --frobnicate)
+expect_exit(width_not_int 2 "^vrv: error: --width: '1e9' is not a valid integer$" ""
+  render --reference --width 1e9 -o ${OUT}/render_never.exr)
+expect_exit(no_command 2 "^vrv: error: a command is required" "")
+expect_exit(unknown_command 2 "^vrv: error: unknown command 'bogus'" "" bogus)
+expect_exit(missing_value 2 "^vrv: error: --origin: a value is required$" "" ray --origin)
+expect_exit(tol_not_number 2 "^vrv: error: --tol: 'abc' is not a valid number$" ""
+  ray --origin -3,0,0 --direction 1,0,0 --tol abc)
+
+# Work without bound is refused before anything runs, naming the estimate and --max-work.
+expect_exit(work_step 2 "^vrv: error: --step 1e-9: about 2e\\+09 samples on 1 ray, above the work limit of 1e\\+09.*--max-work" ""
+  ray --origin -3,0,0 --direction 1,0,0 --method riemann --step 1e-9)
+expect_exit(work_rate 2 "^vrv: error: --rate 1e9: about .* samples on 1 ray.*--max-work" ""
+  ray --origin -3,0,0 --direction 1,0,0 --method riemann --rate 1e9)
+expect_exit(work_oversample 2 "^vrv: error: --step 1e-5, --oversample 65536: about 1.3.e\\+10 samples.*--max-work" ""
+  ray --origin -3,0,0 --direction 1,0,0 --method alpha --oversample 65536 --step 1e-5)
+expect_exit(work_render 2 "^vrv: error: --rate 1e4: about .* samples on 65536 rays.*--max-work" ""
+  render --method riemann --rate 1e4 -o ${OUT}/render_never.exr)
+expect_exit(work_limit_low 2 "^vrv: error: --step 1e-5: about 2e\\+05 samples.*--max-work 2" ""
+  ray --origin -3,0,0 --direction 1,0,0 --method riemann --step 1e-5 --max-work 1e5)
+expect_exit(work_limit_raised 0 "" ""
+  ray --origin -3,0,0 --direction 1,0,0 --method riemann --step 1e-5 --max-work 1e6 --json)
+if(NOT LAST_OUT MATCHES "\"samples\":200000")
+  message(FATAL_ERROR "work_limit_raised: ${LAST_OUT}")
+endif()
+if(EXISTS ${OUT}/render_never.exr)
+  message(FATAL_ERROR "a refused render wrote ${OUT}/render_never.exr")
+endif()
+
+# Partial outputs: every output path is checked before anything is written.
+file(REMOVE_RECURSE ${OUT}/pe)
+file(MAKE_DIRECTORY ${OUT}/pe/r_error.png)
+expect_exit(partial_outputs 2 "^vrv: error: -o: .*pe/r_error.png: is a directory" ""
+  render --method riemann --width 8 --height 8 -o ${OUT}/pe/r.exr --error-against ${OUT}/render_ref.exr)
+foreach(f r.exr r.png r_error.exr)
+  if(EXISTS ${OUT}/pe/${f})
+    message(FATAL_ERROR "partial_outputs: ${OUT}/pe/${f} was written")
+  endif()
+endforeach()
+file(SHA256 ${OUT}/render_ref.exr ref_hash)
+expect_exit(own_input 2 "^vrv: error: -o: .*render_ref.exr would overwrite the --error-against input" ""
+  render --reference --width 8 --height 8 -o ${OUT}/render_ref.exr --error-against ${OUT}/render_ref.exr)
+get_filename_component(out_name ${OUT} NAME)
+expect_exit(own_input_other_name 2 "would overwrite the --error-against input" ""
+  render --reference --width 8 --height 8 -o ${OUT}/../${out_name}/render_ref.exr --error-against ${OUT}/render_ref.exr)
+file(SHA256 ${OUT}/render_ref.exr ref_hash_after)
+if(NOT ref_hash STREQUAL ref_hash_after)
+  message(FATAL_ERROR "own_input: render_ref.exr changed")
+endif()
+
+# Image I/O is a module loaded on first use: vrv itself does not link OpenImageIO, a ray never
+# loads the module, and a render without it fails with one line.
+execute_process(COMMAND ldd ${VRV} OUTPUT_VARIABLE libs RESULT_VARIABLE rc)
+if(rc EQUAL 0 AND libs MATCHES "OpenImageIO")
+  message(FATAL_ERROR "vrv links OpenImageIO directly:\n${libs}")
+endif()
+set(ENV{VRV_IMAGE_MODULE} ${OUT}/no_such_module.so)
+expect_exit(ray_without_module 0 "" "" ray --origin -3,0.5,0 --direction 1,0,0 --json)
+expect_exit(render_without_module 2 "^vrv: error: .*image module .*no_such_module.so" ""
+  render --reference --width 2 --height 2 --quiet -o ${OUT}/nomodule.exr)
+unset(ENV{VRV_IMAGE_MODULE})

@@ -70,7 +70,7 @@ expect_error(err_other_camera "--error-against: .*other_camera.exr: rendered wit
   render --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/b.exr --error-against ${OUT}/other_camera.exr)
 expect_error(err_png "--error-against: .*ref.png: 8-bit uint8 pixels"
   render --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/b.exr --error-against ${OUT}/ref.png)
-expect_error(err_self "-o: .*would overwrite the reference"
+expect_error(err_self "-o: .*would overwrite the --error-against input"
   render --reference --width 6 --height 5 --quiet -o ${OUT}/ref.exr --error-against ${OUT}/ref.exr)
 if(EXISTS ${OUT}/b.exr)
   message(FATAL_ERROR "render: wrote although the reference was refused")

@@ -1,0 +1,98 @@
+#include "lib/io/image_module.h"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <mutex>
+#include <stdexcept>
+#include <system_error>
+
+#include <fmt/format.h>
+
+// Set by CMake: the module's file name and the directory `cmake --install` puts it in.
+#ifndef VRV_IMAGE_MODULE_FILE
+#define VRV_IMAGE_MODULE_FILE "libvrv_image.so"
+#endif
+#ifndef VRV_IMAGE_MODULE_INSTALL_DIR
+#define VRV_IMAGE_MODULE_INSTALL_DIR ""
+#endif
+#ifndef VRV_IMAGE_MODULE_BUILD_DIR
+#define VRV_IMAGE_MODULE_BUILD_DIR ""
+#endif
+
+namespace vrv::image_module {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<fs::path> candidates() {
+  if (const char* explicit_path = std::getenv("VRV_IMAGE_MODULE"); explicit_path && *explicit_path)
+    return {fs::path(explicit_path)};
+  std::vector<fs::path> paths;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) paths.push_back(exe.parent_path() / VRV_IMAGE_MODULE_FILE);
+  if (*VRV_IMAGE_MODULE_INSTALL_DIR)
+    paths.push_back(fs::path(VRV_IMAGE_MODULE_INSTALL_DIR) / VRV_IMAGE_MODULE_FILE);
+  // Last, the build tree this code was compiled in: test binaries, the Python module and
+  // programs linking the library from the build tree live elsewhere than the module.
+  if (*VRV_IMAGE_MODULE_BUILD_DIR)
+    paths.push_back(fs::path(VRV_IMAGE_MODULE_BUILD_DIR) / VRV_IMAGE_MODULE_FILE);
+  return paths;
+}
+
+const Functions* load() {
+  std::string tried;
+  for (const fs::path& path : candidates()) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) {
+      tried += fmt::format("{}{} (missing)", tried.empty() ? "" : ", ", path.string());
+      continue;
+    }
+    // RTLD_LOCAL: OpenImageIO's dependencies stay out of vrv's own symbol lookups.
+    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!handle) {
+      const char* why = dlerror();
+      throw std::runtime_error(fmt::format("image I/O: cannot load the image module {}: {}",
+                                           path.string(), why ? why : "unknown reason"));
+    }
+    using Entry = const Functions* (*)();
+    const auto entry = reinterpret_cast<Entry>(dlsym(handle, kEntrySymbol));
+    const Functions* f = entry ? entry() : nullptr;
+    if (!f || f->abi_version != kAbiVersion || !f->write || !f->read)
+      throw std::runtime_error(fmt::format(
+          "image I/O: {} is not an image module of this vrv build (rebuild vrv)", path.string()));
+    return f;  // never unloaded: OpenImageIO keeps threads and static state
+  }
+  throw std::runtime_error(fmt::format(
+      "image I/O: the image module {} was not found (looked at {}; set VRV_IMAGE_MODULE to its path)",
+      VRV_IMAGE_MODULE_FILE, tried));
+}
+
+}  // namespace
+
+const Functions& functions() {
+  static std::mutex mutex;
+  static const Functions* loaded = nullptr;
+  std::lock_guard lock(mutex);
+  if (!loaded) loaded = load();  // a failed load throws and is retried by the next call
+  return *loaded;
+}
+
+ReadResult read_file(const std::filesystem::path& path, const ReadRequest& request) {
+  auto fail = [&](std::string reason) {
+    std::replace_if(reason.begin(), reason.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+    return std::runtime_error(fmt::format("{}: {}", path.string(), reason));
+  };
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw fail("cannot read: no such file");
+  if (fs::is_directory(path, ec)) throw fail("cannot read: is a directory");
+  ReadResult result;
+  const std::string why = functions().read(path.string(), request, result);
+  if (!why.empty()) throw fail(why);
+  return result;
+}
+
+}  // namespace vrv::image_module

@@ -1,0 +1,75 @@
+#pragma once
+// The image library (OpenImageIO) is loaded only by the processes that read or write an image:
+// it brings ~260 shared libraries, 0.5 s of dynamic loading that `vrv ray` or `vrv --help` should
+// not pay.  It lives in a module of its own (lib/io/image_module_oiio.cpp, built as
+// libvrv_image.so) that image_module::functions() loads with dlopen() on first use.
+//
+// The module and vrv are built together by the same compiler, so the interface is plain C++;
+// kAbiVersion guards against a module left over from another build of this interface.  Errors
+// cross it as strings (never exceptions): "" means success, anything else is a one-line reason.
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vrv::image_module {
+
+inline constexpr int kAbiVersion = 3;
+// The C symbol the module exports: a `const Functions*`-returning function.
+inline constexpr const char* kEntrySymbol = "vrv_image_module_functions";
+
+enum class PixelType { float32, float64, uint8 };
+
+struct WriteRequest {
+  std::string format;  // OpenImageIO writer name: "openexr", "png"
+  int width = 0, height = 0, channels = 1;
+  PixelType type = PixelType::float32;
+  const void* pixels = nullptr;  // row-major, channels interleaved, row 0 = top
+  std::vector<std::string> channel_names;  // empty: the writer's default names
+  std::vector<std::pair<std::string, std::string>> attributes;  // e.g. {"compression", "zip"}
+};
+
+// What to read: the header always; when `pixels` is set, the pixels of a 2D image with 1 to
+// max_channels channels (interleaved), converted to `type` (float32 or float64), refused above
+// max_side or max_pixels before anything is allocated.
+struct ReadRequest {
+  bool pixels = true;
+  PixelType type = PixelType::float32;
+  int max_channels = 1;  // 1: one-channel images only; 4: grey, grey+alpha, RGB or RGBA
+  int max_side = 1 << 16;
+  long long max_pixels = 1LL << 28;
+};
+
+struct ReadResult {
+  int width = 0, height = 0, depth = 1, channels = 0;
+  bool deep = false;
+  std::string format_name;  // the reader: "openexr", "png", "tiff", ...
+  std::string pixel_type;   // as stored: "float", "uint8", "double", ...
+  bool floating = false;    // the stored type is floating point
+  int bits = 0;             // bits per sample as stored
+  std::vector<std::string> channel_names;  // as stored (may be empty or shorter than channels)
+  int alpha_channel = -1;                   // the reader's alpha channel, -1 when it names none
+  std::vector<std::pair<std::string, std::string>> attributes;  // every metadata item, as text
+  std::vector<float> floats;    // the pixels, when read as float32
+  std::vector<double> doubles;  // the pixels, when read as float64
+};
+
+struct Functions {
+  int abi_version = kAbiVersion;
+  // Writes the request to `path` (the caller handles temporary names and renaming).
+  std::string (*write)(const std::string& path, const WriteRequest& request) = nullptr;
+  // Reads the first subimage's header and, as asked, its pixels.
+  std::string (*read)(const std::string& path, const ReadRequest& request, ReadResult& out) = nullptr;
+};
+
+// The loaded module's functions.  Looks for the module at $VRV_IMAGE_MODULE when that is set
+// (and nowhere else), otherwise next to the executable, then in the install library directory,
+// then in the build directory vrv was compiled in.
+// Throws std::runtime_error with one line naming where it looked when it cannot be loaded.
+const Functions& functions();
+
+// Reads `path` with the loaded module as `request` asks.  Throws std::runtime_error, one line
+// "<path>: <reason>", when the file is missing, a directory, or the module refuses it.
+ReadResult read_file(const std::filesystem::path& path, const ReadRequest& request);
+
+}  // namespace vrv::image_module
