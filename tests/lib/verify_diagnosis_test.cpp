@@ -2,6 +2,7 @@
 // (tests/lib/toy_renderer_conventions.h, not vrv's raycaster) on an opacity/colour scene, with the
 // opacity per unit distance corrected to the sample distance, premultiplied colour, and N-entry
 // tables read with and without half-texel centring; each image set's nearest model is that one.
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -87,7 +88,12 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{{.table_size = 256, .centred = true}, "straight", "256 centred"},
                       Case{{.table_size = 256, .centred = false}, "straight", "256 uncentred"},
                       Case{{.table_size = 1024, .centred = true}, "straight", "1024 centred"},
-                      Case{{.table_size = 1024, .centred = false}, "straight", "1024 uncentred"}));
+                      Case{{.table_size = 1024, .centred = false}, "straight", "1024 uncentred"}),
+    [](const ::testing::TestParamInfo<Case>& info) {
+      std::string name = info.param.color + "_" + info.param.table;
+      std::replace(name.begin(), name.end(), ' ', '_');
+      return name;
+    });
 
 // Without its opacity correction (the opacity per unit distance taken per sample), the nearest
 // model is the uncorrected one and the fault is named.
