@@ -26,6 +26,7 @@
 
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/interrupt.h"
+#include "studies/engine/reference_audit.h"
 #include "studies/engine/staging.h"
 
 namespace vrv {
@@ -168,7 +169,9 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
     const ThreadLimit limit(opt.threads);
     StudyRun run{staging.dir(), opt.quick, !opt.quiet};
     run.checkpoints = &checkpoints;
+    reset_reference_audit();
     outcome = study.job(run);
+    outcome.checks.push_back(reference_audit_check(reference_audit_counts()));
   }
   for (StudyCheck& c : outcome.checks)  // a check must say where its bound comes from
     if (c.kind == CheckKind::unlabelled) {

@@ -8,6 +8,7 @@
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
+#include "studies/engine/reference_audit.h"
 
 namespace vrv {
 
@@ -34,7 +35,7 @@ RenderValues render_values(const RenderScenes& s, const Camera& camera, const st
   Progress bar("render", pixels, progress);
   parallel_for_index(pixels, [&](long i) {
     const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
-    const ReferenceResult ref = integrate_reference(s.analytic, ray, {s.reference_tol});
+    const ReferenceResult ref = audited_reference(s.analytic, ray, {s.reference_tol});
     out.reference[i] = ref.value;
     estimate[i] = ref.error_estimate;
     for (std::size_t k = 0; k < configs.size(); ++k) out.methods[k][i] = discrete_raycast(s.sampled, ray, configs[k]).value;

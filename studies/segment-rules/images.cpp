@@ -11,6 +11,7 @@
 #include "lib/metrics.h"
 #include "lib/order_estimate.h"
 #include "studies/segment-rules/segment_rules.h"
+#include "studies/engine/reference_audit.h"
 
 namespace vrv {
 
@@ -54,7 +55,7 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
     parallel_for_index(n, [&](long i) {
       const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
       const ReferenceResult ref =
-          integrate_reference(field, scene.box, scene.transfer, scene.background, ray, {reference_tol});
+          audited_reference(field, scene.box, scene.transfer, scene.background, ray, {reference_tol});
       const auto pixel = static_cast<std::size_t>(i);
       hit[pixel] = ref.hit;
       out.reference.pixels[pixel] = static_cast<float>(ref.value);

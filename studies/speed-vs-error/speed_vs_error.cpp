@@ -22,6 +22,7 @@
 #include "lib/order_estimate.h"
 #include "studies/engine/study_driver.h"
 #include "studies/engine/study_rays.h"
+#include "studies/engine/reference_audit.h"
 // The truth every configuration is scored against, the reference included: the test suite's
 // long-double integrator, which shares no numerical code with lib/ (its header says how).
 #include "tests/lib/independent_reference.h"
@@ -386,7 +387,7 @@ StudyJob parse_speed_vs_error(const StudyInput& in) {
     std::vector<ReferenceResult> truth(static_cast<std::size_t>(n));
     parallel_for_index(n, [&](long i) {
       truth[static_cast<std::size_t>(i)] =
-          integrate_reference(d.scene, rays[static_cast<std::size_t>(i)], ReferenceOptions{d.reference_tol});
+          audited_reference(d.scene, rays[static_cast<std::size_t>(i)], ReferenceOptions{d.reference_tol});
     });
     double truth_estimate = 0;
     for (const ReferenceResult& t : truth) truth_estimate = std::max(truth_estimate, t.error_estimate);

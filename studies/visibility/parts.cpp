@@ -13,6 +13,7 @@
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
 #include "studies/engine/study_rays.h"
+#include "studies/engine/reference_audit.h"
 #include "lib/io/table.h"
 
 namespace vrv {
@@ -65,7 +66,7 @@ IdentityResult run_identity(const VisibilityStudy& s, const StudyRun& run) {
   ref.stop_when_opaque = false;  // the identities need the whole optical depth
   // Both integrals return the optical depth Phi = -log(transparency).
   auto continuous = [&](const TransferFunction& tf, const Box& b, const Ray& ray) {
-    const ReferenceResult r = integrate_reference(field, b, tf, 1.0, ray, ref);
+    const ReferenceResult r = audited_reference(field, b, tf, 1.0, ray, ref);
     return r.hit ? r.optical_depth : 0.0;
   };
   const DiscreteConfig cfg = alpha_config(s.identity.step);
@@ -210,7 +211,7 @@ TerminationResult run_termination(const VisibilityStudy& s, const StudyRun& run)
   Progress bar("visibility termination", P, run.progress);
   parallel_for_index(P, [&](long p) {
     const Ray ray = cam.ray(static_cast<int>(p % side), static_cast<int>(p / side));
-    value[0][p] = integrate_reference(s.scene, ray, {s.termination.reference_tol}).value;
+    value[0][p] = audited_reference(s.scene, ray, {s.termination.reference_tol}).value;
     for (std::size_t c = 0; c < casters.size(); ++c) {
       const DiscreteResult r = casters[c].cast(ray);
       value[c + 1][p] = r.value;
