@@ -12,8 +12,8 @@ is kept for the lines a program prints besides its table (calibrations, ratio su
 The report (written atomically: a temporary file in results/, then os.replace) holds the
 machine, one table per program, the headline ratios (reference vs Boost.Odeint, vrv's discrete
 raycast vs a bare loop, opacity-correction costs vs Lee & Newman's Table 1), the scaling series
-of bench_scaling with exponents fitted by least squares in log-log space, and the largest study
-that fits the machine's memory.  A program that is not built is listed as "not built" and its
+of bench_scaling with exponents fitted by least squares in log-log space, the largest study
+that fits the machine's memory, and the start-up times of startup.py (run after the programs).  A program that is not built is listed as "not built" and its
 figures are "n/a".
 """
 import argparse
@@ -797,6 +797,29 @@ def section_largest(p, fits, machine):
     return "\n".join(out), headline
 
 
+# ---- Start-up ----------------------------------------------------------------------------------
+
+def section_startup(build_dir, runs=20):
+    """startup.py's table (start-up and the image module's cost), run in this report."""
+    script = BENCH_SOURCES / "startup.py"
+    cmd = [sys.executable, str(script), str(build_dir), "--runs", str(runs)]
+    try:
+        out = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        return f"## Start-up\n\nNot measured: {e}"
+    if out.returncode != 0:
+        return f"## Start-up\n\nNot measured: `{shlex.join(cmd)}` exited {out.returncode}: {out.stderr.strip()}"
+    return "\n".join([
+        "## Start-up",
+        "",
+        f"`python3 studies/benchmarks/startup.py {build_dir} --runs {runs}`: each command's wall and CPU "
+        "time against `/bin/true`. vrv loads OpenImageIO only in processes that read or write an image "
+        "(the image module, lib/io/image_module.h); the `render 1x1` row pays for loading it.",
+        "",
+        out.stdout.strip(),
+    ])
+
+
 # ---- Main --------------------------------------------------------------------------------------
 
 def main():
@@ -829,6 +852,7 @@ def main():
     except ValueError:
         build_arg = str(build_dir)
 
+    startup_text = section_startup(build_dir)
     scaling_text, fits = section_scaling(by_name.get("bench_scaling"))
     largest_text, largest_headline = section_largest(by_name.get("bench_scaling"), fits, machine)
     built = [p.name for p in programs if p.built]
@@ -853,6 +877,8 @@ def main():
         headline_baseline(by_name.get("bench_discrete_baseline")),
         "",
         headline_corrections(by_name.get("bench_corrections")),
+        "",
+        startup_text,
         "",
         scaling_text,
         "",

@@ -19,6 +19,7 @@
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "studies/engine/study_rays.h"
+#include "studies/engine/reference_audit.h"
 
 namespace vrv {
 namespace {
@@ -208,7 +209,7 @@ void refine_grid(const StudyDefinition& study, bool quick, const std::vector<Ray
     std::vector<double> t(n);
     parallel_for_index(static_cast<long>(n), [&](long i) {
       t[static_cast<std::size_t>(i)] =
-          integrate_reference(study.scene, rays[static_cast<std::size_t>(i)], {study.reference_tol}).value;
+          audited_reference(study.scene, rays[static_cast<std::size_t>(i)], {study.reference_tol}).value;
     });
     return t;
   });
@@ -275,9 +276,9 @@ StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progr
       // One ray is one checkpoint: its errors, then its sample counts (exact as doubles).
       const std::vector<double> v = stored(checkpoint, fmt::format("ray_{}", i), [&] {
         const Ray& ray = rays[static_cast<std::size_t>(i)];
-        const double reference = integrate_reference(field, study.scene.box, study.scene.transfer,
-                                                     study.scene.background, ray,
-                                                     {study.reference_tol}).value;
+        const double reference = audited_reference(field, study.scene.box, study.scene.transfer,
+                                                   study.scene.background, ray,
+                                                   {study.reference_tol}).value;
         std::vector<double> out(2 * per_ray);
         for (std::size_t k = 0; k < per_ray; ++k) {
           const DiscreteResult d = casters[k].cast(ray);

@@ -26,6 +26,7 @@
 
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/interrupt.h"
+#include "studies/engine/reference_audit.h"
 #include "studies/engine/staging.h"
 
 namespace vrv {
@@ -168,7 +169,12 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
     const ThreadLimit limit(opt.threads);
     StudyRun run{staging.dir(), opt.quick, !opt.quiet};
     run.checkpoints = &checkpoints;
+    reset_reference_audit();
     outcome = study.job(run);
+    const ReferenceAuditCounts audit = reference_audit_counts();
+    outcome.checks.push_back(reference_audit_check(audit));
+    outcome.parameters["reference_audit"] = {{"truths_computed", audit.rays}, {"missed", audit.missed},
+                                             {"largest_estimate", audit.largest_estimate}};
   }
   for (StudyCheck& c : outcome.checks)  // a check must say where its bound comes from
     if (c.kind == CheckKind::unlabelled) {

@@ -13,6 +13,7 @@
 #include "lib/reference_integrator.h"
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
+#include "studies/engine/reference_audit.h"
 
 namespace vrv {
 namespace {
@@ -105,7 +106,7 @@ HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress, const
   parallel_for_index(static_cast<long>(C), [&](long i) {
     const HardCase& hc = study.cases[static_cast<std::size_t>(i)];
     const std::vector<double> v = stored(checkpoint, fmt::format("truth_{}", i), [&] {
-      const ReferenceResult r = integrate_reference(hc.scene, make_ray(hc.origin, hc.direction), {study.reference_tol});
+      const ReferenceResult r = audited_reference(hc.scene, make_ray(hc.origin, hc.direction), {study.reference_tol});
       return std::vector<double>{r.value, r.error_estimate};
     });
     truth[static_cast<std::size_t>(i)].value = v[0];

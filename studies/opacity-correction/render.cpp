@@ -11,6 +11,7 @@
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
 #include "studies/engine/checkpoint.h"
+#include "studies/engine/reference_audit.h"
 
 namespace vrv {
 
@@ -39,7 +40,7 @@ RenderValues render_values(const RenderScenes& s, const Camera& camera, const st
   const std::vector<double> v = checkpointed_items(checkpoints, "render", pixels, camera.width, width,
                                                    [&](long i, std::span<double> o) {
     const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
-    const ReferenceResult ref = integrate_reference(s.analytic, ray, {s.reference_tol});
+    const ReferenceResult ref = audited_reference(s.analytic, ray, {s.reference_tol});
     o[0] = ref.value;
     o[1] = ref.error_estimate;
     for (std::size_t k = 0; k < configs.size(); ++k) o[2 + k] = discrete_raycast(s.sampled, ray, configs[k]).value;

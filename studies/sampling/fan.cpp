@@ -7,6 +7,7 @@
 
 #include "lib/util/parallel.h"
 #include "lib/reference_integrator.h"
+#include "studies/engine/reference_audit.h"
 
 namespace vrv::sampling_study {
 namespace {
@@ -83,7 +84,7 @@ std::vector<ContinuousRay> continuous_rays(const Scene& scene, const std::vector
     const Ray& ray = rays[static_cast<std::size_t>(i)];
     ContinuousRay& r = out[static_cast<std::size_t>(i)];
     if (const auto iv = clip(ray, scene.box)) r.chord = iv->length();
-    const ReferenceResult ref = integrate_reference(scene, ray, ReferenceOptions{tol});
+    const ReferenceResult ref = audited_reference(scene, ray, ReferenceOptions{tol});
     r.value = ref.value;
     r.estimate = ref.error_estimate;
   });

@@ -11,6 +11,7 @@
 #include "lib/order_estimate.h"
 #include "studies/engine/checkpoint.h"
 #include "studies/segment-rules/segment_rules.h"
+#include "studies/engine/reference_audit.h"
 
 namespace vrv {
 
@@ -56,7 +57,7 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
     values = checkpointed_items(checkpoints, checkpoint_key, n, camera.width, width, [&](long i, std::span<double> v) {
       const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
       const ReferenceResult ref =
-          integrate_reference(field, scene.box, scene.transfer, scene.background, ray, {reference_tol});
+          audited_reference(field, scene.box, scene.transfer, scene.background, ray, {reference_tol});
       v[0] = ref.hit ? 1 : 0;
       v[1] = ref.value;
       for (std::size_t k = 0; k < per_pixel; ++k) {

@@ -25,6 +25,7 @@
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
 #include "studies/engine/study_rays.h"
+#include "studies/engine/reference_audit.h"
 // The truth every configuration is scored against, the reference included: the test suite's
 // long-double integrator, which shares no numerical code with lib/ (its header says how).
 #include "tests/lib/independent_reference.h"
@@ -419,7 +420,7 @@ StudyJob parse_speed_vs_error(const StudyInput& in) {
           std::vector<ReferenceResult> t(static_cast<std::size_t>(n));
           parallel_for_index(n, [&](long i) {
             t[static_cast<std::size_t>(i)] =
-                integrate_reference(d.scene, rays[static_cast<std::size_t>(i)], ReferenceOptions{d.reference_tol});
+                audited_reference(d.scene, rays[static_cast<std::size_t>(i)], ReferenceOptions{d.reference_tol});
           });
           return t;
         },

@@ -15,6 +15,7 @@
 #include "lib/reference_integrator.h"
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/study_rays.h"
+#include "studies/engine/reference_audit.h"
 #include "lib/io/table.h"
 
 namespace vrv {
@@ -94,7 +95,7 @@ IdentityResult run_identity(const VisibilityStudy& s, const StudyRun& run) {
   ref.stop_when_opaque = false;  // the identities need the whole optical depth
   // Both integrals return the optical depth Phi = -log(transparency).
   auto continuous = [&](const TransferFunction& tf, const Box& b, const Ray& ray) {
-    const ReferenceResult r = integrate_reference(field, b, tf, 1.0, ray, ref);
+    const ReferenceResult r = audited_reference(field, b, tf, 1.0, ray, ref);
     return r.hit ? r.optical_depth : 0.0;
   };
   const DiscreteConfig cfg = alpha_config(s.identity.step);
@@ -251,7 +252,7 @@ TerminationResult run_termination(const VisibilityStudy& s, const StudyRun& run)
   const std::vector<double> pixels = checkpointed_items(run.checkpoints, "termination", P, side, width,
                                                         [&](long p, std::span<double> o) {
     const Ray ray = cam.ray(static_cast<int>(p % side), static_cast<int>(p / side));
-    o[0] = integrate_reference(s.scene, ray, {s.termination.reference_tol}).value;
+    o[0] = audited_reference(s.scene, ray, {s.termination.reference_tol}).value;
     for (std::size_t c = 0; c < casters.size(); ++c) {
       const DiscreteResult r = casters[c].cast(ray);
       o[1 + 2 * c] = r.value;
