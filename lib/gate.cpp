@@ -122,4 +122,12 @@ BoundVerdict worst(const std::vector<BoundRow>& rows) {
   return w;
 }
 
+void use_bounds(const BoundSet& set, VerifyOptions& options, std::optional<double> threshold) {
+  if (threshold && *threshold != set.threshold)
+    throw std::invalid_argument(fmt::format("--threshold: {} differs from the bounds file's threshold {}",
+                                            *threshold, set.threshold));
+  options.threshold = set.threshold;
+  options.allow_nan = set.limits.count(Bound::max_nan) > 0;
+}
+
 }  // namespace vrv

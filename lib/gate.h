@@ -38,6 +38,11 @@ BoundRow judge_bound(const std::string& case_name, Bound bound, const std::strin
 std::vector<BoundRow> evaluate_bounds(const std::string& case_name, const VerifyReport& report,
                                       const BoundSet& set);
 
+// The options verifying against `set` needs: its threshold (percent_over counts against it) and,
+// when it bounds NaN pixels (max_nan), NaN pixels counted instead of refused.  `threshold`, an
+// explicitly chosen one (--threshold), must equal the set's: std::invalid_argument otherwise.
+void use_bounds(const BoundSet& set, VerifyOptions& options, std::optional<double> threshold = std::nullopt);
+
 // A study case: its checks pass or not (the only bound it has).
 BoundRow study_row(const std::string& case_name, bool pass, long failed_checks);
 

@@ -211,6 +211,9 @@ void check_inputs(const std::vector<ImageWithStep>& images, const VerifyOptions&
     throw std::invalid_argument("--tol: must be positive and finite");
   if (opt.expected_order && !std::isfinite(*opt.expected_order))
     throw std::invalid_argument("--expected-order: must be finite");
+  for (int n : opt.table_sizes)
+    if (n < 2 || n > kMaxTableSize)
+      throw std::invalid_argument(fmt::format("table_sizes: {} is not in [2, {}]", n, kMaxTableSize));
 }
 
 // The value a channel stands for, comparable with the reference: colour composited over the
@@ -288,58 +291,111 @@ std::string rule_opacity(SegmentRule rule, const Scene& scene) {
   }
 }
 
+constexpr std::pair<Strategy, const char*> kPlacements[] = {
+    {Strategy::step, "step (first sample half a step in)"},
+    {Strategy::vtk, "vtk (first sample one step in, last partial step dropped)"},
+    {Strategy::inviwo, "inviwo (step rounded to fit, samples at midpoints)"}};
+
+std::string_view placement_text(Strategy s) {
+  for (auto [strategy, text] : kPlacements)
+    if (strategy == s) return text;
+  return strategy_name(s);
+}
+
+// `base` at every step, labelled from its own settings; `opacity` describes its opacity.
+Model model(const Scene& scene, const std::vector<double>& steps, const DiscreteConfig& base,
+            const std::string& opacity) {
+  Model m;
+  m.label.placement = std::string(strategy_name(base.sampling.strategy));
+  m.label.rule = std::string(segment_rule_name(base.rule));
+  m.label.opacity = opacity;
+  m.label.name = fmt::format("{} placement, {} rule, {}", placement_text(base.sampling.strategy), m.label.rule, opacity);
+  if (base.color == ColorConvention::premultiplied) {
+    m.label.color = "premultiplied";
+    m.label.name += ", colour premultiplied by the opacity per unit distance";
+  }
+  if (base.table_size > 0) {
+    const bool centred = base.table_lookup == TableLookup::centred;
+    m.label.table = fmt::format("{} {}", base.table_size, table_lookup_name(base.table_lookup));
+    m.label.name += fmt::format(", transfer function read from {}-entry tables {}", base.table_size,
+                                centred ? "at their entries (half-texel centred)"
+                                        : "as a plain texture coordinate (no half-texel remap)");
+  }
+  for (double h : steps) {
+    DiscreteConfig c = base;
+    c.sampling.step = h;
+    c.sampling.dims = scene.dims;
+    m.per_step.push_back(c);
+  }
+  return m;
+}
+
+DiscreteConfig placed(Strategy strategy, SegmentRule rule) {
+  DiscreteConfig c;
+  c.rule = rule;
+  c.sampling.strategy = strategy;
+  return c;
+}
+
+// The opacity for a unit distance L used at every sample, whatever the sample distance h: vrv's
+// oversampling without correction (N = L / h samples per unit step, centred so that they sit
+// where a plain step-h raycast puts them).  Nothing when some L / h is not whole.
+std::optional<Model> uncorrected_unit_model(const Scene& scene, const std::vector<double>& steps,
+                                            Strategy strategy, double L) {
+  Model m = model(scene, steps, placed(strategy, SegmentRule::alpha),
+                  fmt::format("opacity 1 - exp(-tau L) for the unit distance L = {:g}, not corrected "
+                              "to the sample distance", L));
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    const double N = L / steps[k];
+    if (std::abs(N - std::round(N)) > 1e-9 * N || std::round(N) < 1 || N > 65536) return std::nullopt;
+    DiscreteConfig& c = m.per_step[k];
+    c.sampling.step = L;
+    c.oversample = static_cast<int>(std::round(N));
+    c.centred_oversamples = c.oversample > 1;
+  }
+  return m;
+}
+
+// vrv's discrete models of a renderer: every placement x segment rule; for opacity/colour
+// transfer functions the renderers' convention (opacity per unit distance corrected to the
+// sample distance, as vrv export hands it over), also with premultiplied colour; the corrected
+// alpha rule with the transfer function read from N-entry tables, with and without half-texel
+// centring; and, for emission/extinction, the opacity of a fixed unit distance left uncorrected.
 std::vector<Model> models(const Scene& scene, const std::vector<double>& steps, const VerifyOptions& opt) {
   std::vector<Model> out;
-  const std::pair<Strategy, const char*> placements[] = {
-      {Strategy::step, "step (first sample half a step in)"},
-      {Strategy::vtk, "vtk (first sample one step in, last partial step dropped)"},
-      {Strategy::inviwo, "inviwo (step rounded to fit, samples at midpoints)"}};
-  for (auto [strategy, pname] : placements)
+  const bool oc = scene.transfer.convention() == Convention::opacity_color;
+  for (auto [strategy, text] : kPlacements)
     for (SegmentRule rule : {SegmentRule::riemann, SegmentRule::alpha, SegmentRule::trapezoid,
-                             SegmentRule::exact_linear}) {
-      Model m;
-      m.label.placement = std::string(strategy_name(strategy));
-      m.label.rule = std::string(segment_rule_name(rule));
-      m.label.opacity = rule_opacity(rule, scene);
-      m.label.name = fmt::format("{} placement, {} rule, {}", pname, m.label.rule, m.label.opacity);
-      for (double h : steps) {
-        DiscreteConfig c;
-        c.rule = rule;
-        c.sampling.strategy = strategy;
-        c.sampling.step = h;
-        c.sampling.dims = scene.dims;
-        m.per_step.push_back(c);
-      }
-      out.push_back(std::move(m));
+                             SegmentRule::exact_linear})
+      out.push_back(model(scene, steps, placed(strategy, rule), rule_opacity(rule, scene)));
+  // The alpha rule as renderers correct it: for emission/extinction that is its own convention.
+  DiscreteConfig corrected = placed(Strategy::step, SegmentRule::alpha);
+  std::string corrected_text = rule_opacity(SegmentRule::alpha, scene);
+  if (oc) {
+    corrected.opacity_unit = OpacityUnit::per_unit_distance;
+    corrected_text = fmt::format("opacity per unit distance L = {:g} corrected to the sample distance, "
+                                 "1 - (1 - a)^(h/L)", scene.transfer.unit_length());
+    for (auto [strategy, text] : kPlacements) {
+      corrected.sampling.strategy = strategy;
+      out.push_back(model(scene, steps, corrected, corrected_text));
+      DiscreteConfig premultiplied = corrected;
+      premultiplied.color = ColorConvention::premultiplied;
+      out.push_back(model(scene, steps, premultiplied, corrected_text));
     }
-  // The opacity for a unit distance L used at every sample, whatever the sample distance h: vrv's
-  // oversampling without correction (N = L / h samples per unit step, centred so that they sit
-  // where a plain step-h raycast puts them).  Only for whole N.
-  if (scene.transfer.convention() == Convention::emission_extinction) {
+  }
+  for (int size : opt.table_sizes)
+    for (TableLookup lookup : {TableLookup::centred, TableLookup::uncentred})
+      for (auto [strategy, text] : kPlacements) {
+        DiscreteConfig c = corrected;
+        c.sampling.strategy = strategy;
+        c.table_size = size;
+        c.table_lookup = lookup;
+        out.push_back(model(scene, steps, c, corrected_text));
+      }
+  if (!oc) {
     const double L = opt.unit_distance > 0 ? opt.unit_distance : *std::max_element(steps.begin(), steps.end());
-    for (Strategy strategy : {Strategy::step, Strategy::inviwo}) {
-      Model m;
-      m.label.placement = std::string(strategy_name(strategy));
-      m.label.rule = "alpha";
-      m.label.opacity = fmt::format("opacity 1 - exp(-tau L) for the unit distance L = {:g}, not corrected "
-                                    "to the sample distance", L);
-      m.label.name = fmt::format("{} placement, alpha rule, {}", m.label.placement, m.label.opacity);
-      for (double h : steps) {
-        const double N = L / h;
-        if (std::abs(N - std::round(N)) > 1e-9 * N || std::round(N) < 1 || N > 65536) {
-          m.per_step.clear();
-          break;
-        }
-        DiscreteConfig c;
-        c.rule = SegmentRule::alpha;
-        c.sampling.strategy = strategy;
-        c.sampling.step = L;
-        c.oversample = static_cast<int>(std::round(N));
-        c.centred_oversamples = c.oversample > 1;
-        m.per_step.push_back(c);
-      }
-      if (!m.per_step.empty()) out.push_back(std::move(m));
-    }
+    for (Strategy strategy : {Strategy::step, Strategy::inviwo})
+      if (auto m = uncorrected_unit_model(scene, steps, strategy, L)) out.push_back(std::move(*m));
   }
   return out;
 }
@@ -369,6 +425,19 @@ std::vector<double> cast_pixels(const Scene& scene, const Camera& camera, const 
   return out;
 }
 
+// Whether two models' pixels agree to rounding (1e-11 of the largest value): then the later,
+// more elaborate one (a centred table of a transfer function whose breakpoints fall on its
+// entries, premultiplied colour where alpha = a) says nothing the earlier one does not.
+bool same_pixels(const std::vector<std::vector<double>>& a, const std::vector<std::vector<double>>& b) {
+  double scale = 1, diff = 0;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    for (std::size_t j = 0; j < a[k].size(); ++j) {
+      scale = std::max(scale, std::abs(a[k][j]));
+      diff = std::max(diff, std::abs(a[k][j] - b[k][j]));
+    }
+  return diff <= 1e-11 * scale;
+}
+
 std::vector<Candidate> diagnose(const Scene& scene, const Camera& camera,
                                 const std::vector<const ImageWithStep*>& sorted, int channel,
                                 const VerifyOptions& opt) {
@@ -376,21 +445,25 @@ std::vector<Candidate> diagnose(const Scene& scene, const Camera& camera,
   for (const auto* im : sorted) steps.push_back(im->step);
   const std::vector<long> pixels = diagnosis_pixels(camera.width, camera.height);
   std::vector<Candidate> out;
+  std::vector<std::vector<std::vector<double>>> kept;  // the pixels of every model kept, per step
   for (Model& m : models(scene, steps, opt)) {
+    std::vector<std::vector<double>> casts;
+    for (std::size_t k = 0; k < sorted.size(); ++k) casts.push_back(cast_pixels(scene, camera, m.per_step[k], pixels));
+    if (std::any_of(kept.begin(), kept.end(), [&](const auto& other) { return same_pixels(casts, other); }))
+      continue;
     double sum_sq = 0, max = 0;
     long count = 0;
-    for (std::size_t k = 0; k < sorted.size(); ++k) {
-      const std::vector<double> v = cast_pixels(scene, camera, m.per_step[k], pixels);
+    for (std::size_t k = 0; k < sorted.size(); ++k)
       for (std::size_t j = 0; j < pixels.size(); ++j) {
         const double u = comparable(sorted[k]->image, channel, pixels[j], scene.background, opt.alpha);
         if (!std::isfinite(u)) continue;
-        const double d = u - v[j];
+        const double d = u - casts[k][j];
         sum_sq += d * d, max = std::max(max, std::abs(d)), ++count;
       }
-    }
     m.label.rms = count ? std::sqrt(sum_sq / count) : kNaN;
     m.label.max = max;
     out.push_back(m.label);
+    kept.push_back(std::move(casts));
   }
   std::stable_sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) { return a.rms < b.rms; });
   return out;
@@ -736,7 +809,7 @@ nlohmann::ordered_json to_json(const VerifyReport& rep) {
   nlohmann::ordered_json diag = nlohmann::ordered_json::array();
   for (const Candidate& c : rep.diagnosis)
     diag.push_back({{"name", c.name}, {"placement", c.placement}, {"rule", c.rule}, {"opacity", c.opacity},
-                    {"rms", number(c.rms)}, {"max", number(c.max)}});
+                    {"color", c.color}, {"table", c.table}, {"rms", number(c.rms)}, {"max", number(c.max)}});
   j["diagnosis"] = diag;
   nlohmann::ordered_json faults = nlohmann::ordered_json::array();
   for (const Fault& f : rep.faults) faults.push_back({{"name", f.name}, {"evidence", f.evidence}});

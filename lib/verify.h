@@ -59,6 +59,10 @@ struct VerifyOptions {
   bool diagnose = true;           // run the diagnosis (vrv's own models at the same steps)
   // The unit distance the uncorrected-opacity models take their opacity for; 0: the largest step.
   double unit_distance = 0;
+  // Transfer-function table sizes the diagnosis models (each read with and without half-texel
+  // centring, lib/transfer_table.h): 256 and 1024 entries are the common 1D texture and lookup
+  // table sizes (8-bit scalars, VTK's and most GPU renderers' colour and opacity textures).
+  std::vector<int> table_sizes = {256, 1024};
   // On-disk reference cache: the directory (created if missing) and the text that identifies
   // the scene (its TOML).  The key hashes scene_text, the camera, the size and reference_tol.
   // Either empty: no cache.
@@ -105,6 +109,8 @@ struct OrderReport {
 struct Candidate {
   std::string name;       // e.g. "inviwo placement, alpha rule, opacity corrected to the sample distance"
   std::string placement, rule, opacity;
+  std::string color = "straight";  // alpha rule: "premultiplied" when colour is stored times opacity
+  std::string table = "none";      // transfer function read from tables: "256 centred", "1024 uncentred"
   double rms = 0, max = 0;  // RMS over all images of the per-pixel difference, and its max
 };
 

@@ -102,4 +102,54 @@ ValueImage render_discrete_image(const Scene& scene, const Camera& camera, const
                   [](const DiscreteResult&) { return 0.0; });
 }
 
+namespace {
+
+// A computed image as verify_images reads a file: one channel "Y" in double, no quantisation.
+ImageWithStep with_step(const ValueImage& image, double step, std::size_t index) {
+  const std::string name = fmt::format("image {} (step {:g})", index, step);
+  if (image.width <= 0 || image.height <= 0 ||
+      image.values.size() != static_cast<std::size_t>(image.width) * image.height)
+    throw VerifyInputError(fmt::format("{}: {} values for {} x {} pixels", name, image.values.size(),
+                                       image.width, image.height));
+  ChannelImage channels;
+  channels.width = image.width;
+  channels.height = image.height;
+  channels.names = {"Y"};
+  channels.planes = {image.values};
+  channels.pixel_type = "double";  // quantum 0: in memory, not rounded to a file's type
+  return ImageWithStep{name, step, std::move(channels)};
+}
+
+}  // namespace
+
+VerifyReport verify(const Scene& scene, const std::vector<ValueImage>& images,
+                    const std::vector<double>& steps, const VerifyOptions& options) {
+  if (images.size() != steps.size())
+    throw VerifyInputError(fmt::format("--steps: {} steps for {} images (one step per image, in the same order)",
+                                       steps.size(), images.size()));
+  std::vector<ImageWithStep> inputs;
+  for (std::size_t i = 0; i < images.size(); ++i) inputs.push_back(with_step(images[i], steps[i], i));
+  return verify_images(scene, inputs, options);
+}
+
+VerifyReport verify(const Scene& scene, const std::vector<double>& steps, const Renderer& render,
+                    const VerifyOptions& options) {
+  VerifyOptions with_camera = options;
+  if (!with_camera.camera) with_camera.camera = scene_camera(scene);
+  const Camera& camera = *with_camera.camera;
+  std::vector<ValueImage> images;
+  for (double step : steps) {
+    images.push_back(render(camera, step));
+    const ValueImage& im = images.back();
+    if (im.width != camera.width || im.height != camera.height)
+      throw VerifyInputError(fmt::format("renderer: its image for step {:g} is {} x {}, the camera's {} x {}",
+                                         step, im.width, im.height, camera.width, camera.height));
+  }
+  return verify(scene, images, steps, with_camera);
+}
+
+bool passes(const VerifyReport& report, const BoundSet& bounds) {
+  return report.pass && worst(evaluate_bounds("verify", report, bounds)) < BoundVerdict::fail;
+}
+
 }  // namespace vrv

@@ -13,16 +13,20 @@
 // depend on the thread count.  Bad input throws: SceneFileError (file and key) from the
 // scene loaders, std::invalid_argument (option and reason) for a bad ray, camera or
 // DiscreteConfig, with the one-line messages the command line prints.
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
 
 #include "lib/camera.h"
 #include "lib/discrete_raycast.h"
+#include "lib/gate.h"
 #include "lib/geometry.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
+#include "lib/io/bounds_file.h"
 #include "lib/io/scene_file.h"
+#include "lib/verify.h"
 
 namespace vrv {
 
@@ -65,5 +69,29 @@ ValueImage render_reference_image(const Scene& scene, const Camera& camera,
                            const ReferenceOptions& options = {});
 ValueImage render_discrete_image(const Scene& scene, const Camera& camera,
                                  const DiscreteConfig& config);
+
+// Verification in-process: the report `vrv verify` writes (lib/verify.h: errors per image and
+// region, orders against the reference and by self-convergence with their standard errors, the
+// verdict, vrv's nearest discrete models, the faults the errors match) for a renderer's images
+// of the scene's camera (scene_camera(scene) at the images' size, or options.camera), one per
+// sample distance in `steps`.  Throws VerifyInputError (a std::invalid_argument, the command
+// line's one-line message) for bad input: steps not matching the images, an image of another
+// size, NaN pixels (unless options.allow_nan), a repeated or non-positive step.
+VerifyReport verify(const Scene& scene, const std::vector<ValueImage>& images,
+                    const std::vector<double>& steps, const VerifyOptions& options = {});
+
+// The same with the renderer as a callback: render(camera, step) for every step, in the order
+// given; the camera is options.camera or scene_camera(scene).  Its images must have the
+// camera's size (VerifyInputError otherwise).
+using Renderer = std::function<ValueImage(const Camera& camera, double step)>;
+VerifyReport verify(const Scene& scene, const std::vector<double>& steps, const Renderer& render,
+                    const VerifyOptions& options = {});
+
+// True when the report passes (the reference met its tolerance and, with an expected order, the
+// images converge at it) and no bound of `bounds` reaches its fail level: `vrv verify --bounds`'s
+// exit 0.  The rows are evaluate_bounds() of lib/gate.h; use_bounds() sets the options a bounds
+// set needs (its threshold; NaN pixels counted when it bounds them) before verifying.  Bounds
+// come from a file with load_bounds(path).defaults (or a case's .bounds), lib/io/bounds_file.h.
+bool passes(const VerifyReport& report, const BoundSet& bounds);
 
 }  // namespace vrv

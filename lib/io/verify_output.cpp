@@ -40,7 +40,7 @@ VerifyTables verify_tables(const VerifyReport& rep) {
                         "fraction_over", "mean_signed", "nan_count", "quantisation_rms", "at_floor"}),
                  Table({"channel", "kind", "order", "std_error", "points", "verdict", "reason"}),
                  Table({"series", "step", "error"}),
-                 Table({"rank", "placement", "rule", "opacity", "rms", "max", "model"}),
+                 Table({"rank", "placement", "rule", "opacity", "color", "table", "rms", "max", "model"}),
                  Table({"fault", "evidence"})};
   for (const char* c : {"max", "mean", "rms", "p99", "mean_signed", "quantisation_rms"}) t.errors.set_format(c, "{:.3e}");
   t.errors.set_format("fraction_over", "{:.4f}");
@@ -66,7 +66,7 @@ VerifyTables verify_tables(const VerifyReport& rep) {
   t.diagnosis.set_format("max", "{:.3e}");
   long rank = 1;
   for (const Candidate& c : rep.diagnosis)
-    t.diagnosis.add_row({rank++, c.placement, c.rule, c.opacity, c.rms, c.max, c.name});
+    t.diagnosis.add_row({rank++, c.placement, c.rule, c.opacity, c.color, c.table, c.rms, c.max, c.name});
   for (const Fault& f : rep.faults) t.faults.add_row({f.name, f.evidence});
   return t;
 }

@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 struct VerifyCliOptions {
   std::string scene;
   std::vector<std::string> images;
-  std::string steps;
+  std::optional<std::string> steps;  // none: from the images' provenance
   std::optional<double> expected_order;
   std::string bounds, case_name;
   std::string out;
@@ -91,21 +91,18 @@ int run_verify(const VerifyCliOptions& o) {
         throw std::invalid_argument(fmt::format("--case: {}: no case named '{}'", o.bounds, o.case_name));
       bounds = it->bounds;
     }
-    opt.allow_nan = bounds->limits.count(Bound::max_nan) > 0;
-    if (o.threshold && *o.threshold != bounds->threshold)
-      throw std::invalid_argument(fmt::format("--threshold: {} differs from the bounds file's threshold {}",
-                                              *o.threshold, bounds->threshold));
-    opt.threshold = bounds->threshold;
+    use_bounds(*bounds, opt, o.threshold);
   } else if (!o.case_name.empty()) {
     throw std::invalid_argument("--case: needs --bounds");
   }
   if (o.threshold) opt.threshold = *o.threshold;
   if (!o.out.empty() && fs::exists(o.out) && !fs::is_directory(o.out))
     throw std::invalid_argument(fmt::format("--out: {} exists and is not a directory", o.out));
-  const std::vector<ImageWithStep> images = read_images(o.images, parse_steps(o.steps));
+  const std::vector<ImageWithStep> images =
+      read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
   const ThreadLimit threads(o.threads);
   const nlohmann::json parameters = {{"command", "verify"}, {"scene", o.scene}, {"images", o.images},
-                                     {"steps", o.steps}, {"expected_order", o.expected_order ? nlohmann::json(*o.expected_order) : nlohmann::json(nullptr)},
+                                     {"steps", o.steps.value_or("")}, {"expected_order", o.expected_order ? nlohmann::json(*o.expected_order) : nlohmann::json(nullptr)},
                                      {"bounds", o.bounds}, {"case", o.case_name}, {"alpha", o.alpha},
                                      {"threshold", opt.threshold}, {"tol", o.tol}, {"order_metric", o.order_metric}};
   const VerifyRun run = run_verification(scene, images, opt, bounds, o.case_name.empty() ? "verify" : o.case_name,
@@ -134,7 +131,8 @@ void add_verify_command(CLI::App& app) {
       "level crossed), 2 bad input. stdout: one JSON line. See docs/verify.md.");
   cmd->add_option("--scene", o->scene, "Scene file (TOML); the embedded default when omitted");
   cmd->add_option("images", o->images, "The renderer's images, one per step")->required();
-  cmd->add_option("--steps", o->steps, "Sample distances (world units), one per image: H1,H2,...")->required();
+  cmd->add_option("--steps", o->steps, "Sample distances (world units), one per image: H1,H2,...; "
+                                       "default: each image's provenance (vrv:step metadata)");
   cmd->add_option("--expected-order", o->expected_order, "Fail unless the error converges at this order");
   cmd->add_option("--order-tolerance", o->order_tolerance, "Observed >= K - this converges at K")->capture_default_str();
   cmd->add_option("--order-metric", o->order_metric, "Statistic the orders fit: rms, max, mean, p99")->capture_default_str();

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "lib/io/image_channels.h"
+#include "lib/io/image_io.h"
 #include "lib/io/verify_output.h"
 #include "studies/cli/commands.h"
 
@@ -34,6 +35,23 @@ std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, co
     }
   }
   return out;
+}
+
+std::vector<double> provenance_steps(const std::vector<std::string>& files) {
+  std::vector<double> steps;
+  for (const std::string& file : files) {
+    std::optional<ImageProvenance> p;
+    try {
+      p = read_provenance(file);
+    } catch (const std::runtime_error& e) {
+      throw VerifyInputError(e.what());
+    }
+    if (!p || !p->step)
+      throw VerifyInputError(fmt::format("--steps: not given, and {} has no step in its provenance (vrv:step "
+                                         "metadata): give --steps H1,H2,... one per image", file));
+    steps.push_back(*p->step);
+  }
+  return steps;
 }
 
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,

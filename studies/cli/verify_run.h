@@ -46,6 +46,11 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
 // The summary line on stderr: verdict, orders, nearest model, faults, failed bounds.
 std::string summary_text(const VerifyRun& run);
 
+// The sample distance each file's provenance records (ImageProvenance::step, lib/io/image_io.h),
+// for images written by vrv render or a renderer that writes "vrv:step"; VerifyInputError naming
+// the first file without one.
+std::vector<double> provenance_steps(const std::vector<std::string>& files);
+
 // Reads IMAGE files and pairs them with steps (same count); VerifyInputError naming the file.
 std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, const std::vector<double>& steps);
 

@@ -16,6 +16,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "lib/io/verify_output.h"
 #include "lib/vrv.h"
 #include "studies/cli/discrete_options.h"
 
@@ -165,12 +166,13 @@ py::tuple rays(const Scene& scene, std::optional<int> width, std::optional<int> 
   return py::make_tuple(o, d);
 }
 
-// A scene file that cannot be read raises the OSError Python uses for that reason, with the
-// loader's message; any other problem in it is a ValueError.
-Scene from_file(const std::filesystem::path& path) {
+// A scene or bounds file that cannot be read raises the OSError Python uses for that reason,
+// with the loader's message; any other problem in it is a ValueError.
+template <class Error, class Load>
+auto load_file(const std::filesystem::path& path, Load load) {
   try {
-    return load_scene(path);
-  } catch (const SceneFileError& e) {
+    return load(path);
+  } catch (const Error& e) {
     std::error_code ec;
     PyObject* type = PyExc_ValueError;
     if (!std::filesystem::exists(path, ec)) type = PyExc_FileNotFoundError;
@@ -181,11 +183,90 @@ Scene from_file(const std::filesystem::path& path) {
   }
 }
 
+Scene from_file(const std::filesystem::path& path) {
+  return load_file<SceneFileError>(path, [](const auto& p) { return load_scene(p); });
+}
+
 py::dict box(const Scene& scene) {
   py::dict d;
   d["min"] = py::make_tuple(scene.box.min[0], scene.box.min[1], scene.box.min[2]);
   d["max"] = py::make_tuple(scene.box.max[0], scene.box.max[1], scene.box.max[2]);
   return d;
+}
+
+// A (height, width) array as a ValueImage; ValueError naming the image otherwise.
+ValueImage value_image(const py::handle& h, std::size_t index) {
+  const auto a = py::cast<Points>(h);
+  if (a.ndim() != 2 || a.shape(0) == 0 || a.shape(1) == 0)
+    throw std::invalid_argument(fmt::format("images[{}]: expected a (height, width) array", index));
+  return ValueImage{static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)),
+                    std::vector<double>(a.data(), a.data() + a.size())};
+}
+
+// The bounds of a bounds file: its [defaults], or the case named `case_name`.
+BoundSet bounds_of(const std::filesystem::path& file, const std::optional<std::string>& case_name) {
+  const BoundsFile bounds = load_file<BoundsFileError>(file, [](const auto& p) { return load_bounds(p); });
+  if (!case_name) return bounds.defaults;
+  for (const GateCase& c : bounds.cases)
+    if (c.name == *case_name) return c.bounds;
+  throw std::invalid_argument(fmt::format("--case: {}: no case named '{}'", file.string(), *case_name));
+}
+
+// `vrv verify` in-process: the report as a dict (the JSON line `vrv verify` prints: to_json of
+// lib/verify.h, with the bounds' rows and `pass` including them when a bounds file is given),
+// and its files written into `out` when given (no plot: plots.json is there for plot_study.py).
+py::object verify_py(const Scene& scene, const py::sequence& images, const std::vector<double>& steps,
+                     std::optional<double> expected_order, double order_tolerance,
+                     const std::string& order_metric, double tol, std::optional<double> threshold,
+                     bool diagnose, double unit_distance, std::optional<std::filesystem::path> bounds,
+                     std::optional<std::string> case_name, std::optional<std::filesystem::path> out) {
+  VerifyOptions options;
+  options.expected_order = expected_order;
+  if (!(order_tolerance > 0)) throw std::invalid_argument("--order-tolerance: must be positive");
+  options.order_tolerance = order_tolerance;
+  const auto metric = parse_metric(order_metric);
+  if (!metric || *metric == Metric::fraction_over)
+    throw std::invalid_argument(fmt::format("--order-metric: '{}' is not one of max, mean, rms, p99", order_metric));
+  options.order_metric = *metric;
+  options.reference_tol = tol;
+  validate(ReferenceOptions{tol});
+  options.diagnose = diagnose;
+  if (unit_distance < 0) throw std::invalid_argument("--unit-distance: must be positive");
+  options.unit_distance = unit_distance;
+  std::optional<BoundSet> set;
+  if (bounds) {
+    set = bounds_of(*bounds, case_name);
+    use_bounds(*set, options, threshold);
+  } else if (case_name) {
+    throw std::invalid_argument("--case: needs --bounds");
+  }
+  if (threshold) options.threshold = *threshold;
+  std::error_code ec;
+  if (out && std::filesystem::exists(*out, ec) && !std::filesystem::is_directory(*out, ec))
+    throw std::invalid_argument(fmt::format("--out: {} exists and is not a directory", out->string()));
+  std::vector<ValueImage> values;
+  for (std::size_t i = 0; i < images.size(); ++i) values.push_back(value_image(images[i], i));
+  VerifyReport report;
+  std::vector<BoundRow> rows;
+  {
+    py::gil_scoped_release release;
+    report = verify(scene, values, steps, options);
+    if (set) rows = evaluate_bounds(case_name.value_or("verify"), report, *set);
+    if (out) {
+      std::vector<std::pair<std::string, Table>> extra;
+      if (set) extra.emplace_back("bounds", bound_table(rows));
+      const nlohmann::json parameters = {{"command", "python vrv.verify"}, {"steps", steps},
+                                         {"bounds", bounds ? bounds->string() : ""},
+                                         {"case", case_name.value_or("")}, {"threshold", options.threshold},
+                                         {"tol", tol}, {"order_metric", order_metric}};
+      write_verify_outputs(*out, report, extra, parameters, 0);
+    }
+  }
+  nlohmann::ordered_json j = to_json(report);
+  j["pass"] = report.pass && worst(rows) < BoundVerdict::fail;
+  if (set) j["bounds"] = nlohmann::ordered_json::parse(bound_table(rows).to_json());
+  if (out) j["out"] = out->string();
+  return py::module_::import("json").attr("loads")(j.dump());
 }
 
 }  // namespace
@@ -197,6 +278,7 @@ PYBIND11_MODULE(vrv, m) {
   m.doc() = "vrv: the emission-absorption integral to near machine precision, and discrete "
             "raycasts measured against it (docs/library.md)";
   py::register_exception<SceneFileError>(m, "SceneFileError", PyExc_ValueError);
+  py::register_exception<BoundsFileError>(m, "BoundsFileError", PyExc_ValueError);
 
   py::class_<Scene>(m, "Scene", "A vrv scene: volume box, field, transfer function, background, camera")
       .def_static("from_file", &from_file, py::arg("path"), "Load a scene file (TOML)")
@@ -220,4 +302,14 @@ PYBIND11_MODULE(vrv, m) {
            "method=... the discrete raycast (options as for `discrete`)")
       .def("rays", &rays, py::arg("width") = py::none(), py::arg("height") = py::none(),
            "The scene camera's rays: (origins, directions), each (height, width, 3)");
+  m.def("verify", &verify_py, py::arg("scene"), py::arg("images"), py::arg("steps"), py::kw_only(),
+        py::arg("expected_order") = py::none(), py::arg("order_tolerance") = 0.25,
+        py::arg("order_metric") = "rms", py::arg("tol") = 1e-10, py::arg("threshold") = py::none(),
+        py::arg("diagnose") = true, py::arg("unit_distance") = 0.0, py::arg("bounds") = py::none(),
+        py::arg("case") = py::none(), py::arg("out") = py::none(),
+        "`vrv verify` in-process: a renderer's images of the scene's camera ((height, width) arrays, "
+        "one per sample distance in `steps`) against the reference.  Returns the report `vrv verify` "
+        "prints, as a dict (pass, verdict, images, orders, diagnosis, faults, ...); `bounds`: a bounds "
+        "file (its [defaults], or `case`), whose rows are added and whose fail levels `pass` includes; "
+        "`out`: a folder for its tables, error images and meta.json");
 }

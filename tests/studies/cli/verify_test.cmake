@@ -56,6 +56,19 @@ if(NOT cached)
   message(FATAL_ERROR "verify_cached: the reference was not read from the cache:\n${LAST_OUT}")
 endif()
 
+# Without --steps the steps come from the images' provenance (vrv render writes vrv:step): the
+# same report as with them; an image without a step in its provenance is refused.
+run_vrv(0 verify_steps_given verify --scene ${SCENE} ${images} --steps ${steps} --cache-dir ${OUT}/cache --no-diagnosis --quiet)
+string(JSON given GET "${LAST_OUT}" orders)
+run_vrv(0 verify_provenance verify --scene ${SCENE} ${images} --cache-dir ${OUT}/cache --no-diagnosis --quiet)
+string(JSON from_provenance GET "${LAST_OUT}" orders)
+string(JSON finest GET "${LAST_OUT}" images 3 step)
+if(NOT given STREQUAL from_provenance OR NOT finest EQUAL 0.0125)
+  message(FATAL_ERROR "verify_provenance: steps ${finest}, orders\n${from_provenance}\nagainst --steps\n${given}")
+endif()
+expect_bad_input(no_provenance_step "^vrv: error: --steps: not given, and .*/v/reference.exr has no step in its provenance"
+  verify --scene ${SCENE} ${OUT}/alpha_0.1.exr ${OUT}/v/reference.exr --no-cache)
+
 # Expecting order 3 fails with exit 1 (a failed check, not bad input).
 run_vrv(1 verify_order verify --scene ${SCENE} ${images} --steps ${steps} --expected-order 3
         --cache-dir ${OUT}/cache --no-diagnosis --quiet)

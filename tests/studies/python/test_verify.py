@@ -1,0 +1,109 @@
+"""vrv.verify (studies/python/module.cpp): `vrv verify`'s report in-process, as a dict.  The
+numpy raycaster (numpy_raycaster.py) passes at second order and its half-step-offset copy is
+caught and named; the report is the command line's for the same pixels; bad input raises the
+command line's message."""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import vrv
+import numpy_raycaster
+
+VRV = os.environ.get("VRV_EXE", "vrv")
+STEPS = [0.08, 0.04, 0.02, 0.01]
+
+
+@pytest.fixture(scope="module")
+def scene_and_rays():
+    scene = vrv.Scene.default()
+    origins, directions = scene.rays(width=24, height=24)
+    return scene, origins, directions
+
+
+def test_numpy_raycaster_passes_and_its_files_are_written(scene_and_rays, tmp_path):
+    scene, origins, directions = scene_and_rays
+    images = [numpy_raycaster.render(origins, directions, h) for h in STEPS]
+    report = vrv.verify(scene, images, STEPS, expected_order=2, out=str(tmp_path / "out"))
+    assert report["pass"], report["verdict_reason"]
+    assert report["verdict"] == "converges"
+    reference = [o for o in report["orders"] if o["kind"] == "reference"][0]
+    assert abs(reference["order"] - 2) < 0.25, reference
+    nearest = report["diagnosis"][0]
+    assert (nearest["rule"], nearest["placement"]) == ("alpha", "inviwo"), nearest
+    assert report["faults"] == [], report["faults"]
+    for name in ("errors.csv", "orders.md", "diagnosis.json", "faults.csv", "reference.exr", "meta.json"):
+        assert (tmp_path / "out" / name).is_file(), name
+    assert report["out"] == str(tmp_path / "out")
+
+
+def test_planted_half_step_offset_fails_and_is_named(scene_and_rays):
+    scene, origins, directions = scene_and_rays
+    images = [numpy_raycaster.render(origins, directions, h, offset=0.0) for h in STEPS]
+    report = vrv.verify(scene, images, STEPS, expected_order=2)
+    assert not report["pass"]
+    assert report["verdict"] == "converges at a lower order", report["verdict_reason"]
+    assert "half-step offset" in [f["name"] for f in report["faults"]], report["faults"]
+
+
+def test_bounds_file_fail_levels_decide_pass(scene_and_rays, tmp_path):
+    scene, origins, directions = scene_and_rays
+    images = [numpy_raycaster.render(origins, directions, h) for h in STEPS]
+    plain = vrv.verify(scene, images, STEPS, diagnose=False)
+    rms = max(c["regions"]["all"]["rms"] for c in plain["images"] if c["step"] == STEPS[-1])
+    for factor, passes in ((1.01, True), (0.99, False)):
+        path = tmp_path / f"bounds_{factor}.toml"
+        path.write_text(f"[defaults]\nrms = {{ fail = {rms * factor!r} }}\n")
+        report = vrv.verify(scene, images, STEPS, diagnose=False, bounds=str(path))
+        assert report["pass"] is passes, report["bounds"]
+        assert [row["bound"] for row in report["bounds"]] == ["rms"]
+
+
+def test_same_report_as_vrv_verify(tmp_path):
+    """vrv's own alpha/vtk images (`vrv render` writes the double pixels as .f64.tiff; scene.render
+    gives the same doubles): the command line and the module report the same numbers."""
+    scene = vrv.Scene.default()
+    files, images = [], []
+    for h in STEPS:
+        exr = tmp_path / f"vtk_{h}.exr"
+        subprocess.run([VRV, "render", "--method", "alpha", "--strategy", "vtk", "--step", str(h),
+                        "--width", "16", "--height", "16", "--quiet", "-o", str(exr)], check=True)
+        files.append(str(exr).replace(".exr", ".f64.tiff"))
+        images.append(scene.render(width=16, height=16, method="alpha", strategy="vtk", step=h))
+    p = subprocess.run([VRV, "verify", *files, "--steps", ",".join(map(str, STEPS)), "--no-cache",
+                        "--quiet", "--expected-order", "2"], capture_output=True, text=True)
+    assert p.returncode == 1, p.stderr
+    cli = json.loads(p.stdout)
+    mine = vrv.verify(scene, images, STEPS, expected_order=2)
+    assert mine["pass"] is cli["pass"] is False
+    for key in ("verdict", "verdict_reason", "orders"):
+        assert mine[key] == cli[key], key
+    assert [c["regions"] for c in mine["images"]] == [c["regions"] for c in cli["images"]]
+    assert [(d["name"], d["rms"]) for d in mine["diagnosis"]] == [(d["name"], d["rms"]) for d in cli["diagnosis"]]
+    assert [f["name"] for f in mine["faults"]] == [f["name"] for f in cli["faults"]]
+
+
+def test_bad_input_raises_the_command_lines_message(scene_and_rays, tmp_path):
+    scene, _, _ = scene_and_rays
+    zeros = [np.zeros((8, 8))] * 4
+    with pytest.raises(ValueError, match=r"^--steps: 3 steps for 4 images"):
+        vrv.verify(scene, zeros, STEPS[:3])
+    with pytest.raises(ValueError, match=r"^images\[1\]: expected a \(height, width\) array$"):
+        vrv.verify(scene, [np.zeros((8, 8)), np.zeros((8, 8, 3))], STEPS[:2])
+    with pytest.raises(ValueError, match=r"^image 1 \(step 0.04\): size 4 x 8 differs from image 0"):
+        vrv.verify(scene, [np.zeros((8, 8)), np.zeros((8, 4))], STEPS[:2])
+    nan = np.zeros((8, 8))
+    nan[2, 3] = np.nan
+    with pytest.raises(ValueError, match=r"^image 1 \(step 0.04\): pixel \(3, 2\) channel Y is nan$"):
+        vrv.verify(scene, [np.zeros((8, 8)), nan], STEPS[:2])
+    with pytest.raises(ValueError, match=r"^--order-metric: 'median' is not one of"):
+        vrv.verify(scene, zeros, STEPS, order_metric="median")
+    with pytest.raises(FileNotFoundError, match=r"^no/such/bounds.toml: "):
+        vrv.verify(scene, zeros, STEPS, bounds="no/such/bounds.toml")
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(ValueError, match=r"^--out: .*file exists and is not a directory$"):
+        vrv.verify(scene, zeros, STEPS, out=str(tmp_path / "file"))
+    with pytest.raises(TypeError):
+        vrv.verify(scene, zeros, STEPS, expected_ordre=2)
