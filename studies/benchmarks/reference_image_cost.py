@@ -5,7 +5,7 @@
                                                        [--rounds N] [--size N] [--step H]
 
 Renders the default scene (SIZE x SIZE pixels, one thread) with the reference integrator at
-tol 1e-10 and with the trapezoid rule (inviwo placement, step H, default 0.007: about 5e-6 off at
+tol 1e-10 and with the trapezoid rule (inviwo placement, step H, default 0.0062: about 5e-6 off at
 most), each ROUNDS times, alternating the builds when --before is given so that both see the same
 load, and prints a Markdown table: the median render time each `vrv render` reports (the pixels
 only: no start-up, no image writing), the trapezoid image's max |error| against that build's
@@ -43,7 +43,7 @@ def main():
     ap.add_argument("--before", help="another build directory, measured alternately in the same run")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--size", type=int, default=256)
-    ap.add_argument("--step", type=float, default=0.007)
+    ap.add_argument("--step", type=float, default=0.0062)
     args = ap.parse_args()
     builds = ([("before", args.before)] if args.before else []) + [("this build", args.build_dir)]
     for _, d in builds:
