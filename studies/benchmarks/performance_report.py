@@ -797,51 +797,38 @@ def section_largest(p, fits, machine):
     return "\n".join(out), headline
 
 
-# ---- Start-up ----------------------------------------------------------------------------------
+# ---- Sections from a script's table -------------------------------------------------------------
 
-def section_startup(build_dir, runs=20):
-    """startup.py's table (start-up and the image module's cost), run in this report."""
-    script = BENCH_SOURCES / "startup.py"
-    cmd = [sys.executable, str(script), str(build_dir), "--runs", str(runs)]
+def script_section(title, script_name, args, intro, timeout):
+    """A benchmark script's Markdown table under `title`, run in this report, with its command."""
+    cmd = [sys.executable, str(BENCH_SOURCES / script_name)] + args
     try:
-        out = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
-    except (OSError, subprocess.TimeoutExpired) as e:
-        return f"## Start-up\n\nNot measured: {e}"
-    if out.returncode != 0:
-        return f"## Start-up\n\nNot measured: `{shlex.join(cmd)}` exited {out.returncode}: {out.stderr.strip()}"
-    return "\n".join([
-        "## Start-up",
-        "",
-        f"`python3 studies/benchmarks/startup.py {build_dir} --runs {runs}`: each command's wall and CPU "
-        "time against `/bin/true`. vrv loads OpenImageIO only in processes that read or write an image "
-        "(the image module, lib/io/image_module.h); the `render 1x1` row pays for loading it.",
-        "",
-        out.stdout.strip(),
-    ])
-
-
-# ---- Reference image against the discrete image it judges --------------------------------------
-
-def section_reference_image(build_dir, rounds=3):
-    """reference_image_cost.py's table, run in this report."""
-    script = BENCH_SOURCES / "reference_image_cost.py"
-    cmd = [sys.executable, str(script), str(build_dir), "--rounds", str(rounds)]
-    title = "## Reference image against the trapezoid image it judges"
-    try:
-        out = subprocess.run(cmd, capture_output=True, text=True, timeout=1200)
+        out = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
     except (OSError, subprocess.TimeoutExpired) as e:
         return f"{title}\n\nNot measured: {e}"
     if out.returncode != 0:
         return f"{title}\n\nNot measured: `{shlex.join(cmd)}` exited {out.returncode}: {out.stderr.strip()}"
-    return "\n".join([
-        title,
-        "",
-        f"`python3 studies/benchmarks/reference_image_cost.py {build_dir} --rounds {rounds}`: the default "
-        "scene's reference image at tol 1e-10 against the trapezoid image about 5e-6 off (issue 10's goal: "
-        "the reference costs no more). Old against new builds side by side: `--before OLD_BUILD`.",
-        "",
-        out.stdout.strip(),
-    ])
+    shown = shlex.join(["python3", f"studies/benchmarks/{script_name}"] + args)
+    return "\n".join([title, "", f"`{shown}`: {intro}", "", out.stdout.strip()])
+
+
+def section_startup(build_dir, runs=20):
+    """startup.py's table (start-up and the image module's cost)."""
+    return script_section(
+        "## Start-up", "startup.py", [str(build_dir), "--runs", str(runs)],
+        "each command's wall and CPU time against `/bin/true`. vrv loads OpenImageIO only in processes "
+        "that read or write an image (the image module, lib/io/image_module.h); the `render 1x1` row pays "
+        "for loading it.", 600)
+
+
+def section_reference_image(build_dir, rounds=3):
+    """reference_image_cost.py's table: the reference image against the discrete image it judges."""
+    return script_section(
+        "## Reference image against the trapezoid image it judges", "reference_image_cost.py",
+        [str(build_dir), "--rounds", str(rounds)],
+        "the default scene's reference image at tol 1e-10 against the trapezoid image about 5e-6 off "
+        "(issue 10's goal: the reference costs no more). Old against new builds side by side: "
+        "`--before OLD_BUILD`.", 1200)
 
 
 # ---- Main --------------------------------------------------------------------------------------
