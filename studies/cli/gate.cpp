@@ -101,6 +101,27 @@ std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
   return images;
 }
 
+// The case's steps, or for an images case without them each image's provenance step (as
+// `vrv verify` without --steps); one line naming the bounds file, case and image otherwise.
+std::vector<double> case_steps(const GateCase& c, const std::string& bounds) {
+  if (!c.steps.empty()) return c.steps;
+  std::vector<double> steps;
+  for (const fs::path& image : c.images) {
+    std::optional<double> step;
+    try {
+      step = provenance_step(image.string());
+    } catch (const VerifyInputError& e) {
+      throw std::invalid_argument(fmt::format("{}: case {}: {}", bounds, c.name, e.what()));
+    }
+    if (!step)
+      throw std::invalid_argument(fmt::format("{}: case {}: steps: not given, and {} has no step in its provenance "
+                                              "(vrv:step metadata): give steps = [H1, H2, ...] one per image",
+                                              bounds, c.name, image.string()));
+    steps.push_back(*step);
+  }
+  return steps;
+}
+
 int run_gate(const GateOptions& o) {
   const BoundsFile file = load_bounds(o.bounds);
   std::vector<const GateCase*> cases;
@@ -111,12 +132,15 @@ int run_gate(const GateOptions& o) {
                                                     : fmt::format("--case: {}: no case named '{}'", o.bounds, o.case_name));
   // Check every case's input before running any.
   std::vector<Scene> scenes;
+  std::vector<std::vector<double>> steps;
   for (const GateCase* c : cases) {
     if (!c->study.empty()) {
       scenes.emplace_back();
+      steps.emplace_back();
       continue;
     }
     scenes.push_back(load_scene_or_default(c->scene.string()));
+    steps.push_back(case_steps(*c, o.bounds));
     if (c->render) {
       DiscreteOptions d;
       d.method = c->render->method, d.strategy = c->render->strategy, d.step = c->steps.front();
@@ -163,7 +187,7 @@ int run_gate(const GateOptions& o) {
     if (!o.no_cache) opt.cache_dir = o.cache_dir.empty() ? default_cache_dir() : fs::path(o.cache_dir);
     std::vector<std::string> files;
     for (const auto& p : c.images) files.push_back(p.string());
-    const std::vector<ImageWithStep> images = c.render ? render_case(c, scenes[i]) : read_images(files, c.steps);
+    const std::vector<ImageWithStep> images = c.render ? render_case(c, scenes[i]) : read_images(files, steps[i]);
     const nlohmann::json parameters = {{"command", "gate"}, {"bounds", o.bounds}, {"case", c.name}};
     const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, out / c.name, parameters, o.no_plots);
     if (!run.report.pass)

@@ -46,6 +46,10 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
 // The summary line on stderr: verdict, orders, nearest model, faults, failed bounds.
 std::string summary_text(const VerifyRun& run);
 
+// The sample distance the file's provenance records (vrv:step), if any; VerifyInputError when the
+// file cannot be read.
+std::optional<double> provenance_step(const std::string& file);
+
 // The sample distance each file's provenance records (ImageProvenance::step, lib/io/image_io.h),
 // for images written by vrv render or a renderer that writes "vrv:step"; VerifyInputError naming
 // the first file without one.
