@@ -141,6 +141,16 @@ BoundsFile parse_bounds(std::string_view text, const fs::path& source) {
   }
 }
 
+const GateCase& named_case(const BoundsFile& file, const std::string& name) {
+  for (const GateCase& c : file.cases)
+    if (c.name == name) return c;
+  throw std::invalid_argument(fmt::format("--case: {}: no case named '{}'", file.path.string(), name));
+}
+
+const BoundSet& chosen_bounds(const BoundsFile& file, const std::optional<std::string>& case_name) {
+  return case_name ? named_case(file, *case_name).bounds : file.defaults;
+}
+
 BoundsFile load_bounds(const fs::path& path) {
   std::string text;
   if (std::error_code ec; !fs::is_regular_file(path, ec))

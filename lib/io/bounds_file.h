@@ -85,4 +85,10 @@ struct BoundsFile {
 BoundsFile parse_bounds(std::string_view toml_text, const std::filesystem::path& source);
 BoundsFile load_bounds(const std::filesystem::path& path);
 
+// The case named `name` (--case NAME); std::invalid_argument "--case: <file>: no case named
+// '<name>'" when there is none.
+const GateCase& named_case(const BoundsFile& file, const std::string& name);
+// The bounds `vrv verify --bounds FILE [--case NAME]` gates on: the named case's, else [defaults].
+const BoundSet& chosen_bounds(const BoundsFile& file, const std::optional<std::string>& case_name);
+
 }  // namespace vrv

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/io/bounds_file.h"
 #include "lib/io/image_channels.h"
 #include "lib/io/image_io.h"
 #include "lib/io/verify_output.h"
@@ -77,6 +78,17 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
                                out.string());
   }
   return run;
+}
+
+void run_exiting(const char* command, const std::function<int()>& body) {
+  int rc = 0;
+  try {
+    rc = body();
+  } catch (const BoundsFileError& e) {
+    std::cerr << "vrv " << command << ": " << e.what() << '\n';
+    std::exit(kExitBadInput);
+  }
+  if (rc != 0) std::exit(rc);
 }
 
 std::string summary_text(const VerifyRun& run) {

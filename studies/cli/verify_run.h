@@ -13,6 +13,7 @@
 // so that CI scripts read every vrv command alike; idiff's separate warning code is not used
 // because a warning that fails CI is a fail level.
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -42,6 +43,10 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
                            const std::string& case_name, const std::filesystem::path& out,
                            const nlohmann::json& parameters, bool no_plots);
+
+// A subcommand's callback around `body` (verify, gate): a bad bounds file is one line
+// "vrv <command>: <file>: <key>: <reason>" and exit 2; a non-zero result is the exit code.
+void run_exiting(const char* command, const std::function<int()>& body);
 
 // The summary line on stderr: verdict, orders, nearest model, faults, failed bounds.
 std::string summary_text(const VerifyRun& run);

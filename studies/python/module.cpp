@@ -207,10 +207,7 @@ ValueImage value_image(const py::handle& h, std::size_t index) {
 // The bounds of a bounds file: its [defaults], or the case named `case_name`.
 BoundSet bounds_of(const std::filesystem::path& file, const std::optional<std::string>& case_name) {
   const BoundsFile bounds = load_file<BoundsFileError>(file, [](const auto& p) { return load_bounds(p); });
-  if (!case_name) return bounds.defaults;
-  for (const GateCase& c : bounds.cases)
-    if (c.name == *case_name) return c.bounds;
-  throw std::invalid_argument(fmt::format("--case: {}: no case named '{}'", file.string(), *case_name));
+  return chosen_bounds(bounds, case_name);
 }
 
 // studies/engine/plot_study.py, looked for as `vrv verify` looks (studies/engine/study_runner.cpp):
@@ -276,9 +273,7 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
     throw std::invalid_argument("--case: needs --bounds");
   }
   if (threshold) options.threshold = *threshold;
-  std::error_code ec;
-  if (out && std::filesystem::exists(*out, ec) && !std::filesystem::is_directory(*out, ec))
-    throw std::invalid_argument(fmt::format("--out: {} exists and is not a directory", out->string()));
+  if (out) check_verify_out(*out);
   std::vector<ValueImage> values;
   for (std::size_t i = 0; i < images.size(); ++i) values.push_back(value_image(images[i], i));
   VerifyReport report;
