@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "lib/io/atomic_file.h"
+#include "lib/util/parallel.h"
 
 namespace vrv {
 namespace fs = std::filesystem;
@@ -95,6 +97,33 @@ std::vector<double> Checkpoints::get(const std::string& key,
 std::vector<double> checkpointed(Checkpoints* checkpoints, const std::string& key,
                                  const std::function<std::vector<double>()>& compute) {
   return checkpoints ? checkpoints->get(key, compute) : compute();
+}
+
+std::vector<double> checkpointed_items(Checkpoints* checkpoints, const std::string& key, long n, long block,
+                                       std::size_t width, const std::function<void(long, std::span<double>)>& item,
+                                       const std::function<void(long)>& advance) {
+  block = std::max(block, 1L);
+  std::vector<double> out(static_cast<std::size_t>(n) * width);
+  const long blocks = (n + block - 1) / block;
+  parallel_for_index(blocks, [&](long b) {
+    const long first = b * block, count = std::min(block, n - first);
+    bool computed = false;
+    const std::vector<double> v = checkpointed(checkpoints, fmt::format("{}.{}", key, first), [&] {
+      std::vector<double> values(static_cast<std::size_t>(count) * width);
+      parallel_for_index(count, [&](long i) {
+        item(first + i, std::span<double>(values).subspan(static_cast<std::size_t>(i) * width, width));
+        if (advance) advance(1);
+      });
+      computed = true;
+      return values;
+    });
+    if (v.size() != static_cast<std::size_t>(count) * width)
+      throw StudyResumeError(fmt::format("checkpoint {}.{}: {} values, expected {}", key, first, v.size(),
+                                         static_cast<std::size_t>(count) * width));
+    std::copy(v.begin(), v.end(), out.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(first) * width));
+    if (!computed && advance) advance(count);
+  });
+  return out;
 }
 
 StudyCheckpoint checkpoint_function(Checkpoints* checkpoints) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -55,5 +56,38 @@ StudyCheckpoint checkpoint_function(Checkpoints* checkpoints);  // empty for nul
 // The stored checkpoints, or none: what a driver's run sees (StudyRun::checkpoints may be null).
 std::vector<double> checkpointed(Checkpoints* checkpoints, const std::string& key,
                                  const std::function<std::vector<double>()>& compute);
+
+// A long loop (pixels, rays, views) checkpointed in blocks: items 0..n-1 of `width` doubles each,
+// item(i, out) filling out[0..width); blocks of `block` consecutive items are computed in parallel
+// (and the items inside a block too) and each is stored as one checkpoint, `key`.<first item>, so
+// an interrupted loop resumes at the first missing block.  `advance` (may be empty) is called once
+// per item, computed or reused.  Returns the n * width values, item-major.
+std::vector<double> checkpointed_items(Checkpoints* checkpoints, const std::string& key, long n, long block,
+                                       std::size_t width, const std::function<void(long, std::span<double>)>& item,
+                                       const std::function<void(long)>& advance = {});
+
+// The whole vector of records of one configuration as one checkpoint: encode(record) appends its
+// doubles, decode(values, i) rebuilds record i from `width` doubles at values[i * width].
+template <class T, class Compute, class Encode, class Decode>
+std::vector<T> checkpointed_records(Checkpoints* checkpoints, const std::string& key, std::size_t width,
+                                    Compute&& compute, Encode&& encode, Decode&& decode) {
+  std::vector<T> computed;
+  bool fresh = false;
+  const std::vector<double> v = checkpointed(checkpoints, key, [&] {
+    computed = compute();
+    fresh = true;
+    std::vector<double> flat;
+    flat.reserve(computed.size() * width);
+    for (const T& r : computed) encode(r, flat);
+    return flat;
+  });
+  if (fresh) return computed;
+  if (width == 0 || v.size() % width != 0)
+    throw StudyResumeError("checkpoint " + key + ": " + std::to_string(v.size()) + " values, not records of " +
+                           std::to_string(width));
+  std::vector<T> out;
+  for (std::size_t i = 0; i + width <= v.size(); i += width) out.push_back(decode(std::span<const double>(v).subspan(i, width)));
+  return out;
+}
 
 }  // namespace vrv

@@ -5,9 +5,12 @@
 #include <cmath>
 #include <limits>
 
+#include <fmt/format.h>
+
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
+#include "studies/engine/checkpoint.h"
 #include "studies/engine/reference_audit.h"
 
 namespace vrv {
@@ -24,25 +27,31 @@ DiscreteConfig oversampled_config(Correction c, int N, double unit_step, bool ce
 }
 
 RenderValues render_values(const RenderScenes& s, const Camera& camera, const std::vector<RenderMethod>& methods,
-                           bool progress) {
+                           bool progress, Checkpoints* checkpoints) {
   const long pixels = static_cast<long>(camera.width) * camera.height;
   RenderValues out;
   out.reference.assign(pixels, 0);
   out.methods.assign(methods.size(), std::vector<double>(pixels, 0));
-  std::vector<double> estimate(pixels, 0);
   std::vector<DiscreteConfig> configs;
   for (const RenderMethod& m : methods) configs.push_back(oversampled_config(m.correction, m.N, s.unit_step, m.centred));
+  // Per pixel: the reference, its estimate, each method's value; one image row is one checkpoint.
+  const std::size_t width = 2 + configs.size();
   Progress bar("render", pixels, progress);
-  parallel_for_index(pixels, [&](long i) {
+  const std::vector<double> v = checkpointed_items(checkpoints, "render", pixels, camera.width, width,
+                                                   [&](long i, std::span<double> o) {
     const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
     const ReferenceResult ref = audited_reference(s.analytic, ray, {s.reference_tol});
-    out.reference[i] = ref.value;
-    estimate[i] = ref.error_estimate;
-    for (std::size_t k = 0; k < configs.size(); ++k) out.methods[k][i] = discrete_raycast(s.sampled, ray, configs[k]).value;
-    bar.advance();
-  });
+    o[0] = ref.value;
+    o[1] = ref.error_estimate;
+    for (std::size_t k = 0; k < configs.size(); ++k) o[2 + k] = discrete_raycast(s.sampled, ray, configs[k]).value;
+  }, [&](long done) { bar.advance(done); });
   bar.finish();
-  for (double e : estimate) out.worst_estimate = std::max(out.worst_estimate, e);
+  for (long i = 0; i < pixels; ++i) {
+    const double* o = v.data() + static_cast<std::size_t>(i) * width;
+    out.reference[i] = o[0];
+    out.worst_estimate = std::max(out.worst_estimate, o[1]);
+    for (std::size_t k = 0; k < configs.size(); ++k) out.methods[k][i] = o[2 + k];
+  }
   return out;
 }
 
@@ -91,26 +100,31 @@ std::vector<double> render_groups(const RenderScenes& s, const Camera& camera, i
 
 std::vector<SweepRow> error_against_N(const RenderScenes& s, const std::vector<Ray>& rays,
                                       const std::vector<Correction>& corrections, const std::vector<int>& Ns,
-                                      bool centred, bool progress) {
+                                      bool centred, bool progress, Checkpoints* checkpoints) {
   const long R = static_cast<long>(rays.size());
-  std::vector<double> reference(R);
+  constexpr long kBlock = 64;  // rays per checkpoint
+  const std::string key = centred ? "sweep_centred" : "sweep_first";
   Progress bar("N sweep", R * static_cast<long>(1 + corrections.size() * Ns.size()), progress);
-  parallel_for_index(R, [&](long i) {
-    reference[i] = integrate_reference(s.analytic, rays[i], {s.reference_tol}).value;
-    bar.advance();
-  });
+  const std::vector<double> reference = checkpointed_items(checkpoints, key + "_reference", R, kBlock, 1,
+                                                           [&](long i, std::span<double> o) {
+    o[0] = integrate_reference(s.analytic, rays[i], {s.reference_tol}).value;
+  }, [&](long done) { bar.advance(done); });
   std::vector<SweepRow> rows;
   for (int N : Ns) {
-    // values[c][ray]; correction none first for the differences.
-    std::vector<std::vector<double>> values(corrections.size(), std::vector<double>(R));
+    // Per ray: correction none first (for the differences), then each correction.
+    const std::size_t width = 1 + corrections.size();
+    const std::vector<double> v = checkpointed_items(checkpoints, fmt::format("{}_N{}", key, N), R, kBlock, width,
+                                                     [&](long i, std::span<double> o) {
+      o[0] = discrete_raycast(s.analytic, rays[i], oversampled_config(Correction::none, N, s.unit_step, centred)).value;
+      for (std::size_t c = 0; c < corrections.size(); ++c)
+        o[1 + c] = discrete_raycast(s.analytic, rays[i], oversampled_config(corrections[c], N, s.unit_step, centred)).value;
+    }, [&](long done) { bar.advance(done * static_cast<long>(corrections.size())); });
+    std::vector<std::vector<double>> values(corrections.size(), std::vector<double>(R));  // values[c][ray]
     std::vector<double> none(R);
-    parallel_for_index(R, [&](long i) {
-      none[i] = discrete_raycast(s.analytic, rays[i], oversampled_config(Correction::none, N, s.unit_step, centred)).value;
-      for (std::size_t c = 0; c < corrections.size(); ++c) {
-        values[c][i] = discrete_raycast(s.analytic, rays[i], oversampled_config(corrections[c], N, s.unit_step, centred)).value;
-        bar.advance();
-      }
-    });
+    for (long i = 0; i < R; ++i) {
+      none[i] = v[static_cast<std::size_t>(i) * width];
+      for (std::size_t c = 0; c < corrections.size(); ++c) values[c][i] = v[static_cast<std::size_t>(i) * width + 1 + c];
+    }
     for (std::size_t c = 0; c < corrections.size(); ++c) {
       SweepRow row{corrections[c], N, centred, 0, 0, 0, true};
       for (long i = 0; i < R; ++i) {

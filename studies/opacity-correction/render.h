@@ -14,6 +14,8 @@
 
 namespace vrv {
 
+class Checkpoints;  // studies/engine/checkpoint.h
+
 // The paper's raycaster in vrv's terms: alpha rule, samples a fixed world step apart (the unit
 // step, one voxel; first sample half a step inside), N oversamples per unit step, correction c;
 // the oversamples start at the unit sample (the paper's alpha_u1 = alpha_o1) or are centred.
@@ -42,8 +44,9 @@ struct RenderValues {
   std::vector<std::vector<double>> methods;
   double worst_estimate = 0;
 };
+// With checkpoints, each image row is stored (--resume).
 RenderValues render_values(const RenderScenes& s, const Camera& camera, const std::vector<RenderMethod>& methods,
-                           bool progress);
+                           bool progress, Checkpoints* checkpoints = nullptr);
 Image to_image(const std::vector<double>& values, int width, int height);
 
 // Mean, max and root-mean-square of |a - b| over the pixels (sums in index order).
@@ -68,7 +71,7 @@ struct SweepRow {
 };
 std::vector<SweepRow> error_against_N(const RenderScenes& s, const std::vector<Ray>& rays,
                                       const std::vector<Correction>& corrections, const std::vector<int>& Ns,
-                                      bool centred, bool progress);
+                                      bool centred, bool progress, Checkpoints* checkpoints = nullptr);
 
 // Table 1, lower row: seconds for one serial pass of the discrete render (every pixel of
 // camera), the best of `repeats`.

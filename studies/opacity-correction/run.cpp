@@ -194,7 +194,7 @@ std::map<Correction, double> render_part(const OpacityStudy& s, const StudyRun& 
   for (bool centred : s.placements)
     for (Correction c : s.corrections)
       methods.push_back({name_of(c) + (centred ? ", centred" : ""), c, s.render_N, centred});
-  const RenderValues v = render_values(s.scenes, cam, methods, run.progress);
+  const RenderValues v = render_values(s.scenes, cam, methods, run.progress, run.checkpoints);
   Table t({"method", "correction", "placement", "N", "mean_abs_difference", "max_abs_difference", "rms_difference",
            "paper"});
   t.allow_missing("paper");
@@ -279,7 +279,8 @@ void sweep_part(const OpacityStudy& s, const StudyRun& run, StudyOutcome& out) {
   const int first = s.sweep_N.front(), last = s.sweep_N.back();
   const int prev = s.sweep_N.size() > 1 ? s.sweep_N[s.sweep_N.size() - 2] : last;
   for (bool centred : s.placements) {
-    const std::vector<SweepRow> rows = error_against_N(s.scenes, rays, s.corrections, s.sweep_N, centred, run.progress);
+    const std::vector<SweepRow> rows = error_against_N(s.scenes, rays, s.corrections, s.sweep_N, centred, run.progress,
+                                                        run.checkpoints);
     std::map<Correction, std::map<int, double>> e;
     for (const SweepRow& r : rows) {
       t.add_row({name_of(r.correction), placement_name(centred), static_cast<long>(r.N), r.mean_error, r.max_error,

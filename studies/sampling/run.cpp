@@ -9,6 +9,7 @@
 
 #include "lib/util/progress.h"
 #include "lib/metrics.h"
+#include "studies/engine/checkpoint.h"
 #include "studies/sampling/files.h"
 
 namespace vrv::sampling_study {
@@ -78,6 +79,22 @@ StudyCheck at_least(std::string name, double value, double bound, std::string de
   return {std::move(name), value, bound, value >= bound, std::move(detail), CheckKind::derived};
 }
 
+// Each configuration's values on every ray (fan or pixels) are one checkpoint (--resume).
+std::vector<ContinuousRay> continuous(Checkpoints* c, const std::string& key, const Scene& scene,
+                                      const std::vector<Ray>& rays, double tol) {
+  return checkpointed_records<ContinuousRay>(
+      c, key, 3, [&] { return continuous_rays(scene, rays, tol); },
+      [](const ContinuousRay& r, std::vector<double>& out) { out.insert(out.end(), {r.chord, r.value, r.estimate}); },
+      [](std::span<const double> v) { return ContinuousRay{v[0], v[1], v[2]}; });
+}
+std::vector<RayValue> discrete(Checkpoints* c, const std::string& key, const Scene& scene,
+                               const std::vector<Ray>& rays, const DiscreteConfig& config) {
+  return checkpointed_records<RayValue>(
+      c, key, 2, [&] { return discrete_rays(scene, rays, config); },
+      [](const RayValue& r, std::vector<double>& out) { out.insert(out.end(), {r.value, static_cast<double>(r.samples)}); },
+      [](std::span<const double> v) { return RayValue{v[0], static_cast<long>(v[1])}; });
+}
+
 }  // namespace
 
 StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
@@ -94,9 +111,10 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
   Progress progress("sampling", 2 + fan_jobs + 1 + image_jobs, run.progress);
 
   // The fan: the continuous solution on the grid and on the ramp, then every configuration.
-  const std::vector<ContinuousRay> truth = continuous_rays(st.scene, fan_rays, st.reference_tol);
+  Checkpoints* const cp = run.checkpoints;
+  const std::vector<ContinuousRay> truth = continuous(cp, "fan_truth", st.scene, fan_rays, st.reference_tol);
   progress.advance();
-  const std::vector<ContinuousRay> truth_ramp = continuous_rays(ramp, fan_rays, st.reference_tol);
+  const std::vector<ContinuousRay> truth_ramp = continuous(cp, "fan_truth_ramp", ramp, fan_rays, st.reference_tol);
   progress.advance();
   double max_estimate = 0, continuous_identity = 0;
   for (std::size_t i = 0; i < truth.size(); ++i) {
@@ -115,27 +133,33 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
   std::vector<StrategyRun> runs;
   for (SegmentRule rule : st.rules)
     for (Strategy s : st.strategies)
-      for (double rate : st.order_rates) {
+      for (std::size_t k = 0; k < st.order_rates.size(); ++k) {
+        const double rate = st.order_rates[k];
         const Vec3 eye = fan.eye;
+        const std::string key = fmt::format("fan_{}_{}_{}", segment_rule_name(rule), strategy_name(s), k);
         StrategyRun f{rule, s, rate,
-                      discrete_rays(st.scene, fan_rays, strategy_config(st.scene, rule, s, rate, eye)), {}};
+                      discrete(cp, key, st.scene, fan_rays, strategy_config(st.scene, rule, s, rate, eye)), {}};
         f.stats = error_stats(truth, f.rays);
         nonfinite += f.stats.nonfinite;
-        compare(f.rays, discrete_rays(ramp, fan_rays, strategy_config(ramp, rule, s, rate, eye)), identity);
+        compare(f.rays, discrete(cp, key + "_ramp", ramp, fan_rays, strategy_config(ramp, rule, s, rate, eye)),
+                identity);
         runs.push_back(std::move(f));
         progress.advance();
       }
 
   // The images: the continuous solution, then every strategy at every image rate.
-  const std::vector<ContinuousRay> image_truth = continuous_rays(st.scene, pixels, st.reference_tol);
+  const std::vector<ContinuousRay> image_truth = continuous(cp, "image_truth", st.scene, pixels, st.reference_tol);
   progress.advance();
   for (const ContinuousRay& c : image_truth) max_estimate = std::max(max_estimate, c.estimate);
   std::vector<StrategyRun> images;
-  for (double rate : st.image_rates)
+  for (std::size_t k = 0; k < st.image_rates.size(); ++k)
     for (Strategy s : st.strategies) {
+      const double rate = st.image_rates[k];
       const SegmentRule rule = st.rules.front();
       StrategyRun im{rule, s, rate,
-                     discrete_rays(st.scene, pixels, strategy_config(st.scene, rule, s, rate, view.eye)), {}};
+                     discrete(cp, fmt::format("image_{}_{}", strategy_name(s), k), st.scene, pixels,
+                              strategy_config(st.scene, rule, s, rate, view.eye)),
+                     {}};
       im.stats = error_stats(image_truth, im.rays);
       nonfinite += im.stats.nonfinite;
       images.push_back(std::move(im));

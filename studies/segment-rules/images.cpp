@@ -5,18 +5,19 @@
 #include <type_traits>
 
 #include "lib/discrete_raycast.h"
-#include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
 #include "lib/metrics.h"
 #include "lib/order_estimate.h"
+#include "studies/engine/checkpoint.h"
 #include "studies/segment-rules/segment_rules.h"
 #include "studies/engine/reference_audit.h"
 
 namespace vrv {
 
 RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rules, Strategy strategy,
-                        double reference_tol, bool quick, bool progress) {
+                        double reference_tol, bool quick, bool progress, Checkpoints* checkpoints,
+                        const std::string& checkpoint_key) {
   Camera camera = *spec.scene.camera;
   if (quick) {
     camera.width = spec.quick_width;
@@ -32,9 +33,9 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
   out.width = camera.width;
   out.height = camera.height;
   out.reference = Image(camera.width, camera.height);
-  std::vector<double> error(static_cast<std::size_t>(n) * per_pixel);  // signed
-  std::vector<long> samples(error.size());
-  std::vector<char> hit(static_cast<std::size_t>(n));
+  // Per pixel: hit, reference value, then (error, samples) per (rule, step).
+  const std::size_t width = 2 + 2 * per_pixel;
+  std::vector<double> values;
 
   const Scene& scene = spec.scene;
   visit_field(scene, [&](const auto& field) {
@@ -52,22 +53,33 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
         casters.emplace_back(field, scene.box, scene.transfer, scene.background, c);
       }
     Progress bar("segment-rules " + spec.name, n, progress);
-    parallel_for_index(n, [&](long i) {
+    // One image row is one checkpoint.
+    values = checkpointed_items(checkpoints, checkpoint_key, n, camera.width, width, [&](long i, std::span<double> v) {
       const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
       const ReferenceResult ref =
           audited_reference(field, scene.box, scene.transfer, scene.background, ray, {reference_tol});
-      const auto pixel = static_cast<std::size_t>(i);
-      hit[pixel] = ref.hit;
-      out.reference.pixels[pixel] = static_cast<float>(ref.value);
+      v[0] = ref.hit ? 1 : 0;
+      v[1] = ref.value;
       for (std::size_t k = 0; k < per_pixel; ++k) {
         const DiscreteResult d = casters[k].cast(ray);
-        error[pixel * per_pixel + k] = d.value - ref.value;
-        samples[pixel * per_pixel + k] = d.samples;
+        v[2 + 2 * k] = d.value - ref.value;
+        v[3 + 2 * k] = static_cast<double>(d.samples);
       }
-      bar.advance();
-    });
+    }, [&](long done) { bar.advance(done); });
     bar.finish();
   });
+  std::vector<double> error(static_cast<std::size_t>(n) * per_pixel);  // signed
+  std::vector<long> samples(error.size());
+  std::vector<char> hit(static_cast<std::size_t>(n));
+  for (std::size_t pixel = 0; pixel < static_cast<std::size_t>(n); ++pixel) {
+    const double* v = values.data() + pixel * width;
+    hit[pixel] = v[0] != 0;
+    out.reference.pixels[pixel] = static_cast<float>(v[1]);
+    for (std::size_t k = 0; k < per_pixel; ++k) {
+      error[pixel * per_pixel + k] = v[2 + 2 * k];
+      samples[pixel * per_pixel + k] = static_cast<long>(v[3 + 2 * k]);
+    }
+  }
 
   // Reductions in pixel order: the same bits for any thread count.
   for (long i = 0; i < n; ++i) out.hit_pixels += hit[static_cast<std::size_t>(i)];

@@ -10,8 +10,8 @@
 
 #include "lib/io/atomic_file.h"
 #include "lib/io/image_io.h"
-#include "lib/util/parallel.h"
 #include "lib/io/table.h"
+#include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
 #include "studies/segment-rules/segment_rules.h"
 
@@ -136,20 +136,26 @@ struct UnitCell {
 
 double value(const ZetaPsi& v, int q) { return q == 0 ? v.zeta : v.psi; }
 
-std::vector<UnitCell> run_unit(const UnitSpec& u, bool quick) {
+// One row of the grid (one alpha_back) is one checkpoint: per cell, the five (zeta, Psi) pairs.
+std::vector<UnitCell> run_unit(const UnitSpec& u, bool quick, Checkpoints* checkpoints) {
   const std::vector<double> alphas = opacity_grid(quick ? u.quick_points : u.points, u.alpha_top);
   const long n = static_cast<long>(alphas.size());
-  std::vector<UnitCell> cells(static_cast<std::size_t>(n * n));
-  parallel_for_index(n * n, [&](long i) {  // alpha_back outer, alpha_front inner
-    UnitCell& c = cells[static_cast<std::size_t>(i)];
-    c.alpha_f = alphas[static_cast<std::size_t>(i % n)];
-    c.alpha_b = alphas[static_cast<std::size_t>(i / n)];
-    c.exact[0] = linear_alpha_segment(c.alpha_f, c.alpha_b);
-    c.exact[1] = linear_tau_segment(c.alpha_f, c.alpha_b);
-    c.average = average_opacity_segment(c.alpha_f, c.alpha_b);
-    c.quadrature[0] = linear_alpha_by_quadrature(c.alpha_f, c.alpha_b);
-    c.quadrature[1] = linear_tau_by_quadrature(c.alpha_f, c.alpha_b);
+  constexpr std::size_t kWidth = 10;
+  const std::vector<double> v = checkpointed_items(checkpoints, "unit", n * n, n, kWidth, [&](long i, std::span<double> o) {
+    const double f = alphas[static_cast<std::size_t>(i % n)], b = alphas[static_cast<std::size_t>(i / n)];
+    const ZetaPsi z[] = {linear_alpha_segment(f, b), linear_tau_segment(f, b), average_opacity_segment(f, b),
+                         linear_alpha_by_quadrature(f, b), linear_tau_by_quadrature(f, b)};
+    for (std::size_t k = 0; k < 5; ++k) o[2 * k] = z[k].zeta, o[2 * k + 1] = z[k].psi;
   });
+  std::vector<UnitCell> cells(static_cast<std::size_t>(n * n));  // alpha_back outer, alpha_front inner
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    UnitCell& c = cells[i];
+    const double* o = v.data() + i * kWidth;
+    c.alpha_f = alphas[i % static_cast<std::size_t>(n)];
+    c.alpha_b = alphas[i / static_cast<std::size_t>(n)];
+    ZetaPsi* z[] = {&c.exact[0], &c.exact[1], &c.average, &c.quadrature[0], &c.quadrature[1]};
+    for (std::size_t k = 0; k < 5; ++k) *z[k] = {o[2 * k], o[2 * k + 1]};
+  }
   return cells;
 }
 
@@ -256,7 +262,7 @@ StudyOutcome run_study(const SegmentRulesStudy& st, const StudyRun& run) {
   const UnitSpec& u = st.unit;
 
   // Unit segment.
-  const std::vector<UnitCell> cells = run_unit(u, run.quick);
+  const std::vector<UnitCell> cells = run_unit(u, run.quick, run.checkpoints);
   write_file_atomically(run.dir / "unit_segment.csv", unit_table(cells).to_csv());
   Table max_table({"model", "quantity", "max_abs_error", "signed_error", "alpha_front", "alpha_back",
                    "mean_abs_error", "stated_bound"});
@@ -295,7 +301,8 @@ StudyOutcome run_study(const SegmentRulesStudy& st, const StudyRun& run) {
   std::filesystem::create_directories(run.dir / "images");
   nlohmann::json renders = nlohmann::json::array();
   for (const RenderSpec& spec : st.renders) {
-    const RenderResult res = run_render(spec, st.rules, st.strategy, st.reference_tol, run.quick, run.progress);
+    const RenderResult res = run_render(spec, st.rules, st.strategy, st.reference_tol, run.quick, run.progress,
+                                           run.checkpoints, fmt::format("render{}", renders.size()));
     long bad_rows = 0;
     for (const ImageErrorRow& row : res.rows) {
       const bool finite = std::isfinite(row.mean_error) && std::isfinite(row.max_error);

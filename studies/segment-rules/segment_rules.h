@@ -19,6 +19,8 @@
 
 namespace vrv {
 
+class Checkpoints;  // studies/engine/checkpoint.h
+
 struct ZetaPsi {
   double zeta = 1;
   double psi = 1;
@@ -83,8 +85,9 @@ struct RenderResult {
 
 // Renders the reference image (integrate_reference at reference_tol per pixel) and every
 // (rule, step); means are over the pixels whose ray meets the box.  Deterministic for any
-// thread count.
+// thread count.  With checkpoints, each image row is stored under checkpoint_key (--resume).
 RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rules, Strategy strategy,
-                        double reference_tol, bool quick, bool progress);
+                        double reference_tol, bool quick, bool progress, Checkpoints* checkpoints = nullptr,
+                        const std::string& checkpoint_key = "render");
 
 }  // namespace vrv

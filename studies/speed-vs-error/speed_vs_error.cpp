@@ -5,7 +5,9 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <type_traits>
 #include <variant>
 #include <span>
@@ -20,6 +22,7 @@
 #include "lib/io/table.h"
 #include "lib/metrics.h"
 #include "lib/order_estimate.h"
+#include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
 #include "studies/engine/study_rays.h"
 #include "studies/engine/reference_audit.h"
@@ -151,6 +154,15 @@ Definition read_definition(const StudyInput& in) {
   return d;
 }
 
+// A configuration's row with its names and no numbers yet.
+SpeedErrorPoint named_point(const Level& level) {
+  SpeedErrorPoint p;
+  p.method = level.series;
+  p.level_name = level.spec.reference ? "tol" : "step";
+  p.level = level.spec.reference ? level.spec.tol : level.spec.config.sampling.step;
+  return p;
+}
+
 // Values and work of one configuration on every ray, in one single-threaded pass; returns the
 // pass's wall time.  A discrete raycaster is built once, as a renderer would.
 double one_pass(const Scene& scene, const StudyMethodSpec& spec, const std::vector<Ray>& rays,
@@ -182,10 +194,7 @@ SpeedErrorPoint measure(const Definition& d, const Level& level, const std::vect
   std::vector<double> value(n), work(n);
   double best = std::numeric_limits<double>::infinity();
   for (long k = 0; k < repeats; ++k) best = std::min(best, one_pass(d.scene, spec, rays, value, work));
-  SpeedErrorPoint p;
-  p.method = level.series;
-  p.level_name = spec.reference ? "tol" : "step";
-  p.level = spec.reference ? spec.tol : spec.config.sampling.step;
+  SpeedErrorPoint p = named_point(level);
   p.seconds_per_ray = best / static_cast<double>(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double e = std::abs(value[i] - truth[i]);
@@ -197,6 +206,25 @@ SpeedErrorPoint measure(const Definition& d, const Level& level, const std::vect
     for (std::size_t i = 0; i < n; ++i)
       p.max_estimate = std::max(p.max_estimate,
                                 integrate_reference(d.scene, rays[i], ReferenceOptions{spec.tol}).error_estimate);
+  return p;
+}
+
+// A configuration's row as one checkpoint; the names come from the study file, the numbers from the run.
+SpeedErrorPoint measured(Checkpoints* checkpoints, const std::string& key, const Level& level,
+                         const std::function<SpeedErrorPoint()>& run) {
+  std::optional<SpeedErrorPoint> fresh;
+  const std::vector<double> v = checkpointed(checkpoints, key, [&] {
+    fresh = run();
+    return std::vector<double>{fresh->max_error, fresh->mean_error, fresh->max_estimate, fresh->seconds_per_ray,
+                               fresh->work_per_ray};
+  });
+  if (fresh) return *fresh;
+  SpeedErrorPoint p = named_point(level);
+  p.max_error = v.at(0);
+  p.mean_error = v.at(1);
+  p.max_estimate = v.at(2);
+  p.seconds_per_ray = v.at(3);
+  p.work_per_ray = v.at(4);
   return p;
 }
 
@@ -384,20 +412,38 @@ StudyJob parse_speed_vs_error(const StudyInput& in) {
   return [d](const StudyRun& run) {
     const long n = run.quick ? d.quick_count : d.count;
     const std::vector<Ray> rays = study_rays(d.scene.box, n, d.seed);
-    std::vector<ReferenceResult> truth(static_cast<std::size_t>(n));
-    parallel_for_index(n, [&](long i) {
-      truth[static_cast<std::size_t>(i)] =
-          audited_reference(d.scene, rays[static_cast<std::size_t>(i)], ReferenceOptions{d.reference_tol});
-    });
+    // Checkpoints (--resume): the reference on every ray, the truth, each configuration's row
+    // (its time included: a resumed run reports the time measured when the row was computed).
+    const std::vector<ReferenceResult> truth = checkpointed_records<ReferenceResult>(
+        run.checkpoints, "reference", 2,
+        [&] {
+          std::vector<ReferenceResult> t(static_cast<std::size_t>(n));
+          parallel_for_index(n, [&](long i) {
+            t[static_cast<std::size_t>(i)] =
+                audited_reference(d.scene, rays[static_cast<std::size_t>(i)], ReferenceOptions{d.reference_tol});
+          });
+          return t;
+        },
+        [](const ReferenceResult& r, std::vector<double>& out) { out.insert(out.end(), {r.value, r.error_estimate}); },
+        [](std::span<const double> v) {
+          ReferenceResult r;
+          r.value = v[0];
+          r.error_estimate = v[1];
+          return r;
+        });
     double truth_estimate = 0;
     for (const ReferenceResult& t : truth) truth_estimate = std::max(truth_estimate, t.error_estimate);
-    const std::vector<double> independent = independent_truth(d.scene, rays, run.progress);
+    const std::vector<double> independent =
+        checkpointed(run.checkpoints, "truth", [&] { return independent_truth(d.scene, rays, run.progress); });
     const TruthCheck truth_check = compare_truth(independent, truth);
     std::vector<SpeedErrorPoint> pts;
     Progress progress("speed-vs-error", static_cast<long>(d.levels.size()), run.progress);
-    for (const Level& level : d.levels) {  // one at a time: the timings must not share the cores
+    for (std::size_t k = 0; k < d.levels.size(); ++k) {  // one at a time: the timings must not share the cores
+      const Level& level = d.levels[k];
       if (!run.quick || level.quick)
-        pts.push_back(measure(d, level, rays, independent, run.quick ? d.quick_repeats : d.repeats));
+        pts.push_back(measured(run.checkpoints, fmt::format("level_{}", k), level, [&] {
+          return measure(d, level, rays, independent, run.quick ? d.quick_repeats : d.repeats);
+        }));
       progress.advance();
     }
     progress.finish();

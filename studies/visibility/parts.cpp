@@ -3,15 +3,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <string_view>
 
 #include <fmt/format.h>
 
 #include "lib/io/atomic_file.h"
 #include "lib/discrete_raycast.h"
 #include "lib/io/image_io.h"
-#include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
+#include "studies/engine/checkpoint.h"
 #include "studies/engine/study_rays.h"
 #include "studies/engine/reference_audit.h"
 #include "lib/io/table.h"
@@ -41,6 +43,33 @@ DiscreteConfig alpha_config(double step) {
 }
 
 std::string num(double x) { return fmt::format("{:.17g}", x); }
+
+// One view's numbers as one checkpoint (--resume); a view whose images are written is always
+// computed (images are not checkpointed), which gives the same numbers.
+ViewCulling culled_view(Checkpoints* checkpoints, const std::string& key, bool with_images,
+                        const std::function<ViewCulling()>& compute) {
+  if (with_images) return compute();
+  ViewCulling v;
+  bool fresh = false;
+  const std::vector<double> o = checkpointed(checkpoints, key, [&] {
+    v = compute();
+    fresh = true;
+    std::vector<double> out{double(v.nonempty), double(v.samples_all)};
+    for (int m = 0; m < kCullMethods; ++m)
+      out.insert(out.end(), {double(v.culled[m]), v.max_error[m], v.min_front_opacity[m], double(v.samples[m])});
+    return out;
+  });
+  if (fresh) return v;
+  v.nonempty = static_cast<int>(o.at(0));
+  v.samples_all = static_cast<long>(o.at(1));
+  for (std::size_t m = 0; m < kCullMethods; ++m) {
+    v.culled[m] = static_cast<int>(o.at(2 + 4 * m));
+    v.max_error[m] = o.at(3 + 4 * m);
+    v.min_front_opacity[m] = o.at(4 + 4 * m);
+    v.samples[m] = static_cast<long>(o.at(5 + 4 * m));
+  }
+  return v;
+}
 
 }  // namespace
 
@@ -75,51 +104,60 @@ IdentityResult run_identity(const VisibilityStudy& s, const StudyRun& run) {
   };
   auto opacity = [](double depth) { return -std::expm1(-depth); };
 
-  struct Row {
-    std::string integral, identity;
-    double k, direct, from_depths, from_alphas, transparency_rel;
-  };
-  std::vector<std::vector<Row>> rows(n);
+  // Per ray, the same rows in the same order: (integral, identity) labels, then five numbers per
+  // row (k, alpha direct, from depths, from alphas, transparency difference).  One block of rays
+  // is one checkpoint (--resume).
+  std::vector<std::pair<const char*, const char*>> labels;
+  for (std::size_t j = 0; j < s.identity.ks.size(); ++j)
+    labels.insert(labels.end(), {{"continuous", "scale"}, {"discrete", "scale"}, {"continuous", "bases"},
+                                 {"discrete", "bases"}});
+  labels.push_back({"continuous", "halves"});
+  constexpr std::size_t kRow = 5;
+  const std::size_t width = labels.size() * kRow;
   Progress bar("visibility identities", n, run.progress);
-  parallel_for_index(n, [&](long i) {
+  const std::vector<double> rows = checkpointed_items(run.checkpoints, "identity", n, 16, width, [&](long i, std::span<double> o) {
     const Ray& ray = rays[i];
     const double c[] = {continuous(tf1, box, ray), continuous(tf2, box, ray)};
     const double d[] = {discrete(tf1, ray), discrete(tf2, ray)};
     const double ca[] = {opacity(c[0]), opacity(c[1])}, da[] = {opacity(d[0]), opacity(d[1])};
-    auto add = [&](const char* integral, const char* identity, double k, double direct,
-                   std::span<const double> depths, std::span<const double> alphas, std::span<const double> ks) {
+    std::size_t row = 0;
+    auto add = [&](double k, double direct, std::span<const double> depths, std::span<const double> alphas,
+                   std::span<const double> ks) {
       double predicted = 0;  // sum k_i Phi_i
       for (std::size_t m = 0; m < ks.size(); ++m) predicted += ks[m] * depths[m];
-      rows[i].push_back({integral, identity, k, opacity(direct), combined_opacity_of_depths(depths, ks),
-                         combined_opacity(alphas, ks), std::abs(std::expm1(predicted - direct))});
+      const double v[kRow] = {k, opacity(direct), combined_opacity_of_depths(depths, ks), combined_opacity(alphas, ks),
+                              std::abs(std::expm1(predicted - direct))};
+      std::copy(v, v + kRow, o.begin() + static_cast<std::ptrdiff_t>(kRow * row++));
     };
     for (std::size_t j = 0; j < s.identity.ks.size(); ++j) {
       const double k = s.identity.ks[j];
       const double kk[] = {k, 1.0};
       const auto one = std::span(kk).first(1);
-      add("continuous", "scale", k, continuous(tf_k[j], box, ray), std::span(c).first(1), std::span(ca).first(1), one);
-      add("discrete", "scale", k, discrete(tf_k[j], ray), std::span(d).first(1), std::span(da).first(1), one);
-      add("continuous", "bases", k, continuous(tf_sum[j], box, ray), c, ca, kk);
-      add("discrete", "bases", k, discrete(tf_sum[j], ray), d, da, kk);
+      add(k, continuous(tf_k[j], box, ray), std::span(c).first(1), std::span(ca).first(1), one);
+      add(k, discrete(tf_k[j], ray), std::span(d).first(1), std::span(da).first(1), one);
+      add(k, continuous(tf_sum[j], box, ray), c, ca, kk);
+      add(k, discrete(tf_sum[j], ray), d, da, kk);
     }
     const double halves[] = {continuous(tf1, left, ray), continuous(tf1, right, ray)};
     const double halves_a[] = {opacity(halves[0]), opacity(halves[1])}, ones[] = {1.0, 1.0};
-    add("continuous", "halves", 1.0, c[0], halves, halves_a, ones);
-    bar.advance();
-  });
+    add(1.0, c[0], halves, halves_a, ones);
+  }, [&](long done) { bar.advance(done); });
   bar.finish();
 
   Table t({"ray", "integral", "identity", "k", "alpha_direct", "alpha_identity", "abs_difference",
            "abs_difference_from_alpha", "transparency_rel_difference"});
   double worst[2] = {0, 0}, worst_alpha[2] = {0, 0}, worst_t[2] = {0, 0};  // continuous, discrete
   for (long i = 0; i < n; ++i)
-    for (const Row& r : rows[i]) {
-      const double diff = std::abs(r.direct - r.from_depths), diff_a = std::abs(r.direct - r.from_alphas);
-      const bool disc = r.integral == "discrete";
+    for (std::size_t row = 0; row < labels.size(); ++row) {
+      const double* r = rows.data() + static_cast<std::size_t>(i) * width + row * kRow;
+      const double k = r[0], direct = r[1], from_depths = r[2], from_alphas = r[3], transparency_rel = r[4];
+      const double diff = std::abs(direct - from_depths), diff_a = std::abs(direct - from_alphas);
+      const bool disc = std::string_view(labels[row].first) == "discrete";
       worst[disc] = std::max(worst[disc], diff);
       worst_alpha[disc] = std::max(worst_alpha[disc], diff_a);
-      worst_t[disc] = std::max(worst_t[disc], r.transparency_rel);
-      t.add_row({i, r.integral, r.identity, r.k, r.direct, r.from_depths, diff, diff_a, r.transparency_rel});
+      worst_t[disc] = std::max(worst_t[disc], transparency_rel);
+      t.add_row({i, std::string(labels[row].first), std::string(labels[row].second), k, direct, from_depths, diff,
+                 diff_a, transparency_rel});
     }
   write_file_atomically(run.dir / "identity.csv", t.to_csv());
   Table sum_t({"integral", "rays", "max_abs_difference", "max_abs_difference_from_alpha",
@@ -208,18 +246,28 @@ TerminationResult run_termination(const VisibilityStudy& s, const StudyRun& run)
     cfg.termination = A;
     casters.emplace_back(field, s.scene.box, s.scene.transfer, s.scene.background, cfg);
   }
+  // Per pixel: the reference, then (value, samples) per caster; one image row is one checkpoint.
+  const std::size_t width = 1 + 2 * casters.size();
   Progress bar("visibility termination", P, run.progress);
-  parallel_for_index(P, [&](long p) {
+  const std::vector<double> pixels = checkpointed_items(run.checkpoints, "termination", P, side, width,
+                                                        [&](long p, std::span<double> o) {
     const Ray ray = cam.ray(static_cast<int>(p % side), static_cast<int>(p / side));
-    value[0][p] = audited_reference(s.scene, ray, {s.termination.reference_tol}).value;
+    o[0] = audited_reference(s.scene, ray, {s.termination.reference_tol}).value;
     for (std::size_t c = 0; c < casters.size(); ++c) {
       const DiscreteResult r = casters[c].cast(ray);
-      value[c + 1][p] = r.value;
-      samples[c + 1][p] = r.samples;
+      o[1 + 2 * c] = r.value;
+      o[2 + 2 * c] = static_cast<double>(r.samples);
     }
-    bar.advance();
-  });
+  }, [&](long done) { bar.advance(done); });
   bar.finish();
+  for (long p = 0; p < P; ++p) {
+    const double* o = pixels.data() + static_cast<std::size_t>(p) * width;
+    value[0][p] = o[0];
+    for (std::size_t c = 0; c < casters.size(); ++c) {
+      value[c + 1][p] = o[1 + 2 * c];
+      samples[c + 1][p] = static_cast<long>(o[2 + 2 * c]);
+    }
+  }
 
   auto total = [&](std::size_t c) {
     long n = 0;
@@ -329,7 +377,8 @@ CullingResult run_culling(const VisibilityStudy& s, const StudyRun& run) {
       const double chord = credited_chord(blocks.size(), d, c.chord_fraction);
       std::vector<double> pof(blocks.count());
       for (int b = 0; b < blocks.count(); ++b) pof[b] = pof_depth(ext.tau_min[b], chord, c.step);
-      const ViewCulling v = cull_view(s.scene, field, blocks, ext, pof, d, o);
+      const ViewCulling v = culled_view(run.checkpoints, fmt::format("view_{}_{}", i, j), i == vi && j == vj,
+                                        [&] { return cull_view(s.scene, field, blocks, ext, pof, d, o); });
       const double theta = view_theta_degrees(i, views[0]), phi = view_phi_degrees(j, views[1]);
       std::array<double, kCullMethods> sh{};
       for (int m = 0; m < kCullMethods; ++m) sh[m] = v.nonempty ? double(v.culled[m]) / v.nonempty : 0;

@@ -1,10 +1,13 @@
 // Staging, publishing and checkpoints of a study run (studies/engine/staging, checkpoint).
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <span>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -123,6 +126,61 @@ TEST(Checkpoints, StoreExactlyAndReuseOnResume) {
   }
   EXPECT_TRUE(std::isnan(back.back()));
   EXPECT_THROW(c.get("a/b", compute), std::logic_error);
+}
+
+TEST(Checkpoints, ItemsResumeAtTheFirstMissingBlock) {
+  const fs::path dir = fresh_dir("items") / "checkpoints";
+  std::atomic<long> calls{0}, advanced{0};
+  auto item = [&](long i, std::span<double> o) {
+    ++calls;
+    o[0] = static_cast<double>(i);
+    o[1] = 1.0 / static_cast<double>(i + 3);
+  };
+  auto advance = [&](long n) { advanced += n; };
+  std::vector<double> first;
+  {
+    Checkpoints c(dir, "items", false);
+    first = checkpointed_items(&c, "px", 10, 4, 2, item, advance);  // blocks 0-3, 4-7, 8-9
+    EXPECT_EQ(c.computed(), 3);
+  }
+  EXPECT_EQ(calls, 10);
+  EXPECT_EQ(advanced, 10);
+  ASSERT_EQ(first.size(), 20u);
+  for (long i = 0; i < 10; ++i) {
+    EXPECT_EQ(first[2 * i], static_cast<double>(i));
+    EXPECT_EQ(first[2 * i + 1], 1.0 / static_cast<double>(i + 3));
+  }
+  fs::remove(dir / "px.4.txt");  // as if killed before the second block was stored
+  calls = advanced = 0;
+  Checkpoints c(dir, "items", true);
+  EXPECT_EQ(checkpointed_items(&c, "px", 10, 4, 2, item, advance), first);
+  EXPECT_EQ(calls, 4);  // the missing block alone
+  EXPECT_EQ(advanced, 10);
+  EXPECT_EQ(c.reused(), 2);
+  // A block stored with another width is an error, not a silent misreading.
+  EXPECT_THROW(checkpointed_items(&c, "px", 10, 4, 3, item), StudyResumeError);
+  // Without checkpoints: computed every time, the same values.
+  EXPECT_EQ(checkpointed_items(nullptr, "px", 10, 4, 2, item), first);
+}
+
+TEST(Checkpoints, RecordsRoundTripOrComputeOnce) {
+  const fs::path dir = fresh_dir("records") / "checkpoints";
+  struct R {
+    double x;
+    long n;
+  };
+  int calls = 0;
+  auto compute = [&] { ++calls; return std::vector<R>{{0.5, 3}, {-2.0, 7}}; };
+  auto encode = [](const R& r, std::vector<double>& out) { out.insert(out.end(), {r.x, double(r.n)}); };
+  auto decode = [](std::span<const double> v) { return R{v[0], static_cast<long>(v[1])}; };
+  { Checkpoints c(dir, "records", false); checkpointed_records<R>(&c, "r", 2, compute, encode, decode); }
+  Checkpoints c(dir, "records", true);
+  const std::vector<R> back = checkpointed_records<R>(&c, "r", 2, compute, encode, decode);
+  EXPECT_EQ(calls, 1);
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(back[1].x, -2.0);
+  EXPECT_EQ(back[1].n, 7);
+  EXPECT_THROW(checkpointed_records<R>(&c, "r", 3, compute, encode, decode), StudyResumeError);
 }
 
 TEST(Checkpoints, ResumingAnotherFileOrVariantIsRefused) {
