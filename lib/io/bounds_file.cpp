@@ -84,7 +84,8 @@ GateCase read_case(const StudyReader& r, const toml::table& t, std::string_view 
     return c;
   }
   if (const auto* n = t.get("scene")) c.scene = base / r.string(*n, StudyReader::child(path, "scene"));
-  c.steps = r.numbers(t, "steps", path, 0, 1e300);
+  // An images case may leave its steps to the images' provenance (vrv:step, read by vrv gate).
+  if (t.contains("steps") || !t.contains("images")) c.steps = r.numbers(t, "steps", path, 0, 1e300);
   for (std::size_t i = 0; i < c.steps.size(); ++i)
     if (!(c.steps[i] > 0)) r.fail(fmt::format("{}.steps[{}]", path, i), "must be positive");
   if (const auto* n = t.get("expected_order")) c.expected_order = r.number(*n, StudyReader::child(path, "expected_order"));
@@ -94,9 +95,10 @@ GateCase read_case(const StudyReader& r, const toml::table& t, std::string_view 
     if (t.contains("height")) c.height = static_cast<int>(r.integer(*t.get("height"), StudyReader::child(path, "height"), 1, 16384));
   } else {
     const toml::array& a = r.array(*t.get("images"), StudyReader::child(path, "images"));
+    if (a.empty()) r.fail(StudyReader::child(path, "images"), "empty");
     for (std::size_t i = 0; i < a.size(); ++i)
       c.images.push_back(base / r.string(*a.get(i), fmt::format("{}.images[{}]", path, i)));
-    if (c.images.size() != c.steps.size())
+    if (!c.steps.empty() && c.images.size() != c.steps.size())
       r.fail(StudyReader::child(path, "images"), fmt::format("{} images for {} steps", c.images.size(), c.steps.size()));
     for (std::string_view k : {"width", "height"})
       if (t.contains(k)) r.fail(StudyReader::child(path, k), "applies to render cases only (images have their size)");
@@ -137,6 +139,16 @@ BoundsFile parse_bounds(std::string_view text, const fs::path& source) {
   } catch (const StudyFileError& e) {
     throw BoundsFileError(e.what());
   }
+}
+
+const GateCase& named_case(const BoundsFile& file, const std::string& name) {
+  for (const GateCase& c : file.cases)
+    if (c.name == name) return c;
+  throw std::invalid_argument(fmt::format("--case: {}: no case named '{}'", file.path.string(), name));
+}
+
+const BoundSet& chosen_bounds(const BoundsFile& file, const std::optional<std::string>& case_name) {
+  return case_name ? named_case(file, *case_name).bounds : file.defaults;
 }
 
 BoundsFile load_bounds(const fs::path& path) {

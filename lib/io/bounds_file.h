@@ -16,7 +16,8 @@
 //   steps = [0.2, 0.1, 0.05]
 //   expected_order = 2               # optional: the verdict must be convergence at it
 //   render = { method = "alpha", strategy = "step" }   # vrv renders its own method at the steps
-//   # or images = ["a.exr", "b.exr"] (one per step, relative to the bounds file)
+//   # or images = ["a.exr", "b.exr"] (one per step, relative to the bounds file); an images case
+//   #   without steps takes each image's step from its provenance (vrv:step, lib/io/image_io.h)
 //   # or study = "convergence"       (runs `vrv study NAME --quick`; gated on its checks)
 //   width = 48                       # render cases: image size (default: the scene's camera)
 //   height = 48
@@ -65,7 +66,7 @@ struct RenderSpec {  // a case where vrv renders its own discrete method
 struct GateCase {
   std::string name;
   std::filesystem::path scene;  // empty: the embedded default scene
-  std::vector<double> steps;
+  std::vector<double> steps;  // empty only for an images case: the images' provenance steps
   std::optional<double> expected_order;
   std::optional<RenderSpec> render;
   std::vector<std::filesystem::path> images;
@@ -83,5 +84,11 @@ struct BoundsFile {
 
 BoundsFile parse_bounds(std::string_view toml_text, const std::filesystem::path& source);
 BoundsFile load_bounds(const std::filesystem::path& path);
+
+// The case named `name` (--case NAME); std::invalid_argument "--case: <file>: no case named
+// '<name>'" when there is none.
+const GateCase& named_case(const BoundsFile& file, const std::string& name);
+// The bounds `vrv verify --bounds FILE [--case NAME]` gates on: the named case's, else [defaults].
+const BoundSet& chosen_bounds(const BoundsFile& file, const std::optional<std::string>& case_name);
 
 }  // namespace vrv

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -76,6 +77,11 @@ void write_table_files(const fs::path& dir, const std::string& name, const Table
   write_file_atomically(dir / (name + ".md"), table.to_markdown());
   write_file_atomically(dir / (name + ".tex"), table.to_latex());
   write_file_atomically(dir / (name + ".json"), table.to_json());
+}
+
+void check_verify_out(const fs::path& dir) {
+  if (fs::exists(dir) && !fs::is_directory(dir))
+    throw std::invalid_argument(fmt::format("--out: {} exists and is not a directory", dir.string()));
 }
 
 void write_verify_outputs(const fs::path& dir, const VerifyReport& rep,

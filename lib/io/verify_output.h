@@ -32,6 +32,11 @@ VerifyTables verify_tables(const VerifyReport& report);
 // name.csv, name.md, name.tex and name.json.
 void write_table_files(const std::filesystem::path& dir, const std::string& name, const Table& table);
 
+// Before any work (vrv verify --out, vrv.verify(out=)): `dir` is a directory or does not exist
+// yet (write_verify_outputs creates it); std::invalid_argument "--out: DIR exists and is not a
+// directory" otherwise.
+void check_verify_out(const std::filesystem::path& dir);
+
 // `extra`: further tables (e.g. {"bounds", ...}); parameters go to meta.json with the summary.
 void write_verify_outputs(const std::filesystem::path& dir, const VerifyReport& report,
                           const std::vector<std::pair<std::string, Table>>& extra,

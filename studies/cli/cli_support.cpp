@@ -2,6 +2,8 @@
 
 #include <charconv>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -40,6 +42,14 @@ Vec3 parse_vec3(const std::string& text, const std::string& option) {
 
 Scene load_scene_or_default(const std::string& path) {
   return path.empty() ? default_scene() : load_scene(path);
+}
+
+std::string scene_text_or_default(const std::string& path) {
+  if (path.empty()) return std::string(default_scene_toml());
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 nlohmann::ordered_json to_json(const ReferenceResult& r) {

@@ -34,6 +34,8 @@ class CommandFailed : public std::runtime_error {
 Vec3 parse_vec3(const std::string& text, const std::string& option);
 // The scene file, or the embedded default when `path` is empty.
 Scene load_scene_or_default(const std::string& path);
+// Its TOML text (the reference cache's key): the file's bytes, or the embedded default's.
+std::string scene_text_or_default(const std::string& path);
 // Every field of the result; value and error estimate are null when not finite.
 nlohmann::ordered_json to_json(const ReferenceResult& r);
 // Validates --tol: positive and finite.

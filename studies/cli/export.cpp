@@ -23,6 +23,7 @@
 #include "lib/io/transfer_export.h"
 #include "lib/io/volume_export.h"
 #include "lib/scene_hash.h"
+#include "lib/vrv.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 
@@ -56,16 +57,6 @@ std::array<int, 3> parse_resolution(const std::string& text) {
     n[a] = static_cast<int>(v[a]);
   }
   return n;
-}
-
-Camera export_camera(const Scene& scene) {
-  const Camera camera = scene.camera ? *scene.camera : default_camera(scene.box);
-  try {
-    validate(camera);
-  } catch (const CameraError& e) {
-    throw std::invalid_argument(fmt::format("[camera]: {}", e.what()));
-  }
-  return camera;
 }
 
 std::vector<OutputFile> field_files(const VolumeSamples& v, const ExportOptions& opt) {
@@ -137,7 +128,7 @@ void run_export(const ExportOptions& opt) {
   if (opt.table_points < 1 || opt.table_points > 1 << 20)
     throw std::invalid_argument(fmt::format("--table-points: must be in [1, 1048576], got {}", opt.table_points));
   const Scene scene = load_scene_or_default(opt.scene);
-  const Camera camera = export_camera(scene);
+  const Camera camera = scene_camera(scene);  // as vrv render has it
   std::optional<std::array<int, 3>> resolution;
   if (!opt.resolution.empty()) resolution = parse_resolution(opt.resolution);
   const VolumeSamples v = sample_volume(scene, resolution);

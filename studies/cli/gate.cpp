@@ -32,13 +32,6 @@ struct GateOptions {
   int threads = 0;
 };
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // `vrv study NAME --quick` in a child process (this executable), its checks read back from
 // meta.json.  Returns the child's exit code.
 int run_study_case(const GateCase& c, const fs::path& out, long& failed) {
@@ -72,6 +65,18 @@ int run_study_case(const GateCase& c, const fs::path& out, long& failed) {
   return rc;
 }
 
+// The render case's method at step h, as `vrv render --method ... --step h` takes it.
+DiscreteOptions discrete_options(const RenderSpec& spec, double h) {
+  DiscreteOptions d;
+  d.method = spec.method;
+  d.strategy = spec.strategy;
+  d.step = h;
+  d.oversample = spec.oversample;
+  d.correction = spec.correction;
+  d.precision = spec.precision;
+  return d;
+}
+
 std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
   Camera camera = scene.camera ? *scene.camera : default_camera(scene.box);
   if (c.width) camera.width = *c.width;
@@ -79,14 +84,7 @@ std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
   validate(camera);
   std::vector<ImageWithStep> images;
   for (double h : c.steps) {
-    DiscreteOptions d;
-    d.method = c.render->method;
-    d.strategy = c.render->strategy;
-    d.step = h;
-    d.oversample = c.render->oversample;
-    d.correction = c.render->correction;
-    d.precision = c.render->precision;
-    const DiscreteConfig config = *discrete_config(d, scene);
+    const DiscreteConfig config = *discrete_config(discrete_options(*c.render, h), scene);
     ChannelImage im;
     im.width = camera.width, im.height = camera.height;
     im.names = {"Y"};
@@ -101,28 +99,48 @@ std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
   return images;
 }
 
+// The case's steps, or for an images case without them each image's provenance step (as
+// `vrv verify` without --steps); one line naming the bounds file, case and image otherwise.
+std::vector<double> case_steps(const GateCase& c, const std::string& bounds) {
+  if (!c.steps.empty()) return c.steps;
+  std::vector<double> steps;
+  for (const fs::path& image : c.images) {
+    std::optional<double> step;
+    try {
+      step = provenance_step(image.string());
+    } catch (const VerifyInputError& e) {
+      throw std::invalid_argument(fmt::format("{}: case {}: {}", bounds, c.name, e.what()));
+    }
+    if (!step)
+      throw std::invalid_argument(fmt::format("{}: case {}: steps: not given, and {} has no step in its provenance "
+                                              "(vrv:step metadata): give steps = [H1, H2, ...] one per image",
+                                              bounds, c.name, image.string()));
+    steps.push_back(*step);
+  }
+  return steps;
+}
+
 int run_gate(const GateOptions& o) {
   const BoundsFile file = load_bounds(o.bounds);
   std::vector<const GateCase*> cases;
-  for (const GateCase& c : file.cases)
-    if (o.case_name.empty() || c.name == o.case_name) cases.push_back(&c);
-  if (cases.empty())
-    throw std::invalid_argument(o.case_name.empty() ? fmt::format("--bounds: {}: no [[case]] to run", o.bounds)
-                                                    : fmt::format("--case: {}: no case named '{}'", o.bounds, o.case_name));
+  if (!o.case_name.empty()) cases.push_back(&named_case(file, o.case_name));
+  else
+    for (const GateCase& c : file.cases) cases.push_back(&c);
+  if (cases.empty()) throw std::invalid_argument(fmt::format("--bounds: {}: no [[case]] to run", o.bounds));
   // Check every case's input before running any.
   std::vector<Scene> scenes;
+  std::vector<std::vector<double>> steps;
   for (const GateCase* c : cases) {
     if (!c->study.empty()) {
       scenes.emplace_back();
+      steps.emplace_back();
       continue;
     }
     scenes.push_back(load_scene_or_default(c->scene.string()));
+    steps.push_back(case_steps(*c, o.bounds));
     if (c->render) {
-      DiscreteOptions d;
-      d.method = c->render->method, d.strategy = c->render->strategy, d.step = c->steps.front();
-      d.oversample = c->render->oversample, d.correction = c->render->correction, d.precision = c->render->precision;
       try {
-        discrete_config(d, scenes.back());
+        discrete_config(discrete_options(*c->render, c->steps.front()), scenes.back());
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(fmt::format("{}: case {}: render: {}", o.bounds, c->name, e.what()));
       }
@@ -154,7 +172,7 @@ int run_gate(const GateOptions& o) {
       continue;
     }
     VerifyOptions opt;
-    opt.scene_text = c.scene.empty() ? std::string(default_scene_toml()) : read_text(c.scene);
+    opt.scene_text = scene_text_or_default(c.scene.string());
     opt.expected_order = c.expected_order;
     opt.threshold = c.bounds.threshold;
     opt.allow_nan = c.bounds.limits.count(Bound::max_nan) > 0;
@@ -163,7 +181,7 @@ int run_gate(const GateOptions& o) {
     if (!o.no_cache) opt.cache_dir = o.cache_dir.empty() ? default_cache_dir() : fs::path(o.cache_dir);
     std::vector<std::string> files;
     for (const auto& p : c.images) files.push_back(p.string());
-    const std::vector<ImageWithStep> images = c.render ? render_case(c, scenes[i]) : read_images(files, c.steps);
+    const std::vector<ImageWithStep> images = c.render ? render_case(c, scenes[i]) : read_images(files, steps[i]);
     const nlohmann::json parameters = {{"command", "gate"}, {"bounds", o.bounds}, {"case", c.name}};
     const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, out / c.name, parameters, o.no_plots);
     if (!run.report.pass)
@@ -210,16 +228,7 @@ void add_gate_command(CLI::App& app) {
   cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plots");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
   cmd->add_flag("--quiet", o->quiet, "No progress or summary on stderr");
-  cmd->callback([o] {
-    int rc = 0;
-    try {
-      rc = run_gate(*o);
-    } catch (const BoundsFileError& e) {
-      std::cerr << "vrv gate: " << e.what() << '\n';
-      std::exit(kExitBadInput);
-    }
-    if (rc != 0) std::exit(rc);
-  });
+  cmd->callback([o] { run_exiting("gate", [&] { return run_gate(*o); }); });
 }
 
 }  // namespace vrv::cli

@@ -26,6 +26,7 @@
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene_hash.h"
+#include "lib/vrv.h"
 #include "lib/io/study_file.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
@@ -127,25 +128,6 @@ void check_outputs(const OutputPaths& out, const std::string& error_against) {
               f.string(), input.string()));
     check_writable(f);
   }
-}
-
-Camera choose_camera(const Scene& scene, const RenderOptions& opt) {
-  Camera camera;
-  if (scene.camera) {
-    camera = *scene.camera;
-  } else {
-    camera = default_camera(scene.box);
-  }
-  if (opt.width) camera.width = *opt.width;
-  if (opt.height) camera.height = *opt.height;
-  try {
-    validate(camera);
-  } catch (const CameraError& e) {
-    if (e.field() == "width" && opt.width) throw std::invalid_argument("--width: " + e.reason());
-    if (e.field() == "height" && opt.height) throw std::invalid_argument("--height: " + e.reason());
-    throw std::invalid_argument(fmt::format("[camera]: {}", e.what()));
-  }
-  return camera;
 }
 
 struct Rendered {
@@ -321,7 +303,7 @@ void run_render(const RenderOptions& opt) {
   check_threads(opt.threads);
   const Scene scene = load_scene_or_default(opt.scene);
   const auto discrete = discrete_config(opt.discrete, scene);
-  const Camera camera = choose_camera(scene, opt);
+  const Camera camera = scene_camera(scene, opt.width, opt.height);  // --width/--height errors named
   const ImageProvenance provenance = render_provenance(scene, camera, discrete, opt.tol);
   check_outputs(out, opt.error_against);
   image_module::functions();  // a missing image module fails now, not after the render

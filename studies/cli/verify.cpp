@@ -11,6 +11,7 @@
 #include "lib/io/bounds_file.h"
 #include "lib/util/parallel.h"
 #include "lib/io/scene_file.h"
+#include "lib/io/verify_output.h"
 #include "studies/cli/verify_run.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
@@ -52,17 +53,10 @@ std::vector<double> parse_steps(const std::string& text) {
   return steps;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 int run_verify(const VerifyCliOptions& o) {
   const Scene scene = load_scene_or_default(o.scene);
   VerifyOptions opt;
-  opt.scene_text = o.scene.empty() ? std::string(default_scene_toml()) : read_text(o.scene);
+  opt.scene_text = scene_text_or_default(o.scene);
   opt.reference_tol = o.tol;
   check_tolerance(o.tol);
   opt.expected_order = o.expected_order;
@@ -83,21 +77,13 @@ int run_verify(const VerifyCliOptions& o) {
   std::optional<BoundSet> bounds;
   if (!o.bounds.empty()) {
     const BoundsFile file = load_bounds(o.bounds);
-    bounds = file.defaults;
-    if (!o.case_name.empty()) {
-      const auto it = std::find_if(file.cases.begin(), file.cases.end(),
-                                   [&](const GateCase& c) { return c.name == o.case_name; });
-      if (it == file.cases.end())
-        throw std::invalid_argument(fmt::format("--case: {}: no case named '{}'", o.bounds, o.case_name));
-      bounds = it->bounds;
-    }
+    bounds = chosen_bounds(file, o.case_name.empty() ? std::nullopt : std::optional(o.case_name));
     use_bounds(*bounds, opt, o.threshold);
   } else if (!o.case_name.empty()) {
     throw std::invalid_argument("--case: needs --bounds");
   }
   if (o.threshold) opt.threshold = *o.threshold;
-  if (!o.out.empty() && fs::exists(o.out) && !fs::is_directory(o.out))
-    throw std::invalid_argument(fmt::format("--out: {} exists and is not a directory", o.out));
+  if (!o.out.empty()) check_verify_out(o.out);
   const std::vector<ImageWithStep> images =
       read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
   const ThreadLimit threads(o.threads);
@@ -149,16 +135,7 @@ void add_verify_command(CLI::App& app) {
   cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plot");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
   cmd->add_flag("--quiet", o->quiet, "No progress or summary on stderr");
-  cmd->callback([o] {
-    int rc = 0;
-    try {
-      rc = run_verify(*o);
-    } catch (const BoundsFileError& e) {
-      std::cerr << "vrv verify: " << e.what() << '\n';
-      std::exit(kExitBadInput);
-    }
-    if (rc != 0) std::exit(rc);
-  });
+  cmd->callback([o] { run_exiting("verify", [&] { return run_verify(*o); }); });
 }
 
 }  // namespace vrv::cli

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/io/bounds_file.h"
 #include "lib/io/image_channels.h"
 #include "lib/io/image_io.h"
 #include "lib/io/verify_output.h"
@@ -37,19 +38,23 @@ std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, co
   return out;
 }
 
+std::optional<double> provenance_step(const std::string& file) {
+  try {
+    const std::optional<ImageProvenance> p = read_provenance(file);
+    return p ? p->step : std::nullopt;
+  } catch (const std::runtime_error& e) {
+    throw VerifyInputError(e.what());
+  }
+}
+
 std::vector<double> provenance_steps(const std::vector<std::string>& files) {
   std::vector<double> steps;
   for (const std::string& file : files) {
-    std::optional<ImageProvenance> p;
-    try {
-      p = read_provenance(file);
-    } catch (const std::runtime_error& e) {
-      throw VerifyInputError(e.what());
-    }
-    if (!p || !p->step)
+    const std::optional<double> step = provenance_step(file);
+    if (!step)
       throw VerifyInputError(fmt::format("--steps: not given, and {} has no step in its provenance (vrv:step "
                                          "metadata): give --steps H1,H2,... one per image", file));
-    steps.push_back(*p->step);
+    steps.push_back(*step);
   }
   return steps;
 }
@@ -73,6 +78,17 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
                                out.string());
   }
   return run;
+}
+
+void run_exiting(const char* command, const std::function<int()>& body) {
+  int rc = 0;
+  try {
+    rc = body();
+  } catch (const BoundsFileError& e) {
+    std::cerr << "vrv " << command << ": " << e.what() << '\n';
+    std::exit(kExitBadInput);
+  }
+  if (rc != 0) std::exit(rc);
 }
 
 std::string summary_text(const VerifyRun& run) {

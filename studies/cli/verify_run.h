@@ -13,6 +13,7 @@
 // so that CI scripts read every vrv command alike; idiff's separate warning code is not used
 // because a warning that fails CI is a fail level.
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -43,8 +44,16 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
                            const std::string& case_name, const std::filesystem::path& out,
                            const nlohmann::json& parameters, bool no_plots);
 
+// A subcommand's callback around `body` (verify, gate): a bad bounds file is one line
+// "vrv <command>: <file>: <key>: <reason>" and exit 2; a non-zero result is the exit code.
+void run_exiting(const char* command, const std::function<int()>& body);
+
 // The summary line on stderr: verdict, orders, nearest model, faults, failed bounds.
 std::string summary_text(const VerifyRun& run);
+
+// The sample distance the file's provenance records (vrv:step), if any; VerifyInputError when the
+// file cannot be read.
+std::optional<double> provenance_step(const std::string& file);
 
 // The sample distance each file's provenance records (ImageProvenance::step, lib/io/image_io.h),
 // for images written by vrv render or a renderer that writes "vrv:step"; VerifyInputError naming

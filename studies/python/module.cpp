@@ -5,6 +5,7 @@
 // Bad input raises with the command line's one-line message: ValueError for bad values,
 // FileNotFoundError / IsADirectoryError / PermissionError for scene files that cannot be read.
 #include <cerrno>
+#include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -206,20 +207,51 @@ ValueImage value_image(const py::handle& h, std::size_t index) {
 // The bounds of a bounds file: its [defaults], or the case named `case_name`.
 BoundSet bounds_of(const std::filesystem::path& file, const std::optional<std::string>& case_name) {
   const BoundsFile bounds = load_file<BoundsFileError>(file, [](const auto& p) { return load_bounds(p); });
-  if (!case_name) return bounds.defaults;
-  for (const GateCase& c : bounds.cases)
-    if (c.name == *case_name) return c.bounds;
-  throw std::invalid_argument(fmt::format("--case: {}: no case named '{}'", file.string(), *case_name));
+  return chosen_bounds(bounds, case_name);
+}
+
+// studies/engine/plot_study.py, looked for as `vrv verify` looks (studies/engine/study_runner.cpp):
+// under ./studies, <module dir>/../studies, $VRV_STUDY_PATH, the source tree the module was built from.
+std::filesystem::path plot_script() {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> dirs{fs::path("studies")};
+  const fs::path module(py::module_::import("vrv").attr("__file__").cast<std::string>());
+  dirs.push_back(fs::absolute(module).parent_path().parent_path() / "studies");
+  if (const char* env = std::getenv("VRV_STUDY_PATH"); env && *env) dirs.emplace_back(env);
+  dirs.push_back(fs::path(VRV_SOURCE_DIR) / "studies");
+  for (const fs::path& d : dirs)
+    if (std::error_code ec; fs::is_regular_file(d / "engine" / "plot_study.py", ec)) return d / "engine" / "plot_study.py";
+  return "studies/engine/plot_study.py";
+}
+
+// The log-log plot of `out`/plots.json, drawn as `vrv verify --out` draws it: the plot script run
+// by $VRV_PYTHON, else Debian's /usr/bin/python3 (python3-matplotlib), else python3.  A plot that
+// cannot be drawn is, as there, one line (a RuntimeWarning here) and not an error: the tables stand.
+void draw_plot(const std::filesystem::path& out) {
+  std::string python = "python3";
+  if (const char* env = std::getenv("VRV_PYTHON"); env && *env) python = env;
+  else if (std::error_code ec; std::filesystem::exists("/usr/bin/python3", ec)) python = "/usr/bin/python3";
+  int status = 127;  // could not be started, as draw_study_plots counts it
+  try {
+    status = py::module_::import("subprocess").attr("call")(
+        py::make_tuple(python, plot_script().string(), out.string())).cast<int>();
+  } catch (const py::error_already_set& e) {
+    if (!e.matches(PyExc_OSError)) throw;
+  }
+  const std::string line =
+      fmt::format("vrv.verify: {}: the plot could not be drawn (python3-matplotlib; VRV_PYTHON)", out.string());
+  if (status != 0 && PyErr_WarnEx(PyExc_RuntimeWarning, line.c_str(), 1) < 0) throw py::error_already_set();
 }
 
 // `vrv verify` in-process: the report as a dict (the JSON line `vrv verify` prints: to_json of
 // lib/verify.h, with the bounds' rows and `pass` including them when a bounds file is given),
-// and its files written into `out` when given (no plot: plots.json is there for plot_study.py).
+// and its files written into `out` when given, with the plot unless `plots` is false.
 py::object verify_py(const Scene& scene, const py::sequence& images, const std::vector<double>& steps,
                      std::optional<double> expected_order, double order_tolerance,
                      const std::string& order_metric, double tol, std::optional<double> threshold,
                      bool diagnose, double unit_distance, std::optional<std::filesystem::path> bounds,
-                     std::optional<std::string> case_name, std::optional<std::filesystem::path> out) {
+                     std::optional<std::string> case_name, std::optional<std::filesystem::path> out,
+                     bool plots) {
   VerifyOptions options;
   options.expected_order = expected_order;
   if (!(order_tolerance > 0)) throw std::invalid_argument("--order-tolerance: must be positive");
@@ -241,9 +273,7 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
     throw std::invalid_argument("--case: needs --bounds");
   }
   if (threshold) options.threshold = *threshold;
-  std::error_code ec;
-  if (out && std::filesystem::exists(*out, ec) && !std::filesystem::is_directory(*out, ec))
-    throw std::invalid_argument(fmt::format("--out: {} exists and is not a directory", out->string()));
+  if (out) check_verify_out(*out);
   std::vector<ValueImage> values;
   for (std::size_t i = 0; i < images.size(); ++i) values.push_back(value_image(images[i], i));
   VerifyReport report;
@@ -262,6 +292,7 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
       write_verify_outputs(*out, report, extra, parameters, 0);
     }
   }
+  if (out && plots) draw_plot(*out);
   nlohmann::ordered_json j = to_json(report);
   j["pass"] = report.pass && worst(rows) < BoundVerdict::fail;
   if (set) j["bounds"] = nlohmann::ordered_json::parse(bound_table(rows).to_json());
@@ -306,10 +337,11 @@ PYBIND11_MODULE(vrv, m) {
         py::arg("expected_order") = py::none(), py::arg("order_tolerance") = 0.25,
         py::arg("order_metric") = "rms", py::arg("tol") = 1e-10, py::arg("threshold") = py::none(),
         py::arg("diagnose") = true, py::arg("unit_distance") = 0.0, py::arg("bounds") = py::none(),
-        py::arg("case") = py::none(), py::arg("out") = py::none(),
+        py::arg("case") = py::none(), py::arg("out") = py::none(), py::arg("plots") = true,
         "`vrv verify` in-process: a renderer's images of the scene's camera ((height, width) arrays, "
         "one per sample distance in `steps`) against the reference.  Returns the report `vrv verify` "
         "prints, as a dict (pass, verdict, images, orders, diagnosis, faults, ...); `bounds`: a bounds "
         "file (its [defaults], or `case`), whose rows are added and whose fail levels `pass` includes; "
-        "`out`: a folder for its tables, error images and meta.json");
+        "`out`: a folder for its tables, error images, meta.json and the log-log plot "
+        "error_vs_step.{png,pdf} (`plots=False`: `vrv verify --no-plots`)");
 }

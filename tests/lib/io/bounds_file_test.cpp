@@ -48,6 +48,15 @@ study = "convergence"
   EXPECT_EQ(f.cases[1].study, "convergence");
 }
 
+TEST(BoundsFile, ImagesCaseMayLeaveStepsToProvenance) {
+  // No steps: vrv gate reads each image's vrv:step; with steps, one per image as before.
+  const BoundsFile f = parse_bounds("[[case]]\nname = \"x\"\nimages = [\"a.exr\", \"b.exr\"]\n", "dir/b.toml");
+  ASSERT_EQ(f.cases.size(), 1u);
+  EXPECT_TRUE(f.cases[0].steps.empty());
+  EXPECT_EQ(f.cases[0].images.size(), 2u);
+  EXPECT_EQ(f.cases[0].images[1], std::filesystem::path("dir/b.exr"));
+}
+
 TEST(BoundsFile, ErrorsNameFileAndKey) {
   EXPECT_EQ(error_of("[defaults]\nrms = { fial = 1 }\n").rfind("b.toml: defaults.rms.fial: unknown key", 0), 0u) << error_of("[defaults]\nrms = { fial = 1 }\n");
   EXPECT_NE(error_of("[defaults]\nrms = { warn = 1, fail = 0.5 }\n").find("ordered"), std::string::npos);
@@ -56,6 +65,9 @@ TEST(BoundsFile, ErrorsNameFileAndKey) {
   EXPECT_NE(error_of("[[case]]\nname = \"x\"\nsteps = [0.1]\n").find("exactly one of"), std::string::npos);
   EXPECT_NE(error_of("[[case]]\nname = \"x\"\nsteps = [0.1, 0.2]\nimages = [\"a.exr\"]\n").find("1 images for 2 steps"),
             std::string::npos);
+  EXPECT_NE(error_of("[[case]]\nname = \"x\"\nrender = { method = \"alpha\" }\n").find("b.toml: case[0].steps"),
+            std::string::npos);
+  EXPECT_NE(error_of("[[case]]\nname = \"x\"\nimages = []\n").find("case[0].images: empty"), std::string::npos);
   EXPECT_NE(error_of("[[case]]\nname = \"x\"\nstudy = \"s\"\n[[case]]\nname = \"x\"\nstudy = \"t\"\n").find("repeats"),
             std::string::npos);
   EXPECT_NE(error_of("colour = 1\n").find("colour"), std::string::npos);

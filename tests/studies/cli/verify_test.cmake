@@ -106,6 +106,30 @@ if(NOT verdict STREQUAL "fail")
   message(FATAL_ERROR "bounds_tight: ${bound} fail = ${tighter} below the measured ${measured} gave '${verdict}'")
 endif()
 
+# A gate images case without steps takes them from the images' provenance, as verify does: the
+# same bound rows as the case with its steps written out; an image without a step is refused,
+# naming the bounds file, the case and the image.
+set(case_images "images = [\"alpha_0.1.exr\", \"alpha_0.05.exr\", \"alpha_0.025.exr\", \"alpha_0.0125.exr\"]")
+set(case_bounds "scene = \"${SCENE}\"\nexpected_order = 2\nrms = { fail = 1e-2 }\nmin_order = { fail = 1.75 }\n")
+file(WRITE ${OUT}/gate_steps.toml "[[case]]\nname = \"c\"\n${case_bounds}${case_images}\nsteps = [0.1, 0.05, 0.025, 0.0125]\n")
+file(WRITE ${OUT}/gate_provenance.toml "[[case]]\nname = \"c\"\n${case_bounds}${case_images}\n")
+foreach(kind steps provenance)
+  run_vrv(0 gate_${kind} gate --bounds ${OUT}/gate_${kind}.toml --out ${OUT}/gate_${kind} --cache-dir ${OUT}/cache
+          --no-diagnosis --no-plots --quiet)
+  file(READ ${OUT}/gate_${kind}/bounds.json rows_${kind})
+endforeach()
+string(JSON rows_length LENGTH "${rows_provenance}")
+if(NOT rows_steps STREQUAL rows_provenance OR NOT rows_length EQUAL 2)
+  message(FATAL_ERROR "gate_provenance: bound rows\n${rows_provenance}\nagainst the case with steps\n${rows_steps}")
+endif()
+file(WRITE ${OUT}/gate_nostep.toml "[[case]]\nname = \"p\"\n${case_bounds}images = [\"alpha_0.1.exr\", \"v/reference.exr\"]\n")
+expect_bad_input(gate_no_provenance_step
+  "^vrv: error: .*gate_nostep.toml: case p: steps: not given, and .*v/reference.exr has no step in its provenance"
+  gate --bounds ${OUT}/gate_nostep.toml --out ${OUT}/gate_nostep --no-cache --quiet)
+if(EXISTS ${OUT}/gate_nostep/bounds.json)
+  message(FATAL_ERROR "gate_no_provenance_step: wrote bounds.json though the case was refused")
+endif()
+
 # A gate case naming a study that does not exist is bad input (exit 2), not a failed bound.
 file(WRITE ${OUT}/nostudy.toml "[[case]]\nname = \"s\"\nstudy = \"no_such_study\"\n")
 expect_bad_input(gate_no_study "case s: study no_such_study exited with 2"

@@ -5,6 +5,7 @@ command line's message."""
 import json
 import os
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -34,9 +35,29 @@ def test_numpy_raycaster_passes_and_its_files_are_written(scene_and_rays, tmp_pa
     nearest = report["diagnosis"][0]
     assert (nearest["rule"], nearest["placement"]) == ("alpha", "inviwo"), nearest
     assert report["faults"] == [], report["faults"]
-    for name in ("errors.csv", "orders.md", "diagnosis.json", "faults.csv", "reference.exr", "meta.json"):
+    for name in ("errors.csv", "orders.md", "diagnosis.json", "faults.csv", "reference.exr", "meta.json",
+                 "plots.json", "error_vs_step.png", "error_vs_step.pdf"):
         assert (tmp_path / "out" / name).is_file(), name
+    assert (tmp_path / "out" / "error_vs_step.png").stat().st_size > 0
     assert report["out"] == str(tmp_path / "out")
+
+
+def test_plot_failure_warns_and_keeps_the_tables(scene_and_rays, tmp_path, monkeypatch):
+    """As `vrv verify --out`: a plot that cannot be drawn is one line (a RuntimeWarning), not an
+    error; the tables are written.  plots=False draws nothing (`--no-plots`)."""
+    scene, origins, directions = scene_and_rays
+    images = [numpy_raycaster.render(origins, directions, h) for h in STEPS]
+    monkeypatch.setenv("VRV_PYTHON", str(tmp_path / "no-such-python"))
+    out = tmp_path / "failed"
+    with pytest.warns(RuntimeWarning, match=r"^vrv.verify: .*failed: the plot could not be drawn"):
+        report = vrv.verify(scene, images, STEPS, diagnose=False, out=str(out))
+    assert report["pass"] and (out / "errors.csv").is_file() and (out / "plots.json").is_file()
+    assert not (out / "error_vs_step.png").exists()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # not drawn, so nothing to warn about
+        vrv.verify(scene, images, STEPS, diagnose=False, out=str(tmp_path / "none"), plots=False)
+    assert (tmp_path / "none" / "plots.json").is_file()
+    assert not (tmp_path / "none" / "error_vs_step.png").exists()
 
 
 def test_planted_half_step_offset_fails_and_is_named(scene_and_rays):
