@@ -167,17 +167,19 @@ void resolve_smooth(const F& field, const Ray& ray, double a, double b, int leve
 // part k on, become one panel spanning at most `phase` radians of the local bound.  The largest
 // such m (the bound only grows with the stretch, so the test is monotone in m); 1 where the
 // field is as fast as its global bound, which keeps those panels (and values) as they were.
-// Only on stretches of at least kMinPartsToMerge parts: merged panels raise the estimate's
-// rounding floor (on the convergence scene, 2000 rays: largest estimate 5.4e-14 -> 1.5e-13, and
-// 149 rays missed tol 1e-13 that met it before), a price worth paying where the global sizing
-// spends hundreds of panels (the fM = 24 axis ray: 29,535 -> 198 evaluations), not on the few
-// panels of an ordinary ray, whose values stay bitwise as they were.
+// Merged panels raise the estimate's rounding floor (on the convergence scene, 2000 rays: largest
+// estimate 5.4e-14 -> 1.5e-13, and 149 rays missed tol 1e-13 that met it before), so they are
+// used where that floor is far below the tolerance (tol >= kMergeTolerance: the reference image
+// at 1e-10 costs a third) or where the global sizing spends many panels (at least
+// kMinPartsToMerge: the fM = 24 axis ray, 29,535 -> 198 evaluations).  Elsewhere (the few
+// panels of an ordinary ray at tol 1e-12) values stay bitwise as they were.
 inline constexpr double kMinPartsToMerge = 64;
+inline constexpr double kMergeTolerance = 1e-11;
 template <ScalarField F, class At>
 double panels_to_merge(const F& field, const Ray& ray, const At& at, double count, double k,
-                       double phase) {
+                       double phase, double tol) {
   if constexpr (!requires(const Vec3& p) { field.bandwidth_between(p, p); }) return 1;
-  if (count < kMinPartsToMerge) return 1;
+  if (count < kMinPartsToMerge && tol < kMergeTolerance) return 1;
   const double left = count - k;
   const auto fits = [&](double m) {
     const double t0 = at(k), t1 = at(k + m);
@@ -257,7 +259,7 @@ ReferenceResult integrate_reference(const F& field, const Box& box, const Transf
         acc.give_up(at(k));
         break;
       }
-      const double m = detail::panels_to_merge(field, local, at, count, k, phase);
+      const double m = detail::panels_to_merge(field, local, at, count, k, phase, options.tol);
       detail::resolve_smooth(field, local, at(k), at(k + m), 0, acc, evaluations);
       k += m;
     }
