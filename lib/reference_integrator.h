@@ -137,11 +137,14 @@ RayPanel fit_panel(const F& field, const Ray& ray, double a, double b, int n, lo
   return panel;
 }
 
+// Nodes of a panel of an analytic field (resolve_smooth).
+inline constexpr int kPanelNodes = 33;
+
 // Splits [a, b] until the proxy meets the field tolerance, consuming panels in ray order.
 template <ScalarField F>
 void resolve_smooth(const F& field, const Ray& ray, double a, double b, int level,
                     RayAccumulator& acc, long& evaluations) {
-  constexpr int n = 33;
+  constexpr int n = kPanelNodes;
   constexpr int max_level = 30;
   if (acc.stopped()) return;
   RayPanel panel = fit_panel(field, ray, a, b, n, evaluations);

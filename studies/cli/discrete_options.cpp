@@ -65,14 +65,17 @@ void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
   cmd.add_option("--classification", opt.classification, "post | pre (grid fields)")->capture_default_str();
   cmd.add_option("--precision", opt.precision, "double | float")->capture_default_str();
   add_convention_options(cmd, opt);
-  cmd.add_option("--max-work", opt.max_work,
-                 "Refuse runs estimated above this many samples (counted before casting)")
-      ->capture_default_str();
   const auto all = cmd.get_options();
   opt.given.assign(all.begin() + static_cast<long>(before), all.end());
+  cmd.add_option("--max-work", opt.max_work,
+                 "Refuse runs estimated above this many field evaluations: samples of --method, or the "
+                 "reference's (counted before casting)")
+      ->capture_default_str();
 }
 
 std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene) {
+  if (!(opt.max_work > 0))
+    throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", opt.max_work));
   if (opt.method.empty()) {
     for (const CLI::Option* o : opt.given)
       if (o->count() > 0)
@@ -81,8 +84,6 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
             o->get_name()));
     return std::nullopt;
   }
-  if (!(opt.max_work > 0))
-    throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", opt.max_work));
   DiscreteConfig c;
   c.rule = parse_choice<SegmentRule>(opt.method, "--method", parse_segment_rule,
                                      "riemann, alpha, trapezoid, exact_linear, moreland");
@@ -120,21 +121,7 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
   return c;
 }
 
-double samples_on_ray(const DiscreteConfig& config, const Scene& scene, const Ray& ray) {
-  const auto iv = clip(ray, scene.box);
-  if (!iv) return 0;
-  return static_cast<double>(plan_samples(config.sampling, ray, *iv, scene.box).count) * config.oversample;
-}
-
-namespace {
-// x rounded up to two significant digits, so that "--max-work <it>" printed with {:.2g} allows x.
-double round_up_2_digits(double x) {
-  const double unit = std::pow(10.0, std::floor(std::log10(x)) - 1);
-  return std::ceil(x / unit) * unit;
-}
-}  // namespace
-
-void refuse_work(const DiscreteOptions& opt, double samples, long rays) {
+void refuse_work(const DiscreteOptions& opt, bool discrete, double work, long rays) {
   std::string asked;
   for (const CLI::Option* o : opt.given) {
     const std::string name = o->get_name();
@@ -142,10 +129,11 @@ void refuse_work(const DiscreteOptions& opt, double samples, long rays) {
       asked += fmt::format("{}{} {}", asked.empty() ? "" : ", ", name, o->as<std::string>());
   }
   throw std::invalid_argument(fmt::format(
-      "{}: about {:.3g} samples on {} ray{}, above the work limit of {:.3g}; coarsen the sampling "
-      "or allow it with --max-work {:.2g}",
-      asked.empty() ? std::string("--max-work") : asked, samples, rays, rays == 1 ? "" : "s",
-      opt.max_work, round_up_2_digits(samples)));
+      "{}: about {:.3g} {} on {} ray{}, above the work limit of {:.3g}; {} or allow it with --max-work {}",
+      asked.empty() ? std::string("--max-work") : asked, work,
+      discrete ? "samples" : "field evaluations of the reference", rays, rays == 1 ? "" : "s", opt.max_work,
+      discrete ? "coarsen the sampling" : "loosen --tol, make the image smaller, simplify the field",
+      work_limit_allowing(work)));
 }
 
 }  // namespace vrv::cli

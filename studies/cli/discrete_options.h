@@ -8,6 +8,7 @@
 
 #include "lib/discrete_raycast.h"
 #include "lib/scene.h"
+#include "lib/work_estimate.h"
 
 namespace vrv::cli {
 
@@ -28,11 +29,12 @@ struct DiscreteOptions {
   std::string color = "straight";
   int table_size = 0;
   std::string table_lookup = "centred";
-  // Work limit: a run whose samples (estimated from the sample plans before anything is cast)
-  // exceed it is refused.  1e9 samples is about a minute to a few minutes on one core.
-  double max_work = 1e9;
   // Every option above except --method: each is refused without --method (it would do nothing).
   std::vector<CLI::Option*> given;
+  // Work limit, for the reference too: a run whose field evaluations (estimated before anything
+  // is cast, lib/work_estimate.h) exceed it is refused.  1e9 is about a minute to a few minutes
+  // on one core.
+  double max_work = 1e9;
 };
 
 void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt);
@@ -41,22 +43,21 @@ void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt);
 // option given without --method.
 std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene);
 
-// The samples the raycast takes on these rays (before early termination), from the sample plans
-// alone.  Throws std::invalid_argument when they exceed opt.max_work, with the estimate, the
-// refinement options that ask for it and the option that allows it (--max-work).
-template <class RayAt>
-double check_work(const DiscreteOptions& opt, const DiscreteConfig& config, const Scene& scene,
-                  long rays, RayAt&& ray_at);
-double samples_on_ray(const DiscreteConfig& config, const Scene& scene, const Ray& ray);
-void refuse_work(const DiscreteOptions& opt, double samples, long rays);
+// Throws the refusal: `discrete` says whether the work is samples or the reference's evaluations.
+[[noreturn]] void refuse_work(const DiscreteOptions& opt, bool discrete, double work, long rays);
 
+// The work of casting these rays, in field evaluations (lib/work_estimate.h): the discrete
+// raycast's samples (its sample plans, before early termination), or with no configuration the
+// reference's evaluations at `tol`.  Throws std::invalid_argument when it exceeds opt.max_work,
+// with the estimate, the options that ask for it and the option that allows it (--max-work).
 template <class RayAt>
-double check_work(const DiscreteOptions& opt, const DiscreteConfig& config, const Scene& scene,
-                  long rays, RayAt&& ray_at) {
-  double samples = 0;
-  for (long i = 0; i < rays; ++i) samples += samples_on_ray(config, scene, ray_at(i));
-  if (samples > opt.max_work) refuse_work(opt, samples, rays);
-  return samples;
+double check_work(const DiscreteOptions& opt, const std::optional<DiscreteConfig>& config, double tol,
+                  const Scene& scene, long rays, RayAt&& ray_at) {
+  double work = 0;
+  for (long i = 0; i < rays; ++i)
+    work += config ? discrete_samples(*config, scene, ray_at(i)) : reference_evaluations(scene, ray_at(i), tol);
+  if (work > opt.max_work) refuse_work(opt, config.has_value(), work, rays);
+  return work;
 }
 
 }  // namespace vrv::cli

@@ -102,7 +102,7 @@ std::vector<RayLine> read_rays_input(const std::string& path) {
 void run_rays(const Scene& scene, const RayOptions& opt, const std::optional<DiscreteConfig>& discrete) {
   const std::vector<RayLine> rays = read_rays_input(opt.rays);
   const long n = static_cast<long>(rays.size());
-  if (discrete) check_work(opt.discrete, *discrete, scene, n, [&](long i) { return rays[i].ray; });
+  check_work(opt.discrete, discrete, opt.tol, scene, n, [&](long i) { return rays[i].ray; });
   std::vector<Answer> answers(rays.size());
   {
     const ThreadLimit threads(opt.threads);
@@ -149,11 +149,9 @@ void run_one(const Scene& scene, const RayOptions& opt, const std::optional<Disc
   if (opt.threads_option->count() > 0)
     throw std::invalid_argument("--threads: applies to --rays only (one ray runs on one thread)");
   const Ray ray = ray_from_options(opt);
-  if (discrete) {
-    const double samples = check_work(opt.discrete, *discrete, scene, 1, [&](long) { return ray; });
-    if (samples > 1e8 && !opt.quiet && isatty(STDERR_FILENO))  // one ray has no progress steps
-      std::cerr << fmt::format("vrv ray: casting about {:.3g} samples...\n", samples);
-  }
+  const double work = check_work(opt.discrete, discrete, opt.tol, scene, 1, [&](long) { return ray; });
+  if (work > 1e8 && !opt.quiet && isatty(STDERR_FILENO))  // one ray has no progress steps
+    std::cerr << fmt::format("vrv ray: about {:.3g} field evaluations...\n", work);
   const Answer a = answer(scene, ray, opt, discrete);
   if (!a.finite)
     throw CommandFailed(kExitNotFinite,

@@ -309,11 +309,10 @@ void run_render(const RenderOptions& opt) {
   image_module::functions();  // a missing image module fails now, not after the render
   std::optional<ImageF64> ref;
   if (!opt.error_against.empty()) ref = read_reference_image(opt.error_against, camera, provenance.scene_hash);
-  if (discrete)
-    check_work(opt.discrete, *discrete, scene, static_cast<long>(camera.width) * camera.height,
-               [&](long i) {
-                 return camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
-               });
+  check_work(opt.discrete, discrete, opt.tol, scene, static_cast<long>(camera.width) * camera.height,
+             [&](long i) {
+               return camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
+             });
 
   if (!scene.camera)
     std::cerr << fmt::format(

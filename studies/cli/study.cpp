@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "lib/io/error_line.h"
 #include "lib/io/study_file.h"
@@ -21,6 +22,7 @@
 #include "studies/engine/memory_budget.h"
 #include "studies/engine/study_loader.h"
 #include "studies/engine/study_runner.h"
+#include "studies/engine/study_work.h"
 
 namespace vrv::cli {
 namespace {
@@ -28,8 +30,10 @@ namespace {
 struct StudyOptions {
   std::string study;
   bool list = false;
+  bool estimate = false;  // print the estimates, run nothing
   bool all = false;
   double max_memory_gib = 0;  // 0: default_memory_limit()
+  double max_work = kDefaultStudyWorkLimit;  // field evaluations (studies/engine/study_work.h)
   StudyRunOptions run;
 };
 
@@ -39,6 +43,26 @@ double memory_limit(const StudyOptions& opt) {
 
 LoadedStudy load(const std::filesystem::path& path, const StudyOptions& opt) {
   return load_study_file(path, {.memory_limit = memory_limit(opt)});
+}
+
+// The study, checked against the work limit for the variant it will run as.
+LoadedStudy load_to_run(const std::filesystem::path& path, const StudyOptions& opt) {
+  LoadedStudy study = load(path, opt);
+  if (!opt.estimate) check_study_work(study, opt.run.quick, opt.max_work);
+  return study;
+}
+
+// --estimate: one JSON line per study, what it would cost; nothing runs.
+void print_estimate(const LoadedStudy& study, const StudyOptions& opt) {
+  const StudyWork work = study.work ? study.work(opt.run.quick) : StudyWork{};
+  nlohmann::ordered_json line;
+  line["study"] = study.name;
+  line["quick"] = opt.run.quick;
+  line["memory_bytes"] = study.memory_bytes;
+  line["evaluations"] = work.evaluations();
+  line["within_limits"] = work.evaluations() <= opt.max_work;
+  line["parts"] = to_json(work)["parts"];
+  std::cout << line.dump() << '\n';
 }
 
 // --all: two files with one `name` would overwrite each other's folder; together, the studies'
@@ -85,6 +109,8 @@ int run_study(const StudyOptions& opt) {
     throw std::invalid_argument(fmt::format("--threads: must not be negative, got {}", opt.run.threads));
   if (opt.max_memory_gib < 0 || !std::isfinite(opt.max_memory_gib))
     throw std::invalid_argument(fmt::format("--max-memory: must be a positive number of GiB, got {}", opt.max_memory_gib));
+  if (!(opt.max_work > 0) || !std::isfinite(opt.max_work))
+    throw std::invalid_argument(fmt::format("--max-work: must be a positive number of field evaluations, got {}", opt.max_work));
   // Before any worker thread exists: SIGINT/SIGTERM go to the watcher (studies/engine/interrupt.h).
   const InterruptGuard interrupts;
   if (opt.all) {
@@ -94,12 +120,16 @@ int run_study(const StudyOptions& opt) {
     std::vector<LoadedStudy> studies;
     for (const auto& [name, path] : find_studies()) {
       try {
-        studies.push_back(load(path, opt));
+        studies.push_back(load_to_run(path, opt));
       } catch (const StudyFileError& e) {
         throw std::invalid_argument(e.what());
       }
     }
     check_all(studies, opt);
+    if (opt.estimate) {
+      for (const LoadedStudy& s : studies) print_estimate(s, opt);
+      return 0;
+    }
     int rc = 0;
     for (const LoadedStudy& s : studies) rc = std::max(rc, run_one(s, opt));
     return rc;
@@ -108,9 +138,13 @@ int run_study(const StudyOptions& opt) {
     throw std::invalid_argument("study: give a study NAME or FILE.toml (or --all, --list)");
   LoadedStudy study;
   try {
-    study = load(resolve_study(opt.study), opt);
+    study = load_to_run(resolve_study(opt.study), opt);
   } catch (const StudyFileError& e) {
     throw std::invalid_argument(e.what());
+  }
+  if (opt.estimate) {
+    print_estimate(study, opt);
+    return 0;
   }
   return run_one(study, opt);
 }
@@ -126,7 +160,7 @@ void add_study_command(CLI::App& app) {
       "$VRV_STUDY_PATH and the source tree vrv was built from.\n"
       "Writes OUT/NAME/: the study's own tables (CSV, Markdown, LaTeX), images and plots, plus "
       "checks.{csv,md,tex} and meta.json. stdout: one JSON line {\"study\", \"out\", \"pass\"}; "
-      "exit 1 when a check fails or the plots cannot be drawn, 2 for a bad study file, 130/143 when "
+      "exit 1 when a check fails or the plots cannot be drawn, 2 for a bad study file or one above --max-memory or --max-work, 130/143 when "
       "stopped by SIGINT/SIGTERM.\n"
       "The run is written to OUT/.NAME.partial/ and replaces OUT/NAME/ in one step when it is "
       "complete; an interrupted run leaves OUT/NAME/ as it was, and --resume continues it.\n"
@@ -143,6 +177,12 @@ void add_study_command(CLI::App& app) {
                 "Continue an interrupted run of this study from its checkpoints (OUT/.NAME.partial)");
   cmd->add_option("--max-memory", opt->max_memory_gib,
                   "GiB the study's grids may take (default: 3/4 of this machine's memory)");
+  cmd->add_option("--max-work", opt->max_work,
+                  "Field evaluations the study may take, estimated from its file before it runs "
+                  "(discrete samples and the reference's; see docs/robustness.md)")
+      ->capture_default_str();
+  cmd->add_flag("--estimate", opt->estimate,
+                "Print the study's estimated memory and field evaluations, per part, as one JSON line; run nothing");
   cmd->callback([opt] {
     const int rc = run_study(*opt);
     if (rc != 0) std::exit(rc);

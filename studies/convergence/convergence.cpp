@@ -18,6 +18,7 @@
 #include "lib/reference_integrator.h"
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
+#include "lib/work_estimate.h"
 #include "studies/engine/study_rays.h"
 #include "studies/engine/reference_audit.h"
 
@@ -162,6 +163,25 @@ StudyDefinition load_study(const std::filesystem::path& path) {
 
 namespace {
 
+// One method at world step h on the study's scene.
+DiscreteConfig step_config(const StudyDefinition& study, SegmentRule rule, double h) {
+  DiscreteConfig c;
+  c.rule = rule;
+  c.sampling.strategy = study.strategy;
+  c.sampling.step = h;
+  c.sampling.dims = study.scene.dims;
+  return c;
+}
+
+// One method on the node grid of `resolution`^3, its step tied to the cell.
+DiscreteConfig grid_config(const StudyDefinition& study, SegmentRule rule, int resolution) {
+  DiscreteConfig c;
+  c.rule = rule;
+  c.sampling.strategy = study.strategy;
+  c.sampling.step = study.grid_steps_per_cell * study.scene.box.extent().maxCoeff() / (resolution - 1);
+  return c;
+}
+
 // The errors [method][ray] of "reference" and each rule on one node grid of `resolution`^3.
 std::vector<double> grid_errors(const StudyDefinition& study, const AnalyticField& source,
                                 const std::vector<Ray>& rays, const std::vector<double>& truth,
@@ -170,15 +190,10 @@ std::vector<double> grid_errors(const StudyDefinition& study, const AnalyticFiel
   std::vector<double> error(M * n);
   const GridField grid = make_grid(study.scene.box, source, {resolution, resolution, resolution},
                                    GridLayout::node, Interpolation::trilinear);
-  const double cell = study.scene.box.extent().maxCoeff() / (resolution - 1);
   std::vector<DiscreteRaycaster<GridField>> casters;
-  for (const StudyMethod& m : study.methods) {
-    DiscreteConfig c;
-    c.rule = m.rule;
-    c.sampling.strategy = study.strategy;
-    c.sampling.step = study.grid_steps_per_cell * cell;
-    casters.emplace_back(grid, study.scene.box, study.scene.transfer, study.scene.background, c);
-  }
+  for (const StudyMethod& m : study.methods)
+    casters.emplace_back(grid, study.scene.box, study.scene.transfer, study.scene.background,
+                         grid_config(study, m.rule, resolution));
   parallel_for_index(static_cast<long>(n), [&](long i) {
     const Ray& ray = rays[static_cast<std::size_t>(i)];
     const double t = truth[static_cast<std::size_t>(i)];
@@ -263,11 +278,7 @@ StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progr
     casters.reserve(per_ray);
     for (const StudyMethod& m : study.methods)
       for (double h : study.steps) {
-        DiscreteConfig c;
-        c.rule = m.rule;
-        c.sampling.strategy = study.strategy;
-        c.sampling.step = h;
-        c.sampling.dims = study.scene.dims;
+        const DiscreteConfig c = step_config(study, m.rule, h);
         validate(c, std::is_same_v<F, GridField>);
         casters.emplace_back(field, study.scene.box, study.scene.transfer, study.scene.background, c);
       }
@@ -322,6 +333,22 @@ StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progr
   }
   if (!study.grid_resolutions.empty()) refine_grid(study, quick, rays, progress, checkpoint, result);
   return result;
+}
+
+StudyWork convergence_work(const StudyDefinition& study, bool quick) {
+  const double n = static_cast<double>(quick ? study.quick_count : study.count);
+  StudyWork work;
+  work.add("reference truths", n, reference_evaluations(study.scene, study.reference_tol));
+  for (const StudyMethod& m : study.methods)
+    for (double h : study.steps)
+      work.add(fmt::format("{} at step {:g}", segment_rule_name(m.rule), h), n,
+               discrete_samples(step_config(study, m.rule, h), study.scene));
+  for (int res : quick ? study.quick_grid_resolutions : study.grid_resolutions) {
+    double per_ray = grid_reference_evaluations({res, res, res}, 3);
+    for (const StudyMethod& m : study.methods) per_ray += discrete_samples(grid_config(study, m.rule, res), study.scene);
+    work.add(fmt::format("grid {}^3", res), n, per_ray);
+  }
+  return work;
 }
 
 StudyFiles study_tables(const StudyDefinition& study, const StudyResult& result) {

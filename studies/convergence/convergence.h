@@ -101,6 +101,9 @@ struct StudyResult {
 StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress,
                             const StudyCheckpoint& checkpoint = {});
 
+// Field evaluations of the run (full or `quick`), estimated from the definition alone.
+StudyWork convergence_work(const StudyDefinition& study, bool quick);
+
 struct StudyFiles {
   std::string errors_csv, orders_csv, orders_md, orders_tex;
   std::string grid_errors_csv, grid_orders_csv, grid_orders_md, grid_orders_tex;  // if refined

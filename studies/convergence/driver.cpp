@@ -45,9 +45,9 @@ constexpr const char* kGridPlots = R"json({
 }
 )json";
 
-StudyJob parse_convergence(const StudyInput& in) {
+StudyPlan parse_convergence(const StudyInput& in) {
   StudyDefinition study = read_convergence_study(in);
-  return [study](const StudyRun& run) {
+  StudyJob job = [study](const StudyRun& run) {
     const StudyResult result =
         run_convergence(study, run.quick, run.progress, checkpoint_function(run.checkpoints));
     write_study_tables(run.dir, study, result);
@@ -59,6 +59,7 @@ StudyJob parse_convergence(const StudyInput& in) {
     out.summary = fmt::format("{} rays, {} methods", result.rays, study.methods.size());
     return out;
   };
+  return {std::move(job), [study](bool quick) { return convergence_work(study, quick); }};
 }
 
 const RegisterStudyKind kConvergence{"convergence", parse_convergence};

@@ -7,7 +7,8 @@
 //
 // A driver registers itself from its own .cpp file:
 //   const RegisterStudyKind kSampling{"sampling", parse_sampling_study};
-// where parse_sampling_study(const StudyInput&) validates the file and returns the job to run.
+// where parse_sampling_study(const StudyInput&) validates the file and returns the job to run
+// with an estimate of its work (study_work.h), which `vrv study` checks before running it.
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -19,6 +20,7 @@
 
 #include "lib/io/study_file.h"
 #include "lib/order_estimate.h"
+#include "studies/engine/study_work.h"
 
 namespace vrv {
 
@@ -67,7 +69,15 @@ struct StudyOutcome {
 };
 
 using StudyJob = std::function<StudyOutcome(const StudyRun&)>;
-using StudyParse = StudyJob (*)(const StudyInput&);  // throws StudyFileError
+// The job's field evaluations, for the full run or the --quick one (`quick`), estimated without
+// casting a ray: each part (a configuration, or a group of them) its rays times the evaluations
+// on the longest of them (lib/work_estimate.h).
+using StudyWorkEstimate = std::function<StudyWork(bool quick)>;
+struct StudyPlan {
+  StudyJob job;
+  StudyWorkEstimate work;
+};
+using StudyParse = StudyPlan (*)(const StudyInput&);  // throws StudyFileError
 
 struct RegisterStudyKind {
   RegisterStudyKind(std::string kind, StudyParse parse);

@@ -5,6 +5,8 @@
 #include <toml++/toml.h>
 
 #include "studies/engine/memory_budget.h"
+#include "lib/work_estimate.h"
+#include "studies/engine/study_work.h"
 
 namespace vrv {
 
@@ -31,12 +33,24 @@ LoadedStudy load_study_text(std::string text, const std::string& source, const s
     r.fail("(memory)", fmt::format("its grids need {}, more than the limit of {} (raise it with "
                                    "--max-memory GIB)", describe(memory), gibibytes(limit)));
   s.memory_bytes = memory.bytes;
-  s.job = parse(StudyInput{doc, r, s.name});
+  StudyPlan plan = parse(StudyInput{doc, r, s.name});
+  s.job = std::move(plan.job);
+  s.work = std::move(plan.work);
   return s;
 }
 
 LoadedStudy load_study_file(const std::filesystem::path& path, const StudyLoadOptions& options) {
   return load_study_text(read_study_text(path), path.string(), path.stem().string(), options);
+}
+
+StudyWork check_study_work(const LoadedStudy& study, bool quick, double limit) {
+  StudyWork work = study.work ? study.work(quick) : StudyWork{};
+  const double evaluations = work.evaluations();
+  if (!(evaluations <= limit))  // NaN too: an estimate that cannot be made is not allowed
+    StudyReader(study.source).fail("(work)", fmt::format(
+        "{}{}, above the work limit of {:.2g}; allow it with --max-work {}", quick ? "--quick: " : "",
+        describe(work), limit, work_limit_allowing(evaluations)));
+  return work;
 }
 
 }  // namespace vrv

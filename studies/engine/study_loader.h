@@ -17,6 +17,7 @@ struct StudyLoadOptions {
 struct LoadedStudy {
   std::string name, kind, description, text, source;
   StudyJob job;
+  StudyWorkEstimate work;   // its field evaluations, full or --quick (study_work.h)
   double memory_bytes = 0;  // the estimate of its grids (memory_budget.h)
 };
 
@@ -25,5 +26,9 @@ struct LoadedStudy {
 LoadedStudy load_study_text(std::string text, const std::string& source, const std::string& default_name,
                             const StudyLoadOptions& options = {});
 LoadedStudy load_study_file(const std::filesystem::path& path, const StudyLoadOptions& options = {});
+
+// The study's work for the variant (`quick`); throws StudyFileError ("FILE: (work): ...", exit 2)
+// with the estimate, its largest part and the --max-work that would allow it when above `limit`.
+StudyWork check_study_work(const LoadedStudy& study, bool quick, double limit);
 
 }  // namespace vrv

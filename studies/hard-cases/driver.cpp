@@ -32,9 +32,9 @@ std::vector<StudyCheck> checks_of(const HardCasesResult& result) {
   return checks;
 }
 
-StudyJob parse_hard_cases(const StudyInput& in) {
+StudyPlan parse_hard_cases(const StudyInput& in) {
   HardCasesStudy study = read_hard_cases_study(in);
-  return [study](const StudyRun& run) {
+  StudyJob job = [study](const StudyRun& run) {
     const HardCasesResult result = run_hard_cases(study, run.progress, checkpoint_function(run.checkpoints));
     write_hard_case_tables(run.dir, study, result);
     StudyOutcome out;
@@ -44,6 +44,7 @@ StudyJob parse_hard_cases(const StudyInput& in) {
     out.summary = fmt::format("{} cases", result.case_summary.size());
     return out;
   };
+  return {std::move(job), [study](bool) { return hard_cases_work(study); }};
 }
 
 const RegisterStudyKind kHardCases{"hard_cases", parse_hard_cases};

@@ -13,6 +13,7 @@
 #include "lib/reference_integrator.h"
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
+#include "lib/work_estimate.h"
 #include "studies/engine/reference_audit.h"
 
 namespace vrv {
@@ -94,6 +95,18 @@ std::vector<double> stored(const StudyCheckpoint& checkpoint, const std::string&
   return checkpoint ? checkpoint(key, compute) : compute();
 }
 }  // namespace
+
+StudyWork hard_cases_work(const HardCasesStudy& study) {
+  StudyWork work;
+  for (const HardCase& hc : study.cases) {
+    const Ray ray = make_ray(hc.origin, hc.direction);
+    double per_ray = reference_evaluations(hc.scene, ray, study.reference_tol);  // the truth
+    for (const HardCaseMethod& m : hc.methods)
+      per_ray += m.reference ? reference_evaluations(hc.scene, ray, m.tol) : discrete_samples(m.config, hc.scene, ray);
+    work.add(fmt::format("case {}", hc.name), 1, per_ray);
+  }
+  return work;
+}
 
 HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress, const StudyCheckpoint& checkpoint) {
   const std::size_t C = study.cases.size();

@@ -74,6 +74,9 @@ HardCasesStudy load_hard_cases_study(const std::filesystem::path& path);
 // is finite and, for reference rows, error <= error_estimate + truth's estimate and
 // error_estimate <= tol, and, for discrete rows with max_error, error <= max_error.
 // checkpoint (studies/engine/checkpoint.h): each case's truth and each (case, method) row.
+// Field evaluations of the run (the same for --quick), on each case's own ray.
+StudyWork hard_cases_work(const HardCasesStudy& study);
+
 HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress,
                                const StudyCheckpoint& checkpoint = {});
 

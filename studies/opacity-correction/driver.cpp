@@ -163,9 +163,10 @@ OpacityStudy read_study(const StudyInput& in) {
   return s;
 }
 
-StudyJob parse_opacity_study(const StudyInput& in) {
+StudyPlan parse_opacity_study(const StudyInput& in) {
   const OpacityStudy study = read_opacity_study(in);
-  return [study](const StudyRun& run) { return run_opacity_study(study, run); };
+  return {[study](const StudyRun& run) { return run_opacity_study(study, run); },
+          [study](bool quick) { return opacity_work(study, quick); }};
 }
 
 const RegisterStudyKind kOpacityCorrection{"opacity_correction", parse_opacity_study};

@@ -42,5 +42,7 @@ struct OpacityStudy {
 OpacityStudy read_opacity_study(const StudyInput& in);
 // Runs every part, writes tables, images and plots.json into run.dir, returns the checks.
 StudyOutcome run_opacity_study(const OpacityStudy& s, const StudyRun& run);
+// Field evaluations of the run (full or `quick`): the renders, the sweep and the timed renders.
+StudyWork opacity_work(const OpacityStudy& s, bool quick);
 
 }  // namespace vrv

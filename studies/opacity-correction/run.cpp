@@ -9,6 +9,7 @@
 
 #include "lib/io/atomic_file.h"
 #include "lib/metrics.h"
+#include "lib/work_estimate.h"
 #include "studies/engine/study_rays.h"
 #include "lib/io/table.h"
 #include "studies/opacity-correction/opacity_correction.h"
@@ -405,6 +406,37 @@ std::string plots_json() {
 }
 
 }  // namespace
+
+StudyWork opacity_work(const OpacityStudy& s, bool quick) {
+  const auto samples = [&](Correction c, int N, bool centred, const Scene& scene) {
+    return discrete_samples(oversampled_config(c, N, s.scenes.unit_step, centred), scene);
+  };
+  const Scene& grid = s.scenes.sampled;
+  StudyWork work;
+  const double pixels = quick ? double(s.quick_width) * s.quick_height : double(s.camera.width) * s.camera.height;
+  // The reference, unit sampling, every (placement, correction) at render_N, and the fit's groups.
+  double render = reference_evaluations(s.scenes.analytic, s.scenes.reference_tol) +
+                  samples(Correction::none, 1, false, grid) + samples(Correction::none, s.render_N, false, grid);
+  for (bool centred : s.placements)
+    for (Correction c : s.corrections) render += samples(c, s.render_N, centred, grid);
+  work.add("render (Fig. 7)", pixels, render);
+  // Per placement: the reference, then at each N correction none and every correction.
+  const Scene& analytic = s.scenes.analytic;
+  double sweep = 0;
+  for (bool centred : s.placements) {
+    sweep += reference_evaluations(analytic, s.scenes.reference_tol);
+    for (int N : s.sweep_N) {
+      sweep += samples(Correction::none, N, centred, analytic);
+      for (Correction c : s.corrections) sweep += samples(c, N, centred, analytic);
+    }
+  }
+  work.add("sweep over N", static_cast<double>(quick ? s.quick_rays : s.rays), sweep);
+  const double timed = quick ? double(s.timing_qw) * s.timing_qh : double(s.timing_w) * s.timing_h;
+  const double passes = 1 + static_cast<double>(quick ? s.quick_render_repeats : s.render_repeats) *
+                                static_cast<double>(s.corrections.size());
+  work.add("timed renders (Table 1)", timed, passes * samples(Correction::none, s.timing_N, false, grid));
+  return work;
+}
 
 StudyOutcome run_opacity_study(const OpacityStudy& s, const StudyRun& run) {
   StudyOutcome out;

@@ -130,7 +130,7 @@ std::vector<double> read_rates(const StudyReader& r, const toml::table& t, std::
   return v;
 }
 
-StudyJob parse_sampling_study(const StudyInput& in) {
+StudyPlan parse_sampling_study(const StudyInput& in) {
   const StudyReader& r = in.reader;
   const toml::table& doc = in.doc;
   r.check_keys(doc, "", {"kind", "name", "description", "reference_tol", "strategies", "scene",
@@ -189,7 +189,8 @@ StudyJob parse_sampling_study(const StudyInput& in) {
   st.exact_bounds = read_bounds<Study::ExactBound>(r, checks, st, "exact", "max_error");
   st.keeps_every_ray = read_subset(r, checks, "keeps_every_ray", st.strategies);
   st.drops_corner_rays = read_subset(r, checks, "drops_corner_rays", st.strategies);
-  return [st](const StudyRun& run) { return run_sampling_study(st, run); };
+  return {[st](const StudyRun& run) { return run_sampling_study(st, run); },
+          [st](bool quick) { return sampling_work(st, quick); }};
 }
 
 const RegisterStudyKind kSampling{"sampling", parse_sampling_study};

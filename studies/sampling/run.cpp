@@ -7,8 +7,9 @@
 
 #include <fmt/format.h>
 
-#include "lib/util/progress.h"
 #include "lib/metrics.h"
+#include "lib/util/progress.h"
+#include "lib/work_estimate.h"
 #include "studies/engine/checkpoint.h"
 #include "studies/sampling/files.h"
 
@@ -96,6 +97,28 @@ std::vector<RayValue> discrete(Checkpoints* c, const std::string& key, const Sce
 }
 
 }  // namespace
+
+StudyWork sampling_work(const Study& st, bool quick) {
+  const Scene ramp = ramp_scene(st);
+  const Vec3 eye = fan_camera(st.setup).eye;
+  const double fan = st.setup.rays;
+  const double pixels = quick ? double(st.quick_width) * st.quick_height : double(st.width) * st.height;
+  StudyWork work;
+  work.add("fan truths (grid and ramp)", fan,
+           reference_evaluations(st.scene, st.reference_tol) + reference_evaluations(ramp, st.reference_tol));
+  for (SegmentRule rule : st.rules)
+    for (Strategy s : st.strategies)
+      for (double rate : st.order_rates)
+        work.add(fmt::format("fan, {} {} at rate {:g} (grid and ramp)", segment_rule_name(rule), strategy_name(s), rate),
+                 fan, discrete_samples(strategy_config(st.scene, rule, s, rate, eye), st.scene) +
+                          discrete_samples(strategy_config(ramp, rule, s, rate, eye), ramp));
+  work.add("image truths", pixels, reference_evaluations(st.scene, st.reference_tol));
+  for (double rate : st.image_rates)
+    for (Strategy s : st.strategies)
+      work.add(fmt::format("images, {} at rate {:g}", strategy_name(s), rate), pixels,
+               discrete_samples(strategy_config(st.scene, st.rules.front(), s, rate, eye), st.scene));
+  return work;
+}
 
 StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
   const Scene ramp = ramp_scene(st);

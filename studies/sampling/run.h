@@ -72,4 +72,7 @@ double closed_form(const Study& st, const Ray& ray, double kappa);
 
 StudyOutcome run_sampling_study(const Study& st, const StudyRun& run);
 
+// Field evaluations of the run (full or `quick`), estimated from the study alone.
+StudyWork sampling_work(const Study& st, bool quick);
+
 }  // namespace vrv::sampling_study

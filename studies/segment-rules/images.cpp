@@ -4,25 +4,55 @@
 #include <cmath>
 #include <type_traits>
 
+#include <fmt/format.h>
+
 #include "lib/discrete_raycast.h"
-#include "lib/util/progress.h"
-#include "lib/reference_integrator.h"
 #include "lib/metrics.h"
 #include "lib/order_estimate.h"
+#include "lib/reference_integrator.h"
+#include "lib/util/progress.h"
+#include "lib/work_estimate.h"
 #include "studies/engine/checkpoint.h"
-#include "studies/segment-rules/segment_rules.h"
 #include "studies/engine/reference_audit.h"
+#include "studies/segment-rules/segment_rules.h"
 
 namespace vrv {
+namespace {
 
-RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rules, Strategy strategy,
-                        double reference_tol, bool quick, bool progress, Checkpoints* checkpoints,
-                        const std::string& checkpoint_key) {
+DiscreteConfig step_config(SegmentRule rule, Strategy strategy, double h, const Scene& scene) {
+  DiscreteConfig c;
+  c.rule = rule;
+  c.sampling.strategy = strategy;
+  c.sampling.step = h;
+  c.sampling.dims = scene.dims;
+  return c;
+}
+
+Camera render_camera(const RenderSpec& spec, bool quick) {
   Camera camera = *spec.scene.camera;
   if (quick) {
     camera.width = spec.quick_width;
     camera.height = spec.quick_height;
   }
+  return camera;
+}
+
+}  // namespace
+
+void add_render_work(const RenderSpec& spec, const std::vector<RuleSpec>& rules, Strategy strategy,
+                     double reference_tol, bool quick, StudyWork& work) {
+  const Camera camera = render_camera(spec, quick);
+  double per_ray = reference_evaluations(spec.scene, reference_tol);
+  for (const RuleSpec& r : rules)
+    for (double h : quick ? spec.quick_steps : spec.steps)
+      per_ray += discrete_samples(step_config(r.rule, strategy, h, spec.scene), spec.scene);
+  work.add(fmt::format("images {}", spec.name), static_cast<double>(camera.width) * camera.height, per_ray);
+}
+
+RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rules, Strategy strategy,
+                        double reference_tol, bool quick, bool progress, Checkpoints* checkpoints,
+                        const std::string& checkpoint_key) {
+  const Camera camera = render_camera(spec, quick);
   const std::vector<double>& steps = quick ? spec.quick_steps : spec.steps;
   const std::size_t R = rules.size(), S = steps.size(), per_pixel = R * S;
   const long n = static_cast<long>(camera.width) * camera.height;
@@ -44,11 +74,7 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
     casters.reserve(per_pixel);
     for (const RuleSpec& r : rules)
       for (double h : steps) {
-        DiscreteConfig c;
-        c.rule = r.rule;
-        c.sampling.strategy = strategy;
-        c.sampling.step = h;
-        c.sampling.dims = scene.dims;
+        const DiscreteConfig c = step_config(r.rule, strategy, h, scene);
         validate(c, std::is_same_v<F, GridField>);
         casters.emplace_back(field, scene.box, scene.transfer, scene.background, c);
       }

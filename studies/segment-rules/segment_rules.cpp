@@ -352,9 +352,18 @@ StudyOutcome run_study(const SegmentRulesStudy& st, const StudyRun& run) {
   return out;
 }
 
-StudyJob parse_segment_rules(const StudyInput& in) {
+// The images' rays; the unit-segment grid casts none (closed forms and quadratures on n^2
+// opacity pairs, a second or two) and is left out.
+StudyWork study_work(const SegmentRulesStudy& st, bool quick) {
+  StudyWork work;
+  for (const RenderSpec& spec : st.renders) add_render_work(spec, st.rules, st.strategy, st.reference_tol, quick, work);
+  return work;
+}
+
+StudyPlan parse_segment_rules(const StudyInput& in) {
   SegmentRulesStudy st = read_study(in);
-  return [st](const StudyRun& run) { return run_study(st, run); };
+  return {[st](const StudyRun& run) { return run_study(st, run); },
+          [st](bool quick) { return study_work(st, quick); }};
 }
 
 const RegisterStudyKind kSegmentRules{"segment_rules", parse_segment_rules};

@@ -16,6 +16,7 @@
 #include "lib/sampling.h"
 #include "lib/scene.h"
 #include "lib/segment_rule.h"
+#include "studies/engine/study_work.h"
 
 namespace vrv {
 
@@ -89,5 +90,10 @@ struct RenderResult {
 RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rules, Strategy strategy,
                         double reference_tol, bool quick, bool progress, Checkpoints* checkpoints = nullptr,
                         const std::string& checkpoint_key = "render");
+
+// Adds the field evaluations of run_render(spec, ...) to `work` (the reference and every rule
+// at every step, on each pixel), estimated without casting a ray.
+void add_render_work(const RenderSpec& spec, const std::vector<RuleSpec>& rules, Strategy strategy,
+                     double reference_tol, bool quick, StudyWork& work);
 
 }  // namespace vrv

@@ -22,6 +22,7 @@
 #include "lib/io/table.h"
 #include "lib/metrics.h"
 #include "lib/order_estimate.h"
+#include "lib/work_estimate.h"
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
 #include "studies/engine/study_rays.h"
@@ -407,9 +408,27 @@ std::vector<StudyCheck> checks_of(const Definition& d, const std::vector<SpeedEr
   return checks;
 }
 
-StudyJob parse_speed_vs_error(const StudyInput& in) {
+// Every configuration is cast `repeats` times (the reference once more for its estimates); the
+// independent long-double truth is counted as the reference's work, which it resembles (adaptive
+// quadrature of the same integral).
+StudyWork study_work(const Definition& d, bool quick) {
+  const double n = static_cast<double>(quick ? d.quick_count : d.count);
+  const double repeats = static_cast<double>(quick ? d.quick_repeats : d.repeats);
+  StudyWork work;
+  work.add("reference truths and the independent truth", n, 2 * reference_evaluations(d.scene, d.reference_tol));
+  for (const Level& level : d.levels) {
+    if (quick && !level.quick) continue;
+    const StudyMethodSpec& spec = level.spec;
+    work.add(method_label(spec), n,
+             spec.reference ? (repeats + 1) * reference_evaluations(d.scene, spec.tol)
+                            : repeats * discrete_samples(spec.config, d.scene));
+  }
+  return work;
+}
+
+StudyPlan parse_speed_vs_error(const StudyInput& in) {
   Definition d = read_definition(in);
-  return [d](const StudyRun& run) {
+  StudyJob job = [d](const StudyRun& run) {
     const long n = run.quick ? d.quick_count : d.count;
     const std::vector<Ray> rays = study_rays(d.scene.box, n, d.seed);
     // Checkpoints (--resume): the reference on every ray, the truth, each configuration's row
@@ -477,6 +496,7 @@ StudyJob parse_speed_vs_error(const StudyInput& in) {
     out.summary = fmt::format("{} configurations on {} rays", pts.size(), n);
     return out;
   };
+  return {std::move(job), [d](bool quick) { return study_work(d, quick); }};
 }
 
 const RegisterStudyKind kSpeedVsError{"speed_vs_error", parse_speed_vs_error};

@@ -172,9 +172,9 @@ std::string plots_json(const CullingResult& c) {
                      c.equator_phi_text, c.equator_phi_text, c.equator_phi_text, c.bound, c.pof_block);
 }
 
-StudyJob parse_visibility(const StudyInput& in) {
+StudyPlan parse_visibility(const StudyInput& in) {
   const VisibilityStudy study = read_study(in);
-  return [study](const StudyRun& run) {
+  StudyJob job = [study](const StudyRun& run) {
     StudyOutcome out;
     const IdentityResult id = run_identity(study, run);
     const SamplesResult sm = run_threshold_samples(study, run);
@@ -197,6 +197,7 @@ StudyJob parse_visibility(const StudyInput& in) {
         100 * cu.mean_share_chord, 100 * cu.mean_share_seq, cu.n_theta * cu.n_phi, cu.max_error, cu.bound);
     return out;
   };
+  return {std::move(job), [study](bool quick) { return visibility_work(study, quick); }};
 }
 
 const RegisterStudyKind kVisibility{"visibility", parse_visibility};

@@ -13,6 +13,7 @@
 #include "lib/io/image_io.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
+#include "lib/work_estimate.h"
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/study_rays.h"
 #include "studies/engine/reference_audit.h"
@@ -450,6 +451,28 @@ CullingResult run_culling(const VisibilityStudy& s, const StudyRun& run) {
   out.checks.push_back({"POF culls", double(culled[kPof]), 0, culled[kPof] > 0,
                         "POF culling removes some blocks (the check is not vacuous)", CheckKind::derived});
   return out;
+}
+
+StudyWork visibility_work(const VisibilityStudy& s, bool quick) {
+  const Scene& scene = s.scene;
+  StudyWork work;
+  // Identities: per ray the two bases, per k the scaled and the summed one, both by the reference
+  // and by the raycast; and the two halves (reference) -- the whole ray each time (no early stop).
+  const double ks = static_cast<double>(s.identity.ks.size());
+  work.add("identities", static_cast<double>(quick ? s.identity.quick_rays : s.identity.rays),
+           (4 + 2 * ks) * reference_evaluations(scene, s.identity.reference_tol) +
+               (2 + 2 * ks) * discrete_samples(alpha_config(s.identity.step), scene));
+  const double side = static_cast<double>(quick ? s.termination.quick_image : s.termination.image);
+  work.add("early termination", side * side,
+           reference_evaluations(scene, s.termination.reference_tol) +
+               static_cast<double>(1 + s.termination.thresholds.size()) *
+                   discrete_samples(alpha_config(s.termination.step), scene));
+  // Culling: every view's pixels are sampled once, then composited per method from the samples.
+  const auto& views = quick ? s.culling.quick_views : s.culling.views;
+  const double cside = static_cast<double>(quick ? s.culling.quick_image : s.culling.image);
+  work.add("culling views", double(views[0]) * views[1] * cside * cside,
+           discrete_samples(alpha_config(s.culling.step), scene));
+  return work;
 }
 
 }  // namespace vrv

@@ -72,4 +72,7 @@ struct CullingResult {
 };
 CullingResult run_culling(const VisibilityStudy& s, const StudyRun& run);
 
+// Field evaluations of the four parts (full or `quick`), estimated from the study alone.
+StudyWork visibility_work(const VisibilityStudy& s, bool quick);
+
 }  // namespace vrv

@@ -401,7 +401,7 @@ expect_exit(rays_tol_missed 3 "rays_ramp.jsonl: 1 of 2 rays missed --tol 1e-30 .
 
 # Options that would do nothing are refused.
 foreach(opt "--rate;2" "--oversample;4" "--correction;lacroute" "--step;0.1" "--precision;float"
-            "--termination;0.9" "--max-work;1e12")
+            "--termination;0.9")
   list(GET opt 0 name)
   expect_exit(no_method${name} 2 "^vrv: error: ${name}: applies to a discrete raycast only" ""
     ray --origin -3,0,0 --direction 1,0,0 ${opt})
@@ -447,6 +447,15 @@ expect_exit(work_limit_raised 0 "" ""
 if(NOT LAST_OUT MATCHES "\"samples\":200000")
   message(FATAL_ERROR "work_limit_raised: ${LAST_OUT}")
 endif()
+# The reference's work too (issue 12: fM = 1e6 ran for minutes with no word): its field
+# evaluations, estimated per ray from the field's bandwidth and capped at its work cap.
+file(WRITE ${OUT}/fast.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\nfM = 1e6\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n")
+expect_exit(work_reference_render 2 "^vrv: error: --max-work: about 8.46e\\+09 field evaluations of the reference on 65536 rays, above the work limit of 1e\\+09; loosen --tol, make the image smaller, simplify the field or allow it with --max-work 8.5e\\+09$" ""
+  render --scene ${OUT}/fast.toml --reference -o ${OUT}/render_never.exr)
+expect_exit(work_reference_rays 2 "^vrv: error: --max-work: about 1e\\+06 field evaluations of the reference on 2 rays.*--max-work 1e\\+06$" ""
+  ray --scene ${OUT}/fast.toml --rays ${OUT}/rays_ramp.jsonl --max-work 5e5)
+# --max-work applies to the reference as well, so it is not refused without --method.
+expect_success(work_reference_allowed ray --origin -3,0,0 --direction 1,0,0 --max-work 1e12 --json)
 if(EXISTS ${OUT}/render_never.exr)
   message(FATAL_ERROR "a refused render wrote ${OUT}/render_never.exr")
 endif()

@@ -42,6 +42,28 @@ file(WRITE ${OUT}/big.toml "${text}")
 expect_bad_input(memory "big.toml: \\(memory\\): its grids need about 12.0 GiB \\(12 grids, the largest 512x512x512\\), more than the limit of 4.0 GiB \\(raise it with --max-memory GIB\\)"
   study ${OUT}/big.toml --quick --max-memory 4)
 
+# Work (issue 12): a million rays at fine steps is refused before anything runs, with the
+# estimate, its largest part and the --max-work that allows it; --estimate prints it and runs nothing.
+string(REGEX REPLACE "\ncount = [0-9]+" "\ncount = 1000000" text "${convergence}")
+string(REGEX REPLACE "\nsteps = [^\n]*" "\nsteps = [1e-4, 2e-4]" text "${text}")
+file(WRITE ${OUT}/many.toml "${text}")
+expect_bad_input(work "many.toml: \\(work\\): about 2.7e\\+11 field evaluations \\(the largest part: trapezoid at step 0.0001, 1000000 rays x 3.5e\\+04\\), above the work limit of 1e\\+11; allow it with --max-work 2.7e\\+11$"
+  study ${OUT}/many.toml --out ${OUT}/never)
+execute_process(COMMAND ${VRV} study ${OUT}/many.toml --estimate --out ${OUT}/never RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+string(JSON evaluations GET "${out}" evaluations)
+string(JSON within GET "${out}" within_limits)
+if(NOT rc EQUAL 0 OR NOT within STREQUAL "OFF" OR evaluations LESS 2.6e11 OR EXISTS ${OUT}/never)
+  message(FATAL_ERROR "estimate: exit ${rc}: ${out}")
+endif()
+# The limit is the study's own variant's: --quick is checked as --quick, and --max-work raises it.
+expect_bad_input(work_quick "hard-cases.toml: \\(work\\): --quick: about 2.4e\\+05 field evaluations .*--max-work 2.4e\\+05$"
+  study hard-cases --quick --max-work 1e5 --out ${OUT}/never)
+execute_process(COMMAND ${VRV} study hard-cases --quick --max-work 3e5 --no-plots --quiet --out ${OUT}/allowed RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT EXISTS ${OUT}/allowed/hard-cases/meta.json)
+  message(FATAL_ERROR "work_allowed: exit ${rc}: ${err}")
+endif()
+expect_bad_input(work_option "--max-work: must be a positive number of field evaluations, got -1$" study hard-cases --max-work -1)
+
 # A 10 MB table name: the line is cut.
 string(REPEAT "k" 1000000 name)
 string(REPEAT "${name}" 10 name)

@@ -20,7 +20,7 @@ const std::filesystem::path kStudyFile =
     std::filesystem::path(VRV_SOURCE_DIR) / "studies" / "sampling" / "sampling.toml";
 
 // The study's own file, parsed by the driver; the job is returned so the test can run it.
-StudyJob parse_text(const std::string& text) {
+StudyPlan parse_text(const std::string& text) {
   const toml::table doc = parse_study_toml(text, "test.toml");
   const StudyReader reader("test.toml");
   return find_study_kind("sampling")(StudyInput{doc, reader, "sampling"});

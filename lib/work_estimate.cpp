@@ -1,0 +1,78 @@
+#include "lib/work_estimate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "lib/discrete_raycast_impl.h"
+#include "lib/reference_integrator.h"
+#include "lib/sampling.h"
+
+namespace vrv {
+
+Ray box_diagonal(const Box& box) {
+  const Vec3 d = box.extent();
+  const double n = d.norm();
+  return {box.min, n > 0 ? Vec3(d / n) : Vec3(1, 0, 0)};
+}
+
+// The raycast's own count (DiscreteRaycaster::cast_in) without casting: the oversampled plan's
+// samples, the entry and exit nodes of a segment rule, and the unit samples Lee & Newman's
+// correction looks up when the oversamples are centred.
+double discrete_samples(const DiscreteConfig& config, const Scene& scene, const Ray& ray) {
+  const auto iv = clip(ray, scene.box);
+  if (!iv) return 0;
+  const SamplePlan plan = plan_samples(config.sampling, ray, *iv, scene.box);
+  const SamplePlan fine = detail::oversampled(plan, config.oversample, config.centred_oversamples);
+  double samples = static_cast<double>(fine.count);
+  if (is_segment_rule(config.rule)) samples += 2;
+  const bool lee_newman =
+      config.correction == Correction::lee_newman || config.correction == Correction::lee_newman_quadratic;
+  if (config.rule == SegmentRule::alpha && lee_newman && config.centred_oversamples && config.oversample > 1)
+    samples += static_cast<double>(plan.count);
+  return samples;
+}
+
+double discrete_samples(const DiscreteConfig& config, const Scene& scene) {
+  return discrete_samples(config, scene, box_diagonal(scene.box));
+}
+
+double reference_evaluations(const Scene& scene, const Ray& ray, double tol) {
+  const auto iv = clip(ray, scene.box);
+  if (!iv) return 0;
+  // The same stretches and first panels as integrate_reference (lib/reference_integrator.h).
+  return visit_field(scene, [&](const auto& field) {
+    std::vector<double> cuts{iv->t0};
+    field.append_breaks(ray, *iv, cuts);
+    cuts.push_back(iv->t1);
+    const double stretches = static_cast<double>(cuts.size() - 1);
+    const int degree = field.degree_along_ray();
+    double evaluations = 0;
+    if (degree >= 0) {
+      evaluations = stretches * (degree + 1);
+    } else {
+      const double panels = std::ceil((iv->t1 - iv->t0) * field.bandwidth() / first_panel_phase(tol));
+      evaluations = detail::kPanelNodes * std::max(stretches, panels);
+    }
+    return std::min(evaluations, static_cast<double>(detail::kMaxEvaluations));
+  });
+}
+
+double reference_evaluations(const Scene& scene, double tol) {
+  return reference_evaluations(scene, box_diagonal(scene.box), tol);
+}
+
+double grid_reference_evaluations(const std::array<int, 3>& nodes, int degree) {
+  const double cells = std::max(1, nodes[0] - 1) + std::max(1, nodes[1] - 1) + std::max(1, nodes[2] - 1);
+  return cells * (degree + 1);
+}
+
+std::string work_limit_allowing(double work) {
+  if (!(work > 0) || !std::isfinite(work)) return fmt::format("{:.2g}", work);
+  const double unit = std::pow(10.0, std::floor(std::log10(work)) - 1);
+  return fmt::format("{:.2g}", std::ceil(work / unit) * unit);
+}
+
+}  // namespace vrv

@@ -1,0 +1,44 @@
+#pragma once
+// A study's work, estimated from its parsed file before anything is cast: field evaluations
+// (discrete samples and the reference's evaluations, lib/work_estimate.h) summed over the parts
+// its driver declares.  `vrv study` refuses a study above its work limit (--max-work) with the
+// estimate and its largest part, as it refuses one whose grids do not fit (memory_budget.h):
+// a study of many large configurations would otherwise run for hours without a word.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace vrv {
+
+// The default limit: at about 1e8 evaluations a second on two cores (docs/robustness.md, "Work
+// limits"), some minutes to an hour; the shipped studies are below 1e10.
+inline constexpr double kDefaultStudyWorkLimit = 1e11;
+
+class StudyWork {
+ public:
+  struct Part {
+    std::string what;  // e.g. "images at rate 8 (trapezoid)"
+    double rays = 0;
+    double per_ray = 0;  // evaluations per ray (on the longest ray: an upper estimate)
+    double evaluations() const { return rays * per_ray; }
+  };
+
+  // `rays` rays of about `per_ray` field evaluations each.
+  void add(std::string what, double rays, double per_ray);
+  double evaluations() const;
+  const std::vector<Part>& parts() const { return parts_; }
+  const Part* largest() const;  // null when nothing was added
+
+ private:
+  std::vector<Part> parts_;
+};
+
+// {"evaluations", "parts": [{"what", "rays", "per_ray", "evaluations"}, ...]} (vrv study --estimate,
+// meta.json).
+nlohmann::json to_json(const StudyWork& work);
+
+// "about 3.2e+11 field evaluations (the largest part: images at rate 8, 65536 rays x 4.9e+06)".
+std::string describe(const StudyWork& work);
+
+}  // namespace vrv
