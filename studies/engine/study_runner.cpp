@@ -169,7 +169,7 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
     const ThreadLimit limit(opt.threads);
     StudyRun run{staging.dir(), opt.quick, !opt.quiet};
     run.checkpoints = &checkpoints;
-    reset_reference_audit();
+    start_reference_audit(checkpoints, staging.resumed());  // a resumed run: from the stored counts
     outcome = study.job(run);
     const ReferenceAuditCounts audit = reference_audit_counts();
     outcome.checks.push_back(reference_audit_check(audit));
