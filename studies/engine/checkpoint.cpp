@@ -46,6 +46,10 @@ Checkpoints::Checkpoints(const fs::path& dir, std::string_view identity, bool re
     throw StudyResumeError(fmt::format("{}: --resume: the study file or --quick differs from the "
                                        "interrupted run's; run without --resume",
                                        dir_.parent_path().string()));
+  if (resume)
+    for (const auto& e : fs::directory_iterator(dir_, ec))
+      if (e.path().extension() == ".txt" && e.path().filename() != kIdentityFile) found_stored_ = true;
+  ec.clear();
   fs::create_directories(dir_, ec);
   if (ec) throw std::runtime_error(fmt::format("{}: cannot create: {}", dir_.string(), ec.message()));
   write_file_atomically(dir_ / kIdentityFile, mine);
@@ -76,6 +80,7 @@ void Checkpoints::store(const std::string& key, const std::vector<double>& value
   std::string text;
   for (const double v : values) text += fmt::format("{:a}\n", v);  // exact; nan, inf as words
   text += "end\n";
+  if (before_store_) before_store_(dir_);
   write_file_atomically(dir_ / (key + ".txt"), text);
 }
 

@@ -37,11 +37,22 @@ class Checkpoints {
   long reused() const { return reused_; }    // configurations taken from the interrupted run
   long computed() const { return computed_; }
 
+  // Called with this folder before each checkpoint is written (from the storing thread; stores
+  // are concurrent, so the hook serialises itself): what the run's verdict needs beyond the
+  // values (the reference audit's counts, reference_audit.h) is stored first, so that no stored
+  // checkpoint goes without it, even when the process is killed between the two writes.
+  void before_store(std::function<void(const std::filesystem::path& dir)> hook) { before_store_ = std::move(hook); }
+  const std::filesystem::path& dir() const { return dir_; }
+  // The resumed run's folder held at least one checkpoint when this run began.
+  bool found_stored() const { return found_stored_; }
+
  private:
   std::optional<std::vector<double>> find(const std::string& key) const;
   void store(const std::string& key, const std::vector<double>& values);
 
   std::filesystem::path dir_;
+  std::function<void(const std::filesystem::path&)> before_store_;
+  bool found_stored_ = false;
   std::atomic<long> reused_{0}, computed_{0};
   long kill_after_ = 0;  // test hook: VRV_TEST_KILL_AFTER_CHECKPOINTS=N[:SIGNAL]
   int kill_signal_ = 9;

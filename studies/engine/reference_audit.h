@@ -4,10 +4,25 @@
 // word, so drivers compute their truths through audited_reference(), which counts the rays and the
 // misses, and the study runner adds one check to every study:
 //   reference_within_tolerance   value: truths that missed, bound 0 (kind derived)
-// The counters are process-wide (the runner runs one study at a time).  A truth restored from a
-// checkpoint by --resume is not audited again (checkpoints keep values, not verdicts): a resumed
-// run audits the truths it computes.
+// The counters are process-wide (the runner runs one study at a time).
+//
+// --resume: checkpoints keep values, not verdicts, so the verdicts are kept beside them.  Before
+// each checkpoint is written, the counters as they stand are written (atomically) to
+// reference_audit.snapshot in the checkpoints folder, and a resumed run starts its counters from
+// the last snapshot.  A truth is recorded before the checkpoint holding it is stored, and the
+// snapshots are taken and written one at a time, so the last snapshot counts every truth of every
+// stored checkpoint: no miss a resumed run reuses is lost, even when the process was killed
+// between a snapshot and its checkpoint.  The counts of a resumed run are an upper bound: a truth
+// recorded before the interruption whose checkpoint was not stored (one in flight, or one a study
+// recomputes on every run instead of storing it) is counted again when it is recomputed.  The
+// verdict is the same as an uninterrupted run's (a truth is deterministic: it misses in both runs
+// or in neither).
+#include <optional>
+#include <string>
+#include <string_view>
+
 #include "lib/reference_integrator.h"
+#include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
 
 namespace vrv {
@@ -34,6 +49,18 @@ ReferenceResult audited_reference(const Scene& scene, const Ray& ray, const Refe
 // Zeroes the counters (the runner, before a study).
 void reset_reference_audit();
 ReferenceAuditCounts reference_audit_counts();
+
+// For a run with checkpoints (the runner, before a study): the counters start at zero, or, when
+// `resume`, at the snapshot stored with the interrupted run's checkpoints; from now on a snapshot
+// is stored before each checkpoint (Checkpoints::before_store).  Throws StudyResumeError (one
+// line) when resuming checkpoints that have no snapshot (written by a vrv before the snapshots)
+// or an unreadable one: their misses cannot be known.
+void start_reference_audit(Checkpoints& checkpoints, bool resume);
+
+// The snapshot file's text: "rays N", "missed N", "largest_estimate X" (a C99 hex float, exact;
+// nan and inf as words) and "end" (written last), one a line; and back (nullopt for any other text).
+std::string reference_audit_snapshot(const ReferenceAuditCounts& counts);
+std::optional<ReferenceAuditCounts> parse_reference_audit_snapshot(std::string_view text);
 
 // The runner's check from the counts.
 StudyCheck reference_audit_check(const ReferenceAuditCounts& counts);

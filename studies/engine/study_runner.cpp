@@ -26,6 +26,7 @@
 
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/interrupt.h"
+#include "studies/engine/plot_script.h"
 #include "studies/engine/reference_audit.h"
 #include "studies/engine/staging.h"
 
@@ -44,25 +45,11 @@ std::string failures(const std::vector<StudyCheck>& checks) {
   return out;
 }
 
-// The plot script (studies/engine/plot_study.py) under the study directories, and a Python that
-// has matplotlib: $VRV_PYTHON, else Debian's /usr/bin/python3 (python3-matplotlib), else python3.
-fs::path plot_script() {
-  for (const fs::path& d : study_dirs())
-    if (std::error_code ec; fs::is_regular_file(d / "engine" / "plot_study.py", ec))
-      return d / "engine" / "plot_study.py";
-  return "studies/engine/plot_study.py";
-}
-
-std::string python() {
-  if (const char* env = std::getenv("VRV_PYTHON"); env && *env) return env;
-  if (std::error_code ec; fs::exists("/usr/bin/python3", ec)) return "/usr/bin/python3";
-  return "python3";
-}
-
-// Runs the plot script on `dir` (which has plots.json) in its own process group, which an
-// interruption ends; its messages go to stderr.  Its exit status (127: it could not be started).
+// Runs the plot script (plot_script.h) on `dir` (which has plots.json) in its own process group,
+// which an interruption ends; its messages go to stderr.  Its exit status (127: not started).
 int draw_plots(const fs::path& dir) {
-  const std::string py = python(), script = plot_script().string(), where = dir.string();
+  const std::string py = plot_python(), script = find_plot_script(study_dirs()).string();
+  const std::string where = dir.string();
   const pid_t pid = fork();
   if (pid < 0) return 127;
   if (pid == 0) {
@@ -169,7 +156,7 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
     const ThreadLimit limit(opt.threads);
     StudyRun run{staging.dir(), opt.quick, !opt.quiet};
     run.checkpoints = &checkpoints;
-    reset_reference_audit();
+    start_reference_audit(checkpoints, staging.resumed());  // a resumed run: from the stored counts
     outcome = study.job(run);
     const ReferenceAuditCounts audit = reference_audit_counts();
     outcome.checks.push_back(reference_audit_check(audit));
@@ -219,7 +206,7 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
     std::cerr << fmt::format(
         "vrv study: {}: plots: {} {} exited with {} (matplotlib: Debian's python3-matplotlib; "
         "set VRV_PYTHON, or pass --no-plots)\n",
-        study.name, python(), plot_script().string(), plots_status);
+        study.name, plot_python(), find_plot_script(study_dirs()).string(), plots_status);
     return 1;
   }
   if (!opt.quiet)

@@ -20,6 +20,7 @@
 #include "lib/io/verify_output.h"
 #include "lib/vrv.h"
 #include "studies/cli/discrete_options.h"
+#include "studies/engine/plot_script.h"
 
 namespace py = pybind11;
 
@@ -210,7 +211,7 @@ BoundSet bounds_of(const std::filesystem::path& file, const std::optional<std::s
   return chosen_bounds(bounds, case_name);
 }
 
-// studies/engine/plot_study.py, looked for as `vrv verify` looks (studies/engine/study_runner.cpp):
+// studies/engine/plot_study.py, looked for as `vrv verify` looks (studies/engine/plot_script.h):
 // under ./studies, <module dir>/../studies, $VRV_STUDY_PATH, the source tree the module was built from.
 std::filesystem::path plot_script() {
   namespace fs = std::filesystem;
@@ -219,18 +220,14 @@ std::filesystem::path plot_script() {
   dirs.push_back(fs::absolute(module).parent_path().parent_path() / "studies");
   if (const char* env = std::getenv("VRV_STUDY_PATH"); env && *env) dirs.emplace_back(env);
   dirs.push_back(fs::path(VRV_SOURCE_DIR) / "studies");
-  for (const fs::path& d : dirs)
-    if (std::error_code ec; fs::is_regular_file(d / "engine" / "plot_study.py", ec)) return d / "engine" / "plot_study.py";
-  return "studies/engine/plot_study.py";
+  return find_plot_script(dirs);
 }
 
 // The log-log plot of `out`/plots.json, drawn as `vrv verify --out` draws it: the plot script run
 // by $VRV_PYTHON, else Debian's /usr/bin/python3 (python3-matplotlib), else python3.  A plot that
 // cannot be drawn is, as there, one line (a RuntimeWarning here) and not an error: the tables stand.
 void draw_plot(const std::filesystem::path& out) {
-  std::string python = "python3";
-  if (const char* env = std::getenv("VRV_PYTHON"); env && *env) python = env;
-  else if (std::error_code ec; std::filesystem::exists("/usr/bin/python3", ec)) python = "/usr/bin/python3";
+  const std::string python = plot_python();
   int status = 127;  // could not be started, as draw_study_plots counts it
   try {
     status = py::module_::import("subprocess").attr("call")(

@@ -1,7 +1,14 @@
 #include "studies/engine/reference_audit.h"
 
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
 #include <gtest/gtest.h>
 
+#include "lib/io/atomic_file.h"
 #include "lib/io/scene_file.h"
 
 namespace vrv {
@@ -46,6 +53,90 @@ TEST(ReferenceAudit, ATruthThatMissedItsToleranceFailsTheCheck) {
   EXPECT_EQ(check.value, 1);
   reset_reference_audit();
   EXPECT_EQ(reference_audit_counts().rays, 0);
+}
+
+TEST(ReferenceAudit, SnapshotRoundTripsExactlyNaNAndInfinityIncluded) {
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const double estimate : {0.0, 4.1541867837243e-14, std::nextafter(1e-16, 1.0),
+                                std::numeric_limits<double>::denorm_min(), inf}) {
+    const ReferenceAuditCounts c{123456789012L, 42, estimate};
+    const auto back = parse_reference_audit_snapshot(reference_audit_snapshot(c));
+    ASSERT_TRUE(back) << reference_audit_snapshot(c);
+    EXPECT_EQ(back->rays, c.rays);
+    EXPECT_EQ(back->missed, c.missed);
+    EXPECT_EQ(back->largest_estimate, c.largest_estimate);  // bit for bit
+  }
+  const auto nan = parse_reference_audit_snapshot(
+      reference_audit_snapshot({3, 1, std::numeric_limits<double>::quiet_NaN()}));
+  ASSERT_TRUE(nan);
+  EXPECT_EQ(nan->missed, 1);
+  EXPECT_TRUE(std::isnan(nan->largest_estimate));
+}
+
+TEST(ReferenceAudit, AnythingButAWholeSnapshotIsRefused) {
+  const std::string good = reference_audit_snapshot({5, 2, 0x1p-40});
+  ASSERT_TRUE(parse_reference_audit_snapshot(good));
+  for (const std::string& bad : {std::string(), good.substr(0, good.size() - 4),  // no "end"
+                                good + "rays 1\n", std::string("rays 5\nmissed 6\nlargest_estimate 0\nend\n"),
+                                std::string("rays -1\nmissed 0\nlargest_estimate 0\nend\n"),
+                                std::string("rays 5\nmissed 2x\nlargest_estimate 0\nend\n"),
+                                std::string("rays 5\nmissed 2\nlargest_estimate 0x1q\nend\n"),
+                                std::string("missed 2\nrays 5\nlargest_estimate 0\nend\n")})
+    EXPECT_FALSE(parse_reference_audit_snapshot(bad)) << bad;
+}
+
+// A miss recorded before a checkpoint is stored is still counted by a run resuming that checkpoint
+// (which reuses the value and computes no truth); checkpoints without a snapshot are refused.
+TEST(ReferenceAudit, AResumedRunStartsFromTheCountsStoredWithItsCheckpoints) {
+  const std::filesystem::path dir = std::filesystem::path(VRV_BINARY_DIR) / "test_reference_audit_resume" /
+                                    std::to_string(::getpid());
+  std::filesystem::remove_all(dir);
+  {
+    Checkpoints first(dir, "study", false);
+    start_reference_audit(first, false);
+    first.get("truth", [] {
+      const ReferenceResult r =
+          audited_reference(marschner_lobb(1e6), make_ray({-3, 0.1, 0.2}, {1, 0, 0.01}), {1e-12});
+      return std::vector<double>{r.value};
+    });
+  }
+  const ReferenceAuditCounts before = reference_audit_counts();
+  ASSERT_EQ(before.rays, 1);
+  ASSERT_EQ(before.missed, 1);
+  reset_reference_audit();  // the process that stored the checkpoint is gone
+  {
+    Checkpoints resumed(dir, "study", true);
+    start_reference_audit(resumed, true);
+    bool computed = false;
+    resumed.get("truth", [&] {
+      computed = true;
+      return std::vector<double>{0};
+    });
+    EXPECT_FALSE(computed);
+    const ReferenceAuditCounts after = reference_audit_counts();
+    EXPECT_EQ(after.rays, before.rays);
+    EXPECT_EQ(after.missed, before.missed);
+    EXPECT_EQ(after.largest_estimate, before.largest_estimate);
+    EXPECT_FALSE(reference_audit_check(after).pass);
+  }
+  // A fresh run (not resuming) starts at zero whatever the folder holds.
+  {
+    Checkpoints fresh(dir, "study", false);
+    start_reference_audit(fresh, false);
+    EXPECT_EQ(reference_audit_counts().rays, 0);
+  }
+  std::filesystem::remove(dir / "reference_audit.snapshot");
+  {
+    Checkpoints old(dir, "study", true);
+    EXPECT_THROW(start_reference_audit(old, true), StudyResumeError);
+  }
+  write_file_atomically(dir / "reference_audit.snapshot", "rays 1\nmissed 1\n");
+  {
+    Checkpoints torn(dir, "study", true);
+    EXPECT_THROW(start_reference_audit(torn, true), StudyResumeError);
+  }
+  reset_reference_audit();
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
