@@ -831,6 +831,15 @@ def section_reference_image(build_dir, rounds=3):
         "`--before OLD_BUILD`.", 1200)
 
 
+def section_study_work(build_dir):
+    """study_work.py's table: each shipped study's estimated work against its wall time."""
+    return script_section(
+        "## Study work against time", "study_work.py", [str(build_dir)],
+        "every shipped study (full run, no plots) one after another: the field evaluations its file was "
+        "estimated at before it ran (what `vrv study --max-work` is checked against) and the estimate per "
+        "second of wall time, which says what the default limit of 1e10 means on this machine.", 1800)
+
+
 # ---- Main --------------------------------------------------------------------------------------
 
 def main():
@@ -865,6 +874,7 @@ def main():
 
     startup_text = section_startup(build_dir)
     reference_image_text = section_reference_image(build_dir)
+    study_work_text = section_study_work(build_dir)
     scaling_text, fits = section_scaling(by_name.get("bench_scaling"))
     largest_text, largest_headline = section_largest(by_name.get("bench_scaling"), fits, machine)
     built = [p.name for p in programs if p.built]
@@ -893,6 +903,8 @@ def main():
         startup_text,
         "",
         reference_image_text,
+        "",
+        study_work_text,
         "",
         scaling_text,
         "",

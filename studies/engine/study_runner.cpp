@@ -28,6 +28,7 @@
 #include "studies/engine/interrupt.h"
 #include "studies/engine/plot_script.h"
 #include "studies/engine/reference_audit.h"
+#include "studies/engine/study_work.h"
 #include "studies/engine/staging.h"
 
 namespace vrv {
@@ -86,6 +87,13 @@ nlohmann::json meta_json(const LoadedStudy& study, const StudyRunOptions& opt, c
   meta["pass"] = pass;
   meta["plots"] = plots;
   meta["summary"] = outcome.summary;
+  // The estimate the run was admitted on (study_work.h) and the rate it ran at on this machine:
+  // what calibrates --max-work (docs/robustness.md, "Work limits").
+  if (study.work) {
+    nlohmann::json work = to_json(study.work(opt.quick));
+    work["per_second"] = seconds > 0 ? work["evaluations"].get<double>() / seconds : 0.0;
+    meta["work_estimate"] = work;
+  }
   nlohmann::json checks = nlohmann::json::array();
   for (const StudyCheck& c : outcome.checks)
     checks.push_back({{"name", c.name},
