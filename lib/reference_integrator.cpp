@@ -1,6 +1,16 @@
 #include "lib/reference_integrator.h"
 
+#include <stdexcept>
+
+#include <fmt/format.h>
+
 namespace vrv {
+
+void validate(const ReferenceOptions& options) {
+  if (!(options.tol > 0) || !std::isfinite(options.tol))
+    throw std::invalid_argument(fmt::format("--tol: must be a positive finite number, got {}", options.tol));
+}
+
 namespace detail {
 namespace {
 

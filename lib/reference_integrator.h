@@ -33,6 +33,9 @@ struct ReferenceOptions {
   bool stop_when_opaque = true;
 };
 
+// Throws std::invalid_argument ("--tol: ...") unless options.tol is positive and finite.
+void validate(const ReferenceOptions& options);
+
 struct ReferenceResult {
   double value = 0;           // I
   double error_estimate = 0;  // bound on |I - value| (absolute)

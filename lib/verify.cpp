@@ -651,6 +651,19 @@ std::vector<double> discrete_image(const Scene& scene, const Camera& camera, con
   return cast_pixels(scene, camera, config, all);
 }
 
+void apply(const VerifySettings& s, VerifyOptions& o) {
+  validate(ReferenceOptions{s.tol});
+  if (!(s.order_tolerance > 0)) throw std::invalid_argument("--order-tolerance: must be positive");
+  const auto metric = parse_metric(s.order_metric);
+  if (!metric || *metric == Metric::fraction_over)
+    throw std::invalid_argument(fmt::format("--order-metric: '{}' is not one of max, mean, rms, p99", s.order_metric));
+  if (s.unit_distance < 0) throw std::invalid_argument("--unit-distance: must be positive");
+  o.reference_tol = s.tol;
+  o.order_tolerance = s.order_tolerance;
+  o.order_metric = *metric;
+  o.unit_distance = s.unit_distance;
+}
+
 VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& opt) {
   check_inputs(images, opt);

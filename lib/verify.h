@@ -74,6 +74,16 @@ struct VerifyOptions {
   bool allow_nan = false;
 };
 
+// What `vrv verify`'s options and vrv.verify's keywords set alike, from their text, checked in
+// this order; each problem is one std::invalid_argument naming the command-line option.
+struct VerifySettings {
+  double tol = 1e-10;            // --tol: positive and finite
+  double order_tolerance = 0.25;  // --order-tolerance: positive
+  std::string order_metric = "rms";  // --order-metric: max, mean, rms or p99
+  double unit_distance = 0;      // --unit-distance: not negative
+};
+void apply(const VerifySettings& settings, VerifyOptions& options);
+
 // Bad input (wrong size, NaN pixels, a missing step, ...): one line naming the image and reason.
 class VerifyInputError : public std::invalid_argument {
  public:

@@ -25,12 +25,6 @@ Camera scene_camera(const Scene& scene, std::optional<int> width, std::optional<
   return camera;
 }
 
-void validate(const ReferenceOptions& options) {
-  if (!(options.tol > 0) || !std::isfinite(options.tol))
-    throw std::invalid_argument(
-        fmt::format("--tol: must be a positive finite number, got {}", options.tol));
-}
-
 std::vector<Ray> camera_rays(const Camera& camera) {
   validate(camera);
   const long pixels = static_cast<long>(camera.width) * camera.height;

@@ -36,8 +36,6 @@ namespace vrv {
 Camera scene_camera(const Scene& scene, std::optional<int> width = std::nullopt,
                     std::optional<int> height = std::nullopt);
 
-// Throws std::invalid_argument ("--tol: ...") unless options.tol is positive and finite.
-void validate(const ReferenceOptions& options);
 
 // The ray through every pixel, row-major from the top-left (index y * width + x): the rays
 // render_reference_image() and render_discrete_image() cast.  Throws CameraError (invalid camera).

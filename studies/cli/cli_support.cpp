@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "lib/io/scene_file.h"
+#include "lib/reference_integrator.h"
 
 namespace vrv::cli {
 
@@ -64,10 +65,7 @@ nlohmann::ordered_json to_json(const ReferenceResult& r) {
   return j;
 }
 
-void check_tolerance(double tol) {
-  if (!(tol > 0) || !std::isfinite(tol))
-    throw std::invalid_argument(fmt::format("--tol: must be a positive finite number, got {}", tol));
-}
+void check_tolerance(double tol) { validate(ReferenceOptions{tol}); }
 
 void check_threads(int threads) {
   if (threads < 0)

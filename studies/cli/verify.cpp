@@ -57,21 +57,12 @@ int run_verify(const VerifyCliOptions& o) {
   const Scene scene = load_scene_or_default(o.scene);
   VerifyOptions opt;
   opt.scene_text = scene_text_or_default(o.scene);
-  opt.reference_tol = o.tol;
-  check_tolerance(o.tol);
+  apply(VerifySettings{o.tol, o.order_tolerance, o.order_metric, o.unit_distance}, opt);
   opt.expected_order = o.expected_order;
-  opt.order_tolerance = o.order_tolerance;
-  if (!(o.order_tolerance > 0)) throw std::invalid_argument("--order-tolerance: must be positive");
-  const auto metric = parse_metric(o.order_metric);
-  if (!metric || *metric == Metric::fraction_over)
-    throw std::invalid_argument(fmt::format("--order-metric: '{}' is not one of max, mean, rms, p99", o.order_metric));
-  opt.order_metric = *metric;
   if (o.alpha != "premultiplied" && o.alpha != "straight")
     throw std::invalid_argument(fmt::format("--alpha: '{}' is not premultiplied or straight", o.alpha));
   opt.alpha = o.alpha == "straight" ? AlphaMode::straight : AlphaMode::premultiplied;
   opt.diagnose = !o.no_diagnosis;
-  opt.unit_distance = o.unit_distance;
-  if (o.unit_distance < 0) throw std::invalid_argument("--unit-distance: must be positive");
   opt.progress = !o.quiet;
   if (!o.no_cache) opt.cache_dir = o.cache_dir.empty() ? default_cache_dir() : fs::path(o.cache_dir);
   std::optional<BoundSet> bounds;

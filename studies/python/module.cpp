@@ -250,18 +250,9 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
                      std::optional<std::string> case_name, std::optional<std::filesystem::path> out,
                      bool plots) {
   VerifyOptions options;
+  apply(VerifySettings{tol, order_tolerance, order_metric, unit_distance}, options);
   options.expected_order = expected_order;
-  if (!(order_tolerance > 0)) throw std::invalid_argument("--order-tolerance: must be positive");
-  options.order_tolerance = order_tolerance;
-  const auto metric = parse_metric(order_metric);
-  if (!metric || *metric == Metric::fraction_over)
-    throw std::invalid_argument(fmt::format("--order-metric: '{}' is not one of max, mean, rms, p99", order_metric));
-  options.order_metric = *metric;
-  options.reference_tol = tol;
-  validate(ReferenceOptions{tol});
   options.diagnose = diagnose;
-  if (unit_distance < 0) throw std::invalid_argument("--unit-distance: must be positive");
-  options.unit_distance = unit_distance;
   std::optional<BoundSet> set;
   if (bounds) {
     set = bounds_of(*bounds, case_name);

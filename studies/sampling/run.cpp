@@ -101,8 +101,9 @@ std::vector<RayValue> discrete(Checkpoints* c, const std::string& key, const Sce
 StudyWork sampling_work(const Study& st, bool quick) {
   const Scene ramp = ramp_scene(st);
   const Vec3 eye = fan_camera(st.setup).eye;
+  const Camera view = image_camera(st.setup, quick ? st.quick_width : st.width, quick ? st.quick_height : st.height);
   const double fan = st.setup.rays;
-  const double pixels = quick ? double(st.quick_width) * st.quick_height : double(st.width) * st.height;
+  const double pixels = static_cast<double>(view.width) * view.height;
   StudyWork work;
   work.add("fan truths (grid and ramp)", fan,
            reference_evaluations(st.scene, st.reference_tol) + reference_evaluations(ramp, st.reference_tol));
@@ -116,7 +117,7 @@ StudyWork sampling_work(const Study& st, bool quick) {
   for (double rate : st.image_rates)
     for (Strategy s : st.strategies)
       work.add(fmt::format("images, {} at rate {:g}", strategy_name(s), rate), pixels,
-               discrete_samples(strategy_config(st.scene, st.rules.front(), s, rate, eye), st.scene));
+               discrete_samples(strategy_config(st.scene, st.rules.front(), s, rate, view.eye), st.scene));
   return work;
 }
 

@@ -258,5 +258,31 @@ TEST_F(VerifyToy, RegionsSplitThePixels) {
   EXPECT_GT(r.reference.hit_pixels, r.reference.silhouette_pixels);
 }
 
+// vrv verify's options and vrv.verify's keywords go through one check: each bad value is one
+// line naming the command-line option, the first bad one in the documented order.
+TEST(VerifySettings, EachBadValueIsRefusedNamingItsOption) {
+  const auto message = [](VerifySettings s) {
+    VerifyOptions o;
+    try {
+      apply(s, o);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(message({0, 0.25, "rms", 0}), "--tol: must be a positive finite number, got 0");
+  EXPECT_EQ(message({1e-10, 0, "rms", 0}), "--order-tolerance: must be positive");
+  EXPECT_EQ(message({1e-10, 0.25, "fraction_over", 0}), "--order-metric: 'fraction_over' is not one of max, mean, rms, p99");
+  EXPECT_EQ(message({1e-10, 0.25, "median", 0}), "--order-metric: 'median' is not one of max, mean, rms, p99");
+  EXPECT_EQ(message({1e-10, 0.25, "rms", -1}), "--unit-distance: must be positive");
+  EXPECT_EQ(message({std::nan(""), -1, "median", -1}), "--tol: must be a positive finite number, got nan");
+  VerifyOptions o;
+  apply({1e-9, 0.5, "p99", 2}, o);
+  EXPECT_EQ(o.reference_tol, 1e-9);
+  EXPECT_EQ(o.order_tolerance, 0.5);
+  EXPECT_EQ(o.order_metric, Metric::p99);
+  EXPECT_EQ(o.unit_distance, 2);
+}
+
 }  // namespace
 }  // namespace vrv
