@@ -47,7 +47,13 @@ inline SamplePlan oversampled(const SamplePlan& plan, int N, bool centred = fals
   if (centred) fine.t_first = plan.t_first - (plan.dt - fine.dt) / 2;
   fine.count = 0;
   if (plan.count == 0) return fine;
-  while (fine.t(fine.count) < fine.t_end) ++fine.count;
+  // The first n with t(n) >= t_end, found from its estimate as make_plan (lib/sampling.cpp) does:
+  // the same count as stepping from 0, without a loop as long as the ray (work estimates call it
+  // for runs they are about to refuse).
+  long n = std::max(0L, static_cast<long>(std::ceil((fine.t_end - fine.t_first) / fine.dt)));
+  while (n > 0 && !(fine.t(n - 1) < fine.t_end)) --n;
+  while (fine.t(n) < fine.t_end) ++n;
+  fine.count = n;
   return fine;
 }
 

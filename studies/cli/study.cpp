@@ -54,7 +54,7 @@ LoadedStudy load_to_run(const std::filesystem::path& path, const StudyOptions& o
 
 // --estimate: one JSON line per study, what it would cost; nothing runs.
 void print_estimate(const LoadedStudy& study, const StudyOptions& opt) {
-  const StudyWork work = study.work ? study.work(opt.run.quick) : StudyWork{};
+  const StudyWork work = estimate_study_work(study, opt.run.quick);
   nlohmann::ordered_json line;
   line["study"] = study.name;
   line["quick"] = opt.run.quick;

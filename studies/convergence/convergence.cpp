@@ -343,7 +343,10 @@ StudyWork convergence_work(const StudyDefinition& study, bool quick) {
     for (double h : study.steps)
       work.add(fmt::format("{} at step {:g}", segment_rule_name(m.rule), h), n,
                discrete_samples(step_config(study, m.rule, h), study.scene));
-  for (int res : quick ? study.quick_grid_resolutions : study.grid_resolutions) {
+  const std::vector<int>& resolutions = quick ? study.quick_grid_resolutions : study.grid_resolutions;
+  if (!resolutions.empty()) work.add("grid truths", n, reference_evaluations(study.scene, study.reference_tol));
+  for (int res : resolutions) {
+    work.add(fmt::format("grid {}^3 built", res), 1, std::pow(double(res), 3));  // the analytic field at every node
     double per_ray = grid_reference_evaluations({res, res, res}, 3);
     for (const StudyMethod& m : study.methods) per_ray += discrete_samples(grid_config(study, m.rule, res), study.scene);
     work.add(fmt::format("grid {}^3", res), n, per_ray);

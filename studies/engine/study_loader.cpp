@@ -43,8 +43,16 @@ LoadedStudy load_study_file(const std::filesystem::path& path, const StudyLoadOp
   return load_study_text(read_study_text(path), path.string(), path.stem().string(), options);
 }
 
+StudyWork estimate_study_work(const LoadedStudy& study, bool quick) {
+  try {
+    return study.work ? study.work(quick) : StudyWork{};
+  } catch (const std::invalid_argument& e) {  // plan_samples: more than 1e12 samples on a ray
+    StudyReader(study.source).fail("(work)", e.what());
+  }
+}
+
 StudyWork check_study_work(const LoadedStudy& study, bool quick, double limit) {
-  StudyWork work = study.work ? study.work(quick) : StudyWork{};
+  StudyWork work = estimate_study_work(study, quick);
   const double evaluations = work.evaluations();
   if (!(evaluations <= limit))  // NaN too: an estimate that cannot be made is not allowed
     StudyReader(study.source).fail("(work)", fmt::format(

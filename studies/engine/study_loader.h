@@ -27,8 +27,11 @@ LoadedStudy load_study_text(std::string text, const std::string& source, const s
                             const StudyLoadOptions& options = {});
 LoadedStudy load_study_file(const std::filesystem::path& path, const StudyLoadOptions& options = {});
 
-// The study's work for the variant (`quick`); throws StudyFileError ("FILE: (work): ...", exit 2)
-// with the estimate, its largest part and the --max-work that would allow it when above `limit`.
+// The study's work for the variant (`quick`); a configuration the estimate cannot plan (more than
+// 1e12 samples on a ray) is a StudyFileError "FILE: (work): ...".
+StudyWork estimate_study_work(const LoadedStudy& study, bool quick);
+// ... and a StudyFileError ("FILE: (work): ...", exit 2) with the estimate, its largest part and
+// the --max-work that would allow it when above `limit`.
 StudyWork check_study_work(const LoadedStudy& study, bool quick, double limit);
 
 }  // namespace vrv

@@ -462,6 +462,7 @@ StudyWork visibility_work(const VisibilityStudy& s, bool quick) {
   work.add("identities", static_cast<double>(quick ? s.identity.quick_rays : s.identity.rays),
            (4 + 2 * ks) * reference_evaluations(scene, s.identity.reference_tol) +
                (2 + 2 * ks) * discrete_samples(alpha_config(s.identity.step), scene));
+  work.add("58.4 samples", 2, static_cast<double>(s.samples.ray_samples));  // with and without termination
   const double side = static_cast<double>(quick ? s.termination.quick_image : s.termination.image);
   work.add("early termination", side * side,
            reference_evaluations(scene, s.termination.reference_tol) +
