@@ -57,6 +57,13 @@ inline SamplePlan oversampled(const SamplePlan& plan, int N, bool centred = fals
   return fine;
 }
 
+// Lee & Newman's correction aims at the unit sample's transparency; with centred oversamples the
+// unit sample is not among them, so each group of the alpha rule looks it up once more.
+inline bool looks_up_unit_samples(const DiscreteConfig& c) {
+  const bool lee_newman = c.correction == Correction::lee_newman || c.correction == Correction::lee_newman_quadratic;
+  return c.rule == SegmentRule::alpha && lee_newman && c.centred_oversamples && c.oversample > 1;
+}
+
 // One segment between two classified nodes h apart, by the segment rules.
 template <class Real>
 Composite<Real> segment(SegmentRule rule, const Classified<Real>& a, const Classified<Real>& b, Real h) {
@@ -169,9 +176,7 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
         // sample's transparency) costs one more lookup; the last, partial group of a ray may have
         // no unit sample inside the ray, and then aims at its first oversample.
         std::optional<double> unit_alpha;
-        const bool lee_newman = config_.correction == Correction::lee_newman ||
-                                config_.correction == Correction::lee_newman_quadratic;
-        if (lee_newman && config_.centred_oversamples && N > 1 && m0 / N < plan.count)
+        if (detail::looks_up_unit_samples(config_) && m0 / N < plan.count)
           unit_alpha = sample(Real(plan.t(m0 / N))).alpha_unit;
         correct_group(config_.correction, std::span(alphas).first(n), std::span(colors).first(n), N,
                       unit_alpha);

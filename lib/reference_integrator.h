@@ -217,6 +217,14 @@ inline double first_panel_phase(double tol) {
   return kPanelPhase * std::pow(std::clamp(tol, 1e-10, 1e-1) / 1e-10, 1.0 / 33);
 }
 
+// The first panels of a stretch [a, b]: equal parts at most first_panel_phase(tol) radians of
+// the field's bandwidth long (the whole stretch for a field without one), at least one.  A double,
+// not an int: a long ray or a huge bandwidth asks for more panels than any integer holds.
+inline double first_panel_length(double bandwidth, double tol, double a, double b) {
+  return bandwidth > 0 ? first_panel_phase(tol) / bandwidth : b - a;
+}
+inline double first_panel_count(double h0, double a, double b) { return std::max(1.0, std::ceil((b - a) / h0)); }
+
 template <ScalarField F>
 ReferenceResult integrate_reference(const F& field, const Box& box, const TransferFunction& tf,
                                     double background, const Ray& ray,
@@ -251,10 +259,9 @@ ReferenceResult integrate_reference(const F& field, const Box& box, const Transf
       continue;
     }
     const double phase = first_panel_phase(options.tol);
-    const double h0 = field.bandwidth() > 0 ? phase / field.bandwidth() : b - a;
-    // A double, not an int: a long ray or a huge bandwidth asks for more panels than any
-    // integer holds; the work cap ends the loop long before k loses integer precision.
-    const double count = std::max(1.0, std::ceil((b - a) / h0));
+    const double h0 = first_panel_length(field.bandwidth(), options.tol, a, b);
+    // The work cap ends the loop long before k loses integer precision.
+    const double count = first_panel_count(h0, a, b);
     if (count > 1 && h0 < 16 * std::numeric_limits<double>::epsilon() * std::max(std::abs(a), std::abs(b))) {
       acc.give_up(a);  // the field varies faster than positions along the ray can resolve
       break;

@@ -28,10 +28,7 @@ double discrete_samples(const DiscreteConfig& config, const Scene& scene, const 
   const SamplePlan fine = detail::oversampled(plan, config.oversample, config.centred_oversamples);
   double samples = static_cast<double>(fine.count);
   if (is_segment_rule(config.rule)) samples += 2;
-  const bool lee_newman =
-      config.correction == Correction::lee_newman || config.correction == Correction::lee_newman_quadratic;
-  if (config.rule == SegmentRule::alpha && lee_newman && config.centred_oversamples && config.oversample > 1)
-    samples += static_cast<double>(plan.count);
+  if (detail::looks_up_unit_samples(config)) samples += static_cast<double>(plan.count);
   return samples;
 }
 
@@ -47,14 +44,14 @@ double reference_evaluations(const Scene& scene, const Ray& ray, double tol) {
     std::vector<double> cuts{iv->t0};
     field.append_breaks(ray, *iv, cuts);
     cuts.push_back(iv->t1);
-    const double stretches = static_cast<double>(cuts.size() - 1);
+    std::sort(cuts.begin(), cuts.end());
     const int degree = field.degree_along_ray();
     double evaluations = 0;
-    if (degree >= 0) {
-      evaluations = stretches * (degree + 1);
-    } else {
-      const double panels = std::ceil((iv->t1 - iv->t0) * field.bandwidth() / first_panel_phase(tol));
-      evaluations = detail::kPanelNodes * std::max(stretches, panels);
+    for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+      const double a = cuts[i], b = cuts[i + 1];
+      if (!(b > a)) continue;  // as integrate_reference: an empty stretch costs nothing
+      evaluations += degree >= 0 ? degree + 1
+                                 : detail::kPanelNodes * first_panel_count(first_panel_length(field.bandwidth(), tol, a, b), a, b);
     }
     return std::min(evaluations, static_cast<double>(detail::kMaxEvaluations));
   });
