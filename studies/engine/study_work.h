@@ -11,9 +11,9 @@
 
 namespace vrv {
 
-// The default limit: at the 9e6 to 4e7 evaluations a second the shipped studies run at on two
-// cores (docs/robustness.md, "Work limits"), 4 to 20 minutes; 16 times the largest shipped study
-// (visibility, 6.2e8).  Longer studies say so with --max-work.
+// The default limit: at the 6e6 to 3e7 evaluations a second the shipped studies run at on two
+// cores (docs/robustness.md, "Work limits"), 5 to 30 minutes; 16 times the largest shipped study
+// (visibility, 6.1e8).  Longer studies say so with --max-work.
 inline constexpr double kDefaultStudyWorkLimit = 1e10;
 
 class StudyWork {
