@@ -1,6 +1,8 @@
 #pragma once
 // f(x) = offset + dot(gradient, x): linear along every ray, so with a piecewise-linear
 // transfer function every piece of a ray has a closed form.
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "analytic/vec3.h"
@@ -17,6 +19,11 @@ struct LinearRamp {
   // Smooth everywhere: no breaks on any ray (any ray and interval types).
   void append_breaks(const auto&, const auto&, std::vector<double>&) const {}
   double max_change_within(double distance) const { return distance * gradient.norm(); }
+  // Absolute rounding of value() where |coordinates| reach `extent`: a few ulps of its terms, so
+  // relative to the ramp's own scale (a gradient of 1e-13 is exact to ~1e-29, not to ulps of 1).
+  double value_noise_within(const Vec3& extent) const {
+    return 4 * std::numeric_limits<double>::epsilon() * (std::abs(offset) + gradient.cwiseAbs().dot(extent));
+  }
 };
 
 }  // namespace vrv

@@ -40,6 +40,17 @@ struct MarschnerLobb {
     constexpr double eps = std::numeric_limits<double>::epsilon();
     return (4 + 2 * std::numbers::pi * fM * alpha / (1 + alpha)) * eps;
   }
+  // Where |coordinates| reach `extent` beyond 16 (lib/field.h, kUnitCoordinates), their own
+  // rounding (a few ulps each) moves the z term by its slope and the radial term by its own, which
+  // only x and y feed: a long ray along the axis is not charged the radial term's fM.
+  double value_noise_within(const Vec3& extent) const {
+    constexpr double pi = std::numbers::pi;
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    if (!(extent.maxCoeff() > 16)) return value_noise();
+    const double scale = 4 * eps / (2 * std::abs(1 + alpha));
+    const double moved = scale * (pi / 2 * extent.z() + std::abs(alpha) * pi * pi * std::abs(fM) * std::hypot(extent.x(), extent.y()));
+    return std::isfinite(moved) ? value_noise() + moved : value_noise();
+  }
 };
 
 }  // namespace vrv

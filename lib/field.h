@@ -63,16 +63,24 @@ double field_change_within(const F& f, double distance) {
     return std::numeric_limits<double>::infinity();
 }
 
-// The rounding level of f's values on a stretch whose coordinates reach `extent` in size:
-// field_value_noise() where coordinates are of order one; beyond kUnitCoordinates the rounding
-// of the coordinates themselves (a few ulps of extent) moves f by up to field_change_within
-// of that (Marschner-Lobb at |x| ~ 1e5 is noisy at ~1e-10, and no panel resolves below it).
+// The rounding level of f's values on a stretch whose coordinates reach `extent` in size (per
+// axis, the largest |coordinate|): field_value_noise() where coordinates are of order one; beyond
+// kUnitCoordinates the rounding of the coordinates themselves (a few ulps of extent) moves f by
+// up to field_change_within of that (Marschner-Lobb at |x| ~ 1e5 is noisy at ~1e-10, and no panel
+// resolves below it).  A field that knows better states it for the extent itself
+// (value_noise_within()): a linear ramp's rounding is relative to its own terms, Marschner-Lobb's
+// radial term feels only the rounding of x and y.
 template <class F>
-double field_value_noise(const F& f, double extent) {
-  const double noise = field_value_noise(f);
-  if (!(extent > kUnitCoordinates)) return noise;
-  const double moved = field_change_within(f, 4 * std::numeric_limits<double>::epsilon() * extent);
-  return std::isfinite(moved) ? noise + moved : noise;
+double field_value_noise(const F& f, const Vec3& extent) {
+  if constexpr (requires { { f.value_noise_within(extent) } -> std::convertible_to<double>; }) {
+    return f.value_noise_within(extent);
+  } else {
+    const double noise = field_value_noise(f);
+    const double size = extent.maxCoeff();
+    if (!(size > kUnitCoordinates)) return noise;
+    const double moved = field_change_within(f, 4 * std::numeric_limits<double>::epsilon() * size);
+    return std::isfinite(moved) ? noise + moved : noise;
+  }
 }
 
 }  // namespace vrv

@@ -13,7 +13,10 @@ Ray make_ray(const Vec3& origin, const Vec3& direction) {
   const double scale = direction.cwiseAbs().maxCoeff();
   if (scale == 0) throw std::invalid_argument("ray direction is zero");
   const Vec3 d = direction / scale;
-  return Ray{origin, d / d.norm()};
+  // Scaled by a power of two near the largest component: exact, and safe to square.
+  const int shift = -std::ilogb(scale);
+  const Vec3 given = direction.unaryExpr([shift](double c) { return std::scalbn(c, shift); });
+  return Ray{origin, d / d.norm(), given};
 }
 
 namespace {
@@ -83,19 +86,24 @@ std::optional<RayFrame> clip_in_frame(const Ray& ray, const Box& box) {
     if (!iv) return std::nullopt;
     return RayFrame{ray, *iv, 0, 0};
   }
+  // Steps go along the line as given (g), never along the rounded unit d: only the point reached
+  // is rounded, and that is charged below.  A step of u along g is u |g| of world length (that
+  // product's rounding only relabels t).
+  const Vec3& g = ray.given.isZero() ? d : ray.given;
+  const double g_norm = g.norm();
   // Walk to the point of closest approach to the centre; each step leaves ~eps of the last.
   PointDD p{ray.origin};
   double t = 0;
   for (int step = 0; step < 4; ++step) {
-    const double dt = (centre - p.hi).dot(d);
-    p.advance(d, dt);
-    t += dt;
-    if (std::abs(dt) <= reach) break;
+    const double u = (centre - p.hi).dot(g) / (g_norm * g_norm);
+    p.advance(g, u);
+    t += u * g_norm;
+    if (std::abs(u * g_norm) <= reach) break;
   }
   // Clip there (t >= 0 is s >= -t), move to the entry point, and clip again from it.
   const auto around = clip_from(Ray{p.hi, d}, box, -t);
   if (!around) return std::nullopt;
-  p.advance(d, around->t0);
+  p.advance(g, around->t0 / g_norm);
   t += around->t0;
   const auto iv = clip_from(Ray{p.hi, d}, box, -t);
   if (!iv) return std::nullopt;

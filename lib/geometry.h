@@ -17,10 +17,15 @@ struct Box {
 struct Ray {
   Vec3 origin;
   Vec3 direction;
+  // The line's direction as given, before normalising (scaled by a power of two, so exact), or
+  // zero when `direction` is itself exact: normalising rounds, and carried 1e15 units that
+  // rounding moves the ray by 0.1 (clip_in_frame follows the given line instead).
+  Vec3 given = Vec3::Zero();
   Vec3 at(double t) const { return origin + t * direction; }
 };
 
-// Normalises the direction; throws std::invalid_argument for a zero or non-finite vector.
+// Normalises the direction (keeping it as given in Ray::given); throws std::invalid_argument for
+// a zero or non-finite vector.
 Ray make_ray(const Vec3& origin, const Vec3& direction);
 
 // Parameter interval [t0, t1] along a ray, t0 <= t1.
@@ -48,8 +53,9 @@ struct RayFrame {
 };
 
 // clip() in the ray's frame.  An origin within kNearOrigin half-diagonals of the box centre is
-// its own frame (exactly clip()); a farther one is carried to the box entry point in
-// double-double arithmetic (error-free products and sums), rounded once, and clipped again
+// its own frame (exactly clip()); a farther one is carried along the line as given (Ray::given)
+// to the box entry point in double-double arithmetic (error-free products and sums), rounded
+// once, and clipped again
 // there: the entry point is then off the line by its own rounding (charged through
 // position_error) and the clip is as robust as for a ray starting next to the box.
 inline constexpr double kNearOrigin = 8;

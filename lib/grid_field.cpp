@@ -30,6 +30,7 @@ GridField::GridField(const Box& box, Index3 resolution, GridLayout layout,
 void GridField::summarise() {
   const auto [lo, hi] = std::minmax_element(values_.begin(), values_.end());
   spread_ = *hi - *lo;
+  max_abs_ = std::max(std::abs(*lo), std::abs(*hi));
   max_slope_.setZero();
   for (int k = 0; k < n_[2]; ++k)
     for (int j = 0; j < n_[1]; ++j)

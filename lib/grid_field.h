@@ -6,6 +6,7 @@
 //              the box face and the outermost centre are clamped (as a GPU texture does).
 #include <array>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "lib/geometry.h"
@@ -36,6 +37,9 @@ class GridField {
   // Trilinear: distance times the largest gradient (each partial derivative is a mean of node
   // differences over the spacing).  Nearest: the spread of the node values (a point may change cell).
   double max_change_within(double distance) const;
+  // Absolute rounding of value(): a weighted sum of node values, so a few ulps of the largest
+  // (a grid of values near 1e-13 is as exact, relatively, as one near 1).
+  double value_noise() const { return 8 * std::numeric_limits<double>::epsilon() * max_abs_; }
 
   const Box& box() const { return box_; }
   Index3 resolution() const { return n_; }
@@ -49,7 +53,7 @@ class GridField {
  private:
   // Continuous node coordinate along axis a, clamped to [0, n - 1].
   double coordinate(double x, int a) const;
-  void summarise();  // max_slope_ and spread_ from the node values
+  void summarise();  // max_slope_, spread_ and max_abs_ from the node values
 
 
   Box box_;
@@ -61,6 +65,7 @@ class GridField {
   std::vector<double> values_;
   Vec3 max_slope_ = Vec3::Zero();  // largest |node difference| / spacing per axis
   double spread_ = 0;              // max - min node value
+  double max_abs_ = 0;             // largest |node value|
 };
 
 }  // namespace vrv

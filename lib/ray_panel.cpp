@@ -19,6 +19,8 @@ double bracketed_root(F&& f, double lo, double hi, double f_lo, double f_hi) {
   return 0.5 * (root.first + root.second);
 }
 
+}  // namespace
+
 // Splits [a, b] where p' changes sign, so p is monotone on every part.  A double root of p'
 // that the sampling misses leaves p monotone across it, so no crossing is ever lost.
 void monotone_breaks(const RayPanel& panel, std::vector<double>& breaks) {
@@ -50,16 +52,14 @@ void monotone_breaks(const RayPanel& panel, std::vector<double>& breaks) {
   breaks.push_back(panel.b);
 }
 
-}  // namespace
-
-bool may_cross(const RayPanel& panel, std::span<const double> levels) {
+bool may_cross(const RayPanel& panel, std::span<const double> levels, double margin) {
   if (levels.empty() || panel.coefficients.empty()) return false;
   const double c0 = panel.coefficients[0];
   double spread = 0;
   for (std::size_t k = 1; k < panel.coefficients.size(); ++k) spread += std::abs(panel.coefficients[k]);
   const double slack = 8 * static_cast<double>(panel.coefficients.size()) *
                        std::numeric_limits<double>::epsilon() * (std::abs(c0) + spread);
-  const double lo = c0 - spread - slack, hi = c0 + spread + slack;
+  const double lo = c0 - spread - slack - margin, hi = c0 + spread + slack + margin;
   if (!(lo <= hi)) return true;  // not finite: let the search decide
   const auto first = std::lower_bound(levels.begin(), levels.end(), lo);
   return first != levels.end() && *first <= hi;
@@ -94,6 +94,24 @@ ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
   std::sort(out.begin() + static_cast<std::ptrdiff_t>(start), out.end(),
             [](const Crossing& x, const Crossing& y) { return x.t < y.t; });
   return range;
+}
+
+std::optional<LevelBand> level_band(const RayPanel& panel, double lo, double hi, double level,
+                                    double margin) {
+  if (!(hi > lo)) return std::nullopt;
+  const double p_lo = panel(lo), p_hi = panel(hi);
+  const bool rising = p_hi >= p_lo;
+  const double p_min = rising ? p_lo : p_hi, p_max = rising ? p_hi : p_lo;
+  if (p_max < level - margin || p_min > level + margin) return std::nullopt;
+  // The end of the stretch on the side where p passes `target`, or the part's end.
+  const auto where = [&](double target, double fallback) {
+    const double f_lo = p_lo - target, f_hi = p_hi - target;
+    if (!(f_lo * f_hi < 0)) return fallback;
+    return bracketed_root([&](double t) { return panel(t) - target; }, lo, hi, f_lo, f_hi);
+  };
+  const double below = where(level - margin, rising ? lo : hi);
+  const double above = where(level + margin, rising ? hi : lo);
+  return LevelBand{std::min(below, above), std::max(below, above)};
 }
 
 }  // namespace vrv

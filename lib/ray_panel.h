@@ -2,6 +2,7 @@
 // A Chebyshev proxy of the field along one stretch [a, b] of a ray: f(t) ~ p(t).
 // The reference integrator builds these front to back; every field evaluation it makes
 // goes into one.  Proxies of known-degree fields (ramps, trilinear cells) are exact.
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -15,6 +16,7 @@ struct RayPanel {
   std::vector<double> coefficients;  // of f on [a, b] mapped to [-1, 1]
   std::vector<double> values;        // f at the panel's own Chebyshev nodes (from +1 to -1)
   double error = 0;                  // estimated max |f - p| on [a, b]
+  double noise = 0;                  // the field's own rounding level on [a, b] (absolute)
   bool resolved = true;
 
   double x_of(double t) const { return (2 * t - a - b) / (b - a); }
@@ -39,9 +41,25 @@ struct ValueRange {
 // False when no level can be crossed: none lies in c_0 +- sum_{k>=1} |c_k| (which holds every
 // value of p, widened by more than Clenshaw's rounding).  find_crossings would then find none;
 // skipping it saves the derivative's evaluation at 2n + 1 points.
-bool may_cross(const RayPanel& panel, std::span<const double> levels);
+// With `margin`, whether p comes within margin of a level.
+bool may_cross(const RayPanel& panel, std::span<const double> levels, double margin = 0);
 // Returns the exact range of p on the panel (its values at the monotone breaks).
 ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
                           std::vector<Crossing>& out);
+
+// The panel's ends and the parameters where p' changes sign between them, in order: p is
+// monotone between consecutive entries.
+void monotone_breaks(const RayPanel& panel, std::vector<double>& breaks);
+
+// Where p comes within `margin` of `level` on one monotone part [lo, hi] of the panel: the
+// stretch [u, w] of that part on which |p - level| <= margin (one stretch, p being monotone), or
+// nothing.  f = p +- margin may cross the level anywhere in it, whether or not p does: a jump's
+// crossing there is known only to within the stretch.
+struct LevelBand {
+  double u = 0;
+  double w = 0;
+};
+std::optional<LevelBand> level_band(const RayPanel& panel, double lo, double hi, double level,
+                                    double margin);
 
 }  // namespace vrv

@@ -51,8 +51,11 @@ RayAccumulator::RayAccumulator(const TransferFunction& tf, double background,
       stop_when_opaque_(options.stop_when_opaque),
       iv_(iv),
       position_error_(position_error) {
-  for (double v : tf.breakpoints())
-    max_extinction_ = std::max(max_extinction_, tf.extinction(v) + tf.jump_at(v).extinction);
+  for (double v : tf.breakpoints()) {
+    const auto jump = tf.jump_at(v);
+    max_extinction_ = std::max(max_extinction_, tf.extinction(v) + jump.extinction);
+    if (jump.emission != 0 || jump.extinction != 0) jump_levels_.push_back(v);
+  }
   check_termination(iv.t0);
 }
 
@@ -80,25 +83,16 @@ void RayAccumulator::consume(const RayPanel& panel) {
   const double field_error = panel.error + position_error_;
   crossings_.clear();
   if (may_cross(panel, tf_.breakpoints())) find_crossings(panel, tf_.breakpoints(), crossings_);
-  const double length = panel.b - panel.a;
-  // A proxy error df moves the crossings of jumps by df / |p'| (those of kinks only to
-  // second order) ...
-  // The emission part is charged when the ray reaches the crossing, attenuated by e^-Phi
-  // there (emission 1e300 behind optical depth 700 gave estimates of 1e285).
-  crossing_shifts_.assign(crossings_.size(), 0.0);
-  for (std::size_t k = 0; k < crossings_.size(); ++k) {
-    const Crossing& x = crossings_[k];
-    const auto jump = tf_.jump_at(x.level);
-    if (jump.emission == 0 && jump.extinction == 0) continue;
-    const double df = field_error + 4 * eps * std::max(1.0, std::abs(x.level));
-    const double dt = std::min(df / std::abs(x.slope), length) + 4 * eps * std::abs(x.t);
-    crossing_shifts_[k] = dt;
-    book_depth_error(jump.extinction * dt);
-  }
+  // A proxy error moves the crossings of jumps within their bands (those of kinks only to
+  // second order): charged when the ray reaches the band, attenuated by e^-Phi there (emission
+  // 1e300 behind optical depth 700 gave estimates of 1e285), its depth error reaching only what
+  // comes after it (a wall of extinction 1e6 behind a jump was charged for everything before).
+  find_jump_bands(panel);
+  std::size_t next_band = 0;
   double c = panel.a;
   for (std::size_t k = 0; k <= crossings_.size() && !stopped_; ++k) {
     const double t = k < crossings_.size() ? crossings_[k].t : panel.b;
-    if (k > 0) charge_crossing(crossings_[k - 1], crossing_shifts_[k - 1], transmittance);
+    next_band = charge_bands(next_band, c, transmittance);
     if (!(t > c)) continue;
     const double v = panel(0.5 * (c + t));
     // ... and changes g and tau through the slopes of the branch each piece is on.
@@ -110,14 +104,65 @@ void RayAccumulator::consume(const RayPanel& panel) {
     integrate_piece(panel, c, t, tf_.segment(v));
     c = t;
   }
+  charge_bands(next_band, panel.b, transmittance);
 }
 
-void RayAccumulator::charge_crossing(const Crossing& x, double dt, double panel_transmittance) {
-  if (dt == 0 || emission_done_) return;  // after termination its bound covers all emission
-  // The shifted stretch [x - dt, x + dt] is attenuated at least by Phi(x - dt) >= Phi - tau dt,
-  // and never less than at the panel's start.
-  const double transmittance = std::min(panel_transmittance, std::exp(-(phi_ - max_extinction_ * dt)));
-  error_ += transmittance * tf_.jump_at(x.level).emission * dt;
+bool RayAccumulator::jumps_located(const RayPanel& panel) {
+  crossings_.clear();
+  if (may_cross(panel, tf_.breakpoints())) find_crossings(panel, tf_.breakpoints(), crossings_);
+  return find_jump_bands(panel);
+}
+
+bool RayAccumulator::find_jump_bands(const RayPanel& panel) {
+  bands_.clear();
+  if (jump_levels_.empty()) return true;
+  // The field is within this of the proxy; comparing it with a level rounds by ulps of the level.
+  const auto margin = [&](double level) {
+    return panel.error + position_error_ + panel.noise + 4 * eps * std::abs(level);
+  };
+  const double widest = margin(std::max(std::abs(jump_levels_.front()), std::abs(jump_levels_.back())));
+  if (!may_cross(panel, jump_levels_, widest)) return true;
+  breaks_.clear();
+  monotone_breaks(panel, breaks_);
+  bool located = true;
+  for (std::size_t i = 0; i + 1 < breaks_.size(); ++i) {
+    for (double level : jump_levels_) {
+      const auto band = level_band(panel, breaks_[i], breaks_[i + 1], level, margin(level));
+      if (!band) continue;
+      // A crossing the proxy has moves to anywhere in the band; where it has none (p passes
+      // within its error of the level), the field may still cross anywhere in it.
+      int found = 0;
+      double dt = 0;
+      for (const Crossing& x : crossings_)
+        if (x.level == level && x.t >= band->u && x.t <= band->w)
+          ++found, dt = std::max(x.t - band->u, band->w - x.t);
+      if (found != 1) located = false, dt = band->w - band->u;
+      dt += 4 * eps * std::max(std::abs(band->u), std::abs(band->w));
+      bands_.push_back({band->u, dt, level});
+    }
+  }
+  std::sort(bands_.begin(), bands_.end(), [](const JumpBand& x, const JumpBand& y) { return x.u < y.u; });
+  return located;
+}
+
+std::size_t RayAccumulator::charge_bands(std::size_t first, double c, double panel_transmittance) {
+  std::size_t k = first;
+  for (; k < bands_.size() && bands_[k].u <= c; ++k) {
+    const JumpBand& band = bands_[k];
+    const auto jump = tf_.jump_at(band.level);
+    // Phi at the band's start is at least Phi here less max tau over the way back, and never
+    // less than at the panel's start.
+    const double transmittance =
+        std::min(panel_transmittance, std::exp(-(phi_ - max_extinction_ * (c - band.u))));
+    // The depth error scales what comes after the band: from here on (booked), and the at most
+    // max g (c - u) already added since its start.
+    const double dphi = jump.extinction * band.dt;
+    book_depth_error(dphi);
+    if (emission_done_) continue;  // after termination its bound covers all emission
+    error_ += transmittance * jump.emission * band.dt +
+              charge(dphi, tf_.max_emission(), c - band.u, transmittance);
+  }
+  return k;
 }
 
 void RayAccumulator::add(const PieceIntegral& piece) {

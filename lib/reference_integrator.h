@@ -67,6 +67,10 @@ class RayAccumulator {
   // Integrates g e^-Phi over the panel (cut at transfer-function crossings) and adds the
   // panel's own proxy error to the estimate.
   void consume(const RayPanel& panel);
+  // False where the proxy comes within its error of a jump of the transfer function without
+  // crossing it there: the field may cross where the proxy does not, so the panel should be
+  // refined (if it cannot be, consume() charges the jump over the whole stretch).
+  bool jumps_located(const RayPanel& panel);
   ReferenceResult finish() const;
   // Nothing after this point can matter (opaque), or the work cap ended the ray.
   bool stopped() const { return stopped_; }
@@ -83,8 +87,12 @@ class RayAccumulator {
   void integrate_spectral(const RayPanel& panel, double c, double d, const TransferSegment& seg,
                           bool depth_only, int level);
   void add(const PieceIntegral& piece);
-  // The emission error of a jump crossed at x whose position is uncertain by dt.
-  void charge_crossing(const Crossing& x, double dt, double panel_transmittance);
+  // Where a field error of the panel's size could put a jump's crossings (JumpBand), from
+  // crossings_ (found first); returns whether each band holds exactly one located crossing.
+  bool find_jump_bands(const RayPanel& panel);
+  // The emission error of the bands from `first` on that start at or before c (reached by the
+  // integration), each attenuated at least as much as from its start; returns the next band.
+  std::size_t charge_bands(std::size_t first, double c, double panel_transmittance);
   void check_termination(double t);
   double sensitivity_after(double t) const;  // a priori bound on |dI / dPhi| at t
   // An uncertainty dPhi in the optical depth here scales everything behind by e^-dPhi, so it
@@ -107,7 +115,17 @@ class RayAccumulator {
   double termination_booked_ = 0;  // error booked by early termination so far
   long spectral_pieces_ = 0;
   double max_extinction_ = 0;        // max tau over all values
-  std::vector<double> crossing_shifts_;  // dt of each crossing of the current panel
+  // A stretch [u, u + ...] of the current panel where a jump at `level` may be crossed: dt is
+  // how far the field's crossing can lie from the one integrated (the stretch's length where
+  // none was located).
+  struct JumpBand {
+    double u = 0;
+    double dt = 0;
+    double level = 0;
+  };
+  std::vector<double> jump_levels_;  // the transfer function's breakpoints that are jumps
+  std::vector<JumpBand> bands_;
+  std::vector<double> breaks_;       // scratch: the panel's monotone parts
   double piece_depth_error_ = 0;     // the field-error part of dPhi booked for the current piece
   TransferFunction::Slopes branch_slopes_;  // |dg/dv|, |dtau/dv| on the current piece's branch
   double depth_error_ = 0;           // sum of dPhi_i
@@ -121,22 +139,23 @@ inline constexpr long kMaxEvaluations = 1'000'000;
 // The field's rounding level on [a, b] of the ray (its coordinates' size matters far out).
 template <ScalarField F>
 double panel_noise(const F& field, const Ray& ray, double a, double b) {
-  const double extent = std::max(ray.at(a).cwiseAbs().maxCoeff(), ray.at(b).cwiseAbs().maxCoeff());
-  return field_value_noise(field, extent);
+  return field_value_noise(field, Vec3(ray.at(a).cwiseAbs().cwiseMax(ray.at(b).cwiseAbs())));
 }
 
 template <ScalarField F>
 RayPanel fit_panel(const F& field, const Ray& ray, double a, double b, int n, long& evaluations) {
   const ChebyshevRule& rule = ChebyshevRule::get(n);
-  RayPanel panel{a, b, std::vector<double>(n), std::vector<double>(n), 0, true};
+  RayPanel panel{a, b, std::vector<double>(n), std::vector<double>(n), 0, 0, true};
   for (int j = 0; j < n; ++j) panel.values[j] = field.value(ray.at(panel.t_of(rule.node(j))));
   evaluations += n;
   rule.coefficients(panel.values, panel.coefficients);
   // The error is what the coefficients show; the field's absolute noise only decides when
   // splitting has stopped helping (it would otherwise inflate every panel's estimate by the
-  // worst-case rounding, which the tail already measures where it matters).
+  // worst-case rounding, which the tail already measures where it matters), and how well a
+  // jump's crossing can be placed.
   panel.error = chebyshev_accuracy(panel.coefficients).error;
-  panel.resolved = chebyshev_accuracy(panel.coefficients, panel_noise(field, ray, a, b)).resolved;
+  panel.noise = panel_noise(field, ray, a, b);
+  panel.resolved = chebyshev_accuracy(panel.coefficients, panel.noise).resolved;
   return panel;
 }
 
@@ -151,8 +170,9 @@ void resolve_smooth(const F& field, const Ray& ray, double a, double b, int leve
   constexpr int max_level = 30;
   if (acc.stopped()) return;
   RayPanel panel = fit_panel(field, ray, a, b, n, evaluations);
-  const ChebyshevAccuracy check = chebyshev_accuracy(panel.coefficients, panel_noise(field, ray, a, b));
-  const bool good = check.resolved && (check.at_rounding || panel.error <= acc.field_tolerance());
+  const ChebyshevAccuracy check = chebyshev_accuracy(panel.coefficients, panel.noise);
+  const bool good = check.resolved &&
+                    (check.at_rounding || (panel.error <= acc.field_tolerance() && acc.jumps_located(panel)));
   if (!good && evaluations >= kMaxEvaluations) {
     // An unresolved panel's error is only a guess: bound the rest of the ray instead.
     acc.give_up(a);

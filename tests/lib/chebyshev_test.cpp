@@ -100,7 +100,7 @@ TEST(Chebyshev, CrossingSearchIsSkippedOnlyWhereItFindsNothing) {
   int skipped = 0, searched = 0;
   for (int trial = 0; trial < 4000; ++trial) {
     const int n = trial % 3 == 0 ? 4 : 33;
-    RayPanel panel{0.5, 1.75, std::vector<double>(n), std::vector<double>(n), 0, true};
+    RayPanel panel{0.5, 1.75, std::vector<double>(n), std::vector<double>(n), 0, 0, true};
     const double decay = 0.2 + 0.6 * (u(rng) + 1) / 2, scale = std::pow(10.0, 3 * u(rng) - 1);
     for (int k = 0; k < n; ++k) panel.coefficients[k] = (k == 0 ? 1.5 * u(rng) : scale * u(rng)) * std::pow(decay, k);
     std::vector<Crossing> found;

@@ -775,7 +775,8 @@ std::vector<Case> cases(const std::vector<RaySpec>& near_rays, int exponent) {
   for (const RaySpec& r : near_rays) {
     const Vec3 d0 = make_ray(r.origin, r.direction).direction;
     const Ray far_ray = make_ray(r.origin - D * d0, d0);
-    const Vec3& d = far_ray.direction;
+    // The line as given (d0), which normalising again may round by an ulp.
+    const Vec3& d = d0;
     const Vec3 q = far_ray.origin + D * d;
     for (int a = 0; a < 3; ++a) {  // q is exact: the same line
       const LD exact = static_cast<LD>(far_ray.origin[a]) + static_cast<LD>(D) * static_cast<LD>(d[a]);
