@@ -9,6 +9,7 @@
 
 #include "lib/io/atomic_file.h"
 #include "lib/io/image_io.h"
+#include "lib/io/image_module.h"
 #include "lib/io/numbered_error_map.h"
 #include "lib/io/run_metadata.h"
 
@@ -87,6 +88,9 @@ void check_verify_out(const fs::path& dir) {
 void write_verify_outputs(const fs::path& dir, const VerifyReport& rep,
                           const std::vector<std::pair<std::string, Table>>& extra,
                           const nlohmann::json& parameters, double seconds) {
+  // The images below need the image module: loaded (or refused) before the first file is
+  // written, so a missing module leaves no half-written directory.
+  image_module::functions();
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir, ec))
