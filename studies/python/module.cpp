@@ -107,6 +107,10 @@ std::optional<DiscreteConfig> discrete_config(const Scene& scene, const py::kwar
     else if (k == "compositing") o.compositing = py::cast<std::string>(value);
     else if (k == "classification") o.classification = py::cast<std::string>(value);
     else if (k == "precision") o.precision = py::cast<std::string>(value);
+    else if (k == "opacity_unit") o.opacity_unit = py::cast<std::string>(value);
+    else if (k == "color") o.color = py::cast<std::string>(value);
+    else if (k == "table_size") o.table_size = py::cast<int>(value);
+    else if (k == "table_lookup") o.table_lookup = py::cast<std::string>(value);
     else throw py::type_error(fmt::format("unexpected keyword argument '{}'", k));
   }
   const bool method_given = !o.method.empty();
