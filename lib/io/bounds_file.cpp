@@ -56,13 +56,20 @@ void read_bound_set(const StudyReader& r, const toml::table& t, std::string_view
 
 RenderSpec read_render(const StudyReader& r, const toml::node& n, std::string_view path) {
   const toml::table& t = r.table(n, path);
-  r.check_keys(t, path, {"method", "strategy", "correction", "precision", "oversample"});
+  r.check_keys(t, path, {"method", "strategy", "correction", "precision", "oversample", "opacity_unit", "color",
+                         "table_size", "table_lookup"});
   RenderSpec s;
   if (const auto* v = t.get("method")) s.method = r.string(*v, StudyReader::child(path, "method"));
   if (const auto* v = t.get("strategy")) s.strategy = r.string(*v, StudyReader::child(path, "strategy"));
   if (const auto* v = t.get("correction")) s.correction = r.string(*v, StudyReader::child(path, "correction"));
   if (const auto* v = t.get("precision")) s.precision = r.string(*v, StudyReader::child(path, "precision"));
   s.oversample = static_cast<int>(r.integer_or(t, "oversample", path, 1, 65536, 1));
+  // The opacity/colour conventions (vrv render --opacity-unit, --color, --table-size,
+  // --table-lookup): their values are checked as the command line checks them, when the case runs.
+  if (const auto* v = t.get("opacity_unit")) s.opacity_unit = r.string(*v, StudyReader::child(path, "opacity_unit"));
+  if (const auto* v = t.get("color")) s.color = r.string(*v, StudyReader::child(path, "color"));
+  s.table_size = static_cast<int>(r.integer_or(t, "table_size", path, 0, 1 << 20, 0));
+  if (const auto* v = t.get("table_lookup")) s.table_lookup = r.string(*v, StudyReader::child(path, "table_lookup"));
   return s;
 }
 
@@ -83,7 +90,7 @@ GateCase read_case(const StudyReader& r, const toml::table& t, std::string_view 
       if (t.contains(k)) r.fail(StudyReader::child(path, k), "does not apply to a study case");
     return c;
   }
-  if (const auto* n = t.get("scene")) c.scene = base / r.string(*n, StudyReader::child(path, "scene"));
+  if (const auto* n = t.get("scene")) c.scene = (base / r.string(*n, StudyReader::child(path, "scene"))).lexically_normal();
   // An images case may leave its steps to the images' provenance (vrv:step, read by vrv gate).
   if (t.contains("steps") || !t.contains("images")) c.steps = r.numbers(t, "steps", path, 0, 1e300);
   for (std::size_t i = 0; i < c.steps.size(); ++i)
@@ -97,7 +104,7 @@ GateCase read_case(const StudyReader& r, const toml::table& t, std::string_view 
     const toml::array& a = r.array(*t.get("images"), StudyReader::child(path, "images"));
     if (a.empty()) r.fail(StudyReader::child(path, "images"), "empty");
     for (std::size_t i = 0; i < a.size(); ++i)
-      c.images.push_back(base / r.string(*a.get(i), fmt::format("{}.images[{}]", path, i)));
+      c.images.push_back((base / r.string(*a.get(i), fmt::format("{}.images[{}]", path, i))).lexically_normal());
     if (!c.steps.empty() && c.images.size() != c.steps.size())
       r.fail(StudyReader::child(path, "images"), fmt::format("{} images for {} steps", c.images.size(), c.steps.size()));
     for (std::string_view k : {"width", "height"})

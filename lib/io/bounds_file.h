@@ -61,6 +61,8 @@ struct BoundSet {
 struct RenderSpec {  // a case where vrv renders its own discrete method
   std::string method = "alpha", strategy = "step", correction = "none", precision = "double";
   int oversample = 1;
+  std::string opacity_unit = "sample", color = "straight", table_lookup = "centred";
+  int table_size = 0;  // 0: the transfer function itself, no table
 };
 
 struct GateCase {

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "lib/io/image_module.h"
+#include "lib/io/npy.h"
 
 namespace vrv {
 namespace {
@@ -39,9 +40,42 @@ double quantum_of(const fs::path& path, const std::string& type, double largest)
   fail(path, fmt::format("pixel type {} is not supported", type));
 }
 
+// A renderer's numpy array saved with numpy.save: (height, width) or (height, width, channels),
+// float32 or float64, row 0 = top as numpy shows it (lib/io/npy.h reads it: OpenImageIO does not).
+ChannelImage read_npy_image(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) fail(path, "cannot read: no such file");
+  const NpyArray a = read_npy(path);  // its errors are "<path>: <reason>" already
+  if (a.shape.size() != 2 && a.shape.size() != 3)
+    fail(path, fmt::format("an array of {} dimensions (expected (height, width) or (height, width, channels))",
+                           a.shape.size()));
+  const std::size_t h = a.shape[0], w = a.shape[1], nc = a.shape.size() == 3 ? a.shape[2] : 1;
+  if (h == 0 || w == 0 || h > kMaxSide || w > kMaxSide || static_cast<std::int64_t>(h * w) > kMaxPixels)
+    fail(path, fmt::format("{} x {} pixels (1 to {} on a side, at most {} in all)", w, h, kMaxSide, kMaxPixels));
+  if (nc < 1 || nc > 4) fail(path, fmt::format("{} channels (1 to 4: grey, grey+alpha, RGB or RGBA)", nc));
+  ChannelImage img;
+  img.width = static_cast<int>(w);
+  img.height = static_cast<int>(h);
+  const std::vector<std::vector<std::string>> names = {{"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
+  img.names = names[nc - 1];
+  if (nc == 2 || nc == 4) img.alpha = static_cast<int>(nc) - 1;
+  img.planes.assign(nc, std::vector<double>(w * h));
+  double largest = 0;
+  for (std::size_t i = 0; i < w * h; ++i)
+    for (std::size_t c = 0; c < nc; ++c) {
+      const double v = a.values[i * nc + c];
+      img.planes[c][i] = v;
+      if (std::isfinite(v)) largest = std::max(largest, std::abs(v));
+    }
+  img.pixel_type = a.dtype == "<f4" ? "float" : "double";
+  img.quantum = quantum_of(path, img.pixel_type, largest);
+  return img;
+}
+
 }  // namespace
 
 ChannelImage read_channel_image(const fs::path& path) {
+  if (path.extension() == ".npy") return read_npy_image(path);
   image_module::ReadRequest request;
   request.type = image_module::PixelType::float64;
   request.max_channels = 4;
@@ -73,6 +107,30 @@ ChannelImage read_channel_image(const fs::path& path) {
   img.pixel_type = read.pixel_type;
   img.quantum = quantum_of(path, img.pixel_type, largest);
   return img;
+}
+
+double effective_quantum(const ChannelImage& image) {
+  for (const double steps : {255.0, 65535.0}) {
+    if (image.quantum >= 1 / steps * 0.999) return image.quantum;  // already as coarse
+    std::vector<double> distinct;
+    bool on_grid = true;
+    for (const std::vector<double>& plane : image.planes) {
+      for (const double v : plane) {
+        if (!std::isfinite(v)) continue;
+        const double k = v * steps;
+        // float32 rounding of k/steps, in units of 1/steps, with room for a conversion or two.
+        if (std::abs(k - std::round(k)) > 4e-7 * std::max(1.0, std::abs(k))) {
+          on_grid = false;
+          break;
+        }
+        if (distinct.size() < 16 && std::find(distinct.begin(), distinct.end(), std::round(k)) == distinct.end())
+          distinct.push_back(std::round(k));
+      }
+      if (!on_grid) break;
+    }
+    if (on_grid && distinct.size() >= 16) return 1 / steps;
+  }
+  return image.quantum;
 }
 
 }  // namespace vrv

@@ -26,12 +26,14 @@ struct ChannelImage {
 };
 
 // Reads the first subimage of anything OpenImageIO reads (EXR, TIFF, PFM, PNG, ...), 1 to 4
-// channels.  Throws std::runtime_error, one line naming the file and the reason, when it cannot
+// channels, or a numpy .npy array (float32 or float64, (height, width) or (height, width, 1..4)).  Throws std::runtime_error, one line naming the file and the reason, when it cannot
 // be read, is deep, volumetric, empty, larger than 65536 on a side or has more than 4 channels.
 ChannelImage read_channel_image(const std::filesystem::path& path);
 
-// Quantisation floors of `image` (inline: lib/verify uses them without linking OpenImageIO): max |rounding| = quantum / 2, RMS = quantum / sqrt(12).
-inline double quantisation_max(const ChannelImage& image) { return image.quantum / 2; }
-inline double quantisation_rms(const ChannelImage& image) { return image.quantum / std::sqrt(12.0); }
+// The quantum `image`'s values show: its stored quantum, unless every finite value (at least 16
+// distinct ones) sits on a multiple of 1/255 or 1/65535 to within float32 rounding, whatever the
+// stored type: an 8- or 16-bit framebuffer saved as float (or passed as an array) has the floor
+// of its integers, not of the float it was stored in.
+double effective_quantum(const ChannelImage& image);
 
 }  // namespace vrv

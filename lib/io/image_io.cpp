@@ -205,6 +205,7 @@ std::string ImageProvenance::to_json() const {
 }
 
 std::optional<ImageProvenance> read_provenance(const fs::path& path) {
+  if (path.extension() == ".npy") return std::nullopt;  // numpy arrays carry no metadata
   const image_module::ReadResult header = read_header(path);
   ImageProvenance p;
   p.scene_hash = attribute(header, "vrv:scene_hash");

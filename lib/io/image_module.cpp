@@ -11,7 +11,9 @@
 
 #include <fmt/format.h>
 
-// Set by CMake: the module's file name and the directory `cmake --install` puts it in.
+#include "lib/util/install_dirs.h"
+
+// Set by CMake: the module's file name, the configured install directory and the build directory.
 #ifndef VRV_IMAGE_MODULE_FILE
 #define VRV_IMAGE_MODULE_FILE "libvrv_image.so"
 #endif
@@ -27,19 +29,33 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Whether `dir` is `root` or under it.
+bool inside(const fs::path& dir, const fs::path& root) {
+  const fs::path rel = dir.lexically_relative(root);
+  return !rel.empty() && *rel.begin() != "..";
+}
+
 std::vector<fs::path> candidates() {
   if (const char* explicit_path = std::getenv("VRV_IMAGE_MODULE"); explicit_path && *explicit_path)
     return {fs::path(explicit_path)};
+  // Beside the program (the build tree), then where `cmake --install` puts it relative to the
+  // running program or Python module (lib/util/install_dirs.h), so an install prefix can move.
   std::vector<fs::path> paths;
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) paths.push_back(exe.parent_path() / VRV_IMAGE_MODULE_FILE);
+  for (const fs::path& dir : installed_dirs(InstalledDir::image_module))
+    paths.push_back(dir / VRV_IMAGE_MODULE_FILE);
+  // Programs built against the installed library live elsewhere: the configured install prefix.
   if (*VRV_IMAGE_MODULE_INSTALL_DIR)
     paths.push_back(fs::path(VRV_IMAGE_MODULE_INSTALL_DIR) / VRV_IMAGE_MODULE_FILE);
-  // Last, the build tree this code was compiled in: test binaries, the Python module and
-  // programs linking the library from the build tree live elsewhere than the module.
-  if (*VRV_IMAGE_MODULE_BUILD_DIR)
-    paths.push_back(fs::path(VRV_IMAGE_MODULE_BUILD_DIR) / VRV_IMAGE_MODULE_FILE);
+  // Last, for code running from the build tree it was compiled in (test binaries, build/python),
+  // that tree's module; an installed copy never falls back to a build tree.
+  if (*VRV_IMAGE_MODULE_BUILD_DIR) {
+    const fs::path build = fs::weakly_canonical(VRV_IMAGE_MODULE_BUILD_DIR);
+    for (const OwnDir& own : own_dirs())
+      if (inside(own.dir, build)) {
+        paths.push_back(build / VRV_IMAGE_MODULE_FILE);
+        break;
+      }
+  }
   return paths;
 }
 

@@ -63,8 +63,9 @@ struct Functions {
 };
 
 // The loaded module's functions.  Looks for the module at $VRV_IMAGE_MODULE when that is set
-// (and nowhere else), otherwise next to the executable, then in the install library directory,
-// then in the build directory vrv was compiled in.
+// (and nowhere else), otherwise next to the program (or Python module) running, then in the
+// install library directory relative to it (<prefix>/lib/vrv, lib/util/install_dirs.h), then in
+// the configured install prefix's, then (only for code running from it) the build tree's.
 // Throws std::runtime_error with one line naming where it looked when it cannot be loaded.
 const Functions& functions();
 

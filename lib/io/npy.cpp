@@ -1,6 +1,7 @@
 #include "lib/io/npy.h"
 
 #include <bit>
+#include <charconv>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -92,9 +93,15 @@ NpyArray parse_npy(std::string_view bytes, const std::string& name) {
   std::size_t n = 1;
   std::stringstream dims(m[1].str());
   for (std::string item; std::getline(dims, item, ',');) {
-    if (item.find_first_not_of(' ') == std::string::npos) continue;
-    a.shape.push_back(std::stoull(item));
-    n *= a.shape.back();
+    const std::size_t first = item.find_first_not_of(' ');
+    if (first == std::string::npos) continue;
+    std::size_t d = 0;
+    const auto [end, ec] = std::from_chars(item.data() + first, item.data() + item.size(), d);
+    if (ec != std::errc() || item.find_first_not_of(' ', end - item.data()) != std::string::npos)
+      bad(name, fmt::format("shape entry '{}'", item));
+    if (d != 0 && n > (std::size_t{1} << 40) / d) bad(name, "shape too large");  // no overflow below
+    a.shape.push_back(d);
+    n *= d;
   }
   const std::size_t width = a.dtype == "<f8" ? 8 : 4;
   const std::string_view data = bytes.substr(start + header_len);

@@ -3,7 +3,8 @@
 // C order (last index fastest), as numpy.load reads them.
 //
 // Hand-written on purpose: the format is a 10-byte preamble and a Python-dict header
-// (numpy/lib/format.py), and Debian ships no C++ npy library (cnpy and libnpy are not packaged).
+// (numpy/lib/format.py), Debian ships no C++ npy library (cnpy and libnpy are not packaged), and
+// OpenImageIO, which reads every other image verify takes, does not read .npy.
 #include <cstddef>
 #include <filesystem>
 #include <span>

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -475,7 +476,7 @@ Scene parse_scene(std::string_view toml_text, std::string_view source_name) {
   return scene;
 }
 
-Scene load_scene(const std::filesystem::path& path) {
+std::string read_scene_text(const std::filesystem::path& path) {
   const std::string name = path.string();
   const Reader r(name);
   std::error_code ec;
@@ -491,7 +492,47 @@ Scene load_scene(const std::filesystem::path& path) {
       r.fail("(file)", fmt::format("larger than {} bytes", kMaxFileBytes));
   }
   if (in.bad()) r.fail("(file)", "read error");
-  return parse_scene(text, name);
+  return text;
+}
+
+Scene load_scene(const std::filesystem::path& path) { return parse_scene(read_scene_text(path), path.string()); }
+
+std::string scene_toml(std::string_view toml_text, std::string_view source_name) {
+  parse_scene(toml_text, source_name);  // a scene first: its errors, not the printer's
+  std::ostringstream out;
+  out << toml::toml_formatter(parse_toml(Reader(source_name), toml_text, source_name)) << '\n';
+  return out.str();
+}
+
+std::string exported_scene_toml(std::string_view toml_text, std::string_view source_name,
+                                const std::optional<std::array<int, 3>>& grid_nodes,
+                                const std::optional<OpacityColourPoints>& transfer) {
+  parse_scene(toml_text, source_name);
+  toml::table doc = parse_toml(Reader(source_name), toml_text, source_name);
+  if (grid_nodes) {
+    // The analytic field becomes the source of a grid whose nodes are the ones exported: node
+    // layout (on the box faces) and trilinear, as the export's files are read.
+    toml::table source = *doc["field"].as_table();
+    toml::table field{{"kind", "grid"},
+                      {"resolution", toml::array{(*grid_nodes)[0], (*grid_nodes)[1], (*grid_nodes)[2]}},
+                      {"layout", "node"},
+                      {"interpolation", "trilinear"}};
+    field.insert("source", std::move(source));
+    doc.insert_or_assign("field", std::move(field));
+  }
+  if (transfer) {
+    auto curve = [](const std::vector<ControlPoint>& pts) {
+      toml::array a;
+      for (const ControlPoint& p : pts) a.push_back(toml::array{p.v, p.y});
+      return a;
+    };
+    doc.insert_or_assign("transfer", toml::table{{"opacity", curve(transfer->opacity)},
+                                                 {"color", curve(transfer->color)},
+                                                 {"unit_length", transfer->unit_length}});
+  }
+  std::ostringstream out;
+  out << toml::toml_formatter(doc) << '\n';
+  return out.str();
 }
 
 std::string_view default_scene_toml() { return kDefaultScene; }

@@ -3,11 +3,13 @@
 //
 // Strict on purpose: unknown keys, wrong types, non-finite numbers and out-of-range values
 // are errors, never silently replaced by defaults; only documented optional keys default.
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <stdexcept>
 #include <string_view>
+#include <vector>
 
 #include "lib/scene.h"
 
@@ -24,6 +26,23 @@ class SceneFileError : public std::runtime_error {
 Scene parse_scene(std::string_view toml_text, std::string_view source_name);
 // Reads and parses the file; an unreadable file is a SceneFileError naming it.
 Scene load_scene(const std::filesystem::path& path);
+// The file's text as load_scene reads it (its checks and errors), not parsed.
+std::string read_scene_text(const std::filesystem::path& path);
+
+// The scene's TOML as toml++ prints it (`vrv scene --print`), once parse_scene has accepted it:
+// the keys given, numbers to the digits that read back to the same doubles.  Throws SceneFileError.
+std::string scene_toml(std::string_view toml_text, std::string_view source_name);
+
+// What `vrv export` wrote, as a scene (studies/cli/export.cpp): `toml_text` with its analytic
+// [field] made the source of a node-layout trilinear grid of `grid_nodes` when given, and its
+// [transfer] replaced by opacity/colour points when given.
+struct OpacityColourPoints {
+  std::vector<ControlPoint> opacity, color;
+  double unit_length = 1;
+};
+std::string exported_scene_toml(std::string_view toml_text, std::string_view source_name,
+                                const std::optional<std::array<int, 3>>& grid_nodes,
+                                const std::optional<OpacityColourPoints>& transfer);
 
 // toml++ recurses once per key nesting level, so a dotted key of tens of thousands of parts
 // would overflow the stack: every TOML reader (scene and study files) calls this before parsing.

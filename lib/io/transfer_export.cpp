@@ -9,13 +9,34 @@
 namespace vrv {
 namespace {
 
+// The colour g/tau.  Where tau = 0 a sample emits nothing whatever its colour, but a renderer
+// interpolates the colour between rows: written 0 there, the table dips towards 0 beside it and
+// charges a correct renderer a floor (the default scene's g = v, tau = v/2: colour 2, written 0
+// at v = 0).  So where emission and extinction vanish together the colour is its limit within
+// the segment, the ratio of their slopes; it stays 0 only where the scene emits without
+// absorbing (inexpressible, flagged as emission_without_extinction) or both are 0 throughout.
+double colour(const TransferSegment& s, double v, double g, double tau) {
+  if (tau > 0) return g / tau;
+  if (s.convention == Convention::opacity_color) return s.second(v);
+  if (g == 0 && s.first.slope != 0 && s.second.slope != 0) return s.first.slope / s.second.slope;
+  return 0;
+}
+
 TransferRow row(const TransferSegment& s, double v, double L) {
   const double g = s.g(v), tau = s.tau(v);
-  return {v, g, tau, -std::expm1(-tau * L), tau > 0 ? g / tau : 0.0};
+  return {v, g, tau, -std::expm1(-tau * L), colour(s, v, g, tau)};
 }
 
 bool same(const TransferRow& a, const TransferRow& b) {
-  return a.value == b.value && a.emission == b.emission && a.extinction == b.extinction;
+  return a.value == b.value && a.emission == b.emission && a.extinction == b.extinction && a.color == b.color;
+}
+
+// The constant tail beyond an end has no colour of its own where it does not absorb: it takes the
+// colour of the segment it continues, as a renderer clamping to the end row would.
+TransferRow tail_row(const TransferFunction& tf, double outside, double end, double inside, double L) {
+  TransferRow r = row(tf.segment(outside), end, L);
+  if (r.extinction == 0) r.color = row(tf.segment(inside), end, L).color;
+  return r;
 }
 
 nlohmann::ordered_json points(const std::vector<ControlPoint>& p) {
@@ -37,7 +58,7 @@ std::vector<TransferRow> tabulate_transfer(const TransferFunction& tf, double L,
   };
   if (b.empty()) return rows;
   // Left limit at the first breakpoint (the constant tail below it).
-  push(row(tf.segment(b.front() - 1), b.front(), L));
+  push(tail_row(tf, b.front() - 1, b.front(), b.size() > 1 ? 0.5 * (b[0] + b[1]) : b.front(), L));
   for (std::size_t s = 0; s + 1 < b.size(); ++s) {
     const TransferSegment seg = tf.segment(0.5 * (b[s] + b[s + 1]));
     for (int k = 0; k <= per_segment; ++k) {
@@ -45,7 +66,8 @@ std::vector<TransferRow> tabulate_transfer(const TransferFunction& tf, double L,
       push(row(seg, v, L));
     }
   }
-  push(row(tf.segment(b.back() + 1), b.back(), L));  // right limit at the last breakpoint
+  // Right limit at the last breakpoint.
+  push(tail_row(tf, b.back() + 1, b.back(), b.size() > 1 ? 0.5 * (b[b.size() - 2] + b.back()) : b.back(), L));
   return rows;
 }
 

@@ -5,7 +5,9 @@
 // standing for a distance H gets alpha = 1 - (1 - opacity)^(H / L) and emits colour * alpha).
 //
 // The conventions meet through tau = -ln(1 - opacity) / L and g = colour * tau, i.e.
-// opacity = 1 - exp(-tau L), colour = g / tau (undefined, written 0, where tau = 0).
+// opacity = 1 - exp(-tau L), colour = g / tau; where tau = 0 the colour is its limit within the
+// segment (emission and extinction vanishing together), 0 only where the scene emits without
+// absorbing or neither does anywhere near.
 #include <string>
 #include <vector>
 

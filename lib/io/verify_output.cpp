@@ -9,6 +9,7 @@
 
 #include "lib/io/atomic_file.h"
 #include "lib/io/image_io.h"
+#include "lib/io/image_module.h"
 #include "lib/io/numbered_error_map.h"
 #include "lib/io/run_metadata.h"
 
@@ -72,9 +73,11 @@ VerifyTables verify_tables(const VerifyReport& rep) {
   return t;
 }
 
-void write_table_files(const fs::path& dir, const std::string& name, const Table& table) {
+void write_table_files(const fs::path& dir, const std::string& name, const Table& table,
+                       std::string_view empty_markdown) {
   write_file_atomically(dir / (name + ".csv"), table.to_csv());
-  write_file_atomically(dir / (name + ".md"), table.to_markdown());
+  write_file_atomically(dir / (name + ".md"),
+                        table.size() == 0 && !empty_markdown.empty() ? std::string(empty_markdown) : table.to_markdown());
   write_file_atomically(dir / (name + ".tex"), table.to_latex());
   write_file_atomically(dir / (name + ".json"), table.to_json());
 }
@@ -87,6 +90,9 @@ void check_verify_out(const fs::path& dir) {
 void write_verify_outputs(const fs::path& dir, const VerifyReport& rep,
                           const std::vector<std::pair<std::string, Table>>& extra,
                           const nlohmann::json& parameters, double seconds) {
+  // The images below need the image module: loaded (or refused) before the first file is
+  // written, so a missing module leaves no half-written directory.
+  image_module::functions();
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir, ec))
@@ -96,7 +102,9 @@ void write_verify_outputs(const fs::path& dir, const VerifyReport& rep,
   write_table_files(dir, "orders", t.orders);
   write_file_atomically(dir / "points.csv", t.points.to_csv());
   write_table_files(dir, "diagnosis", t.diagnosis);
-  write_table_files(dir, "faults", t.faults);
+  // No fault named: the Markdown says so rather than showing a header over nothing (the CSV and
+  // JSON keep their empty table, which is what a program reading them expects).
+  write_table_files(dir, "faults", t.faults, "none: no fault named\n");
   for (const auto& [name, table] : extra) write_table_files(dir, name, table);
 
   Image ref(rep.width, rep.height);

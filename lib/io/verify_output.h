@@ -14,6 +14,7 @@
 // Every file is written atomically; the directory is created if missing.
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -29,8 +30,10 @@ struct VerifyTables {
 };
 VerifyTables verify_tables(const VerifyReport& report);
 
-// name.csv, name.md, name.tex and name.json.
-void write_table_files(const std::filesystem::path& dir, const std::string& name, const Table& table);
+// name.csv, name.md, name.tex and name.json; an empty table's Markdown is `empty_markdown` when
+// that is given.
+void write_table_files(const std::filesystem::path& dir, const std::string& name, const Table& table,
+                       std::string_view empty_markdown = {});
 
 // Before any work (vrv verify --out, vrv.verify(out=)): `dir` is a directory or does not exist
 // yet (write_verify_outputs creates it); std::invalid_argument "--out: DIR exists and is not a

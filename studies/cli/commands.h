@@ -13,9 +13,10 @@ void add_study_command(CLI::App& app);
 void add_export_command(CLI::App& app);
 void add_verify_command(CLI::App& app);
 void add_gate_command(CLI::App& app);
+void add_scene_command(CLI::App& app);
 
-// Runs studies/engine/plot_study.py on `dir` (which has plots.json), as `vrv study` does; returns its
-// exit status (127 when it could not be started).
-int draw_study_plots(const std::filesystem::path& dir);
+// Runs studies/engine/plot_study.py on `dir` (which has plots.json), as `vrv study` does; returns ""
+// when the plot was drawn, else why not (one line, studies/engine/plot_script.h).
+std::string draw_study_plots(const std::filesystem::path& dir);
 
 }  // namespace vrv::cli

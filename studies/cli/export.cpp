@@ -20,6 +20,7 @@
 
 #include "lib/io/atomic_file.h"
 #include "lib/io/camera_export.h"
+#include "lib/io/scene_file.h"
 #include "lib/io/transfer_export.h"
 #include "lib/io/volume_export.h"
 #include "lib/scene_hash.h"
@@ -75,8 +76,56 @@ std::vector<OutputFile> field_files(const VolumeSamples& v, const ExportOptions&
   return files;
 }
 
+// What the export wrote, as a scene (scene.toml): a verification against it measures the
+// renderer, not the export.  The field: the scene's own grid when it has one (unchanged), else a
+// node-layout trilinear grid at the exported nodes sampling the analytic field; the transfer
+// function: an opacity/colour scene's own, else the exported table's points with its unit
+// distance.  A grid resampled at --resolution is no scene vrv can state (a grid's source is
+// analytic): then no scene file, and `why` says so.
+struct ExportedScene {
+  std::string toml;  // empty: none
+  std::string source;  // what the grid's nodes are, for export.json
+  std::string why;     // why there is no scene file
+};
+
+ExportedScene exported_scene(const Scene& scene, const VolumeSamples& v, const ExportOptions& opt) {
+  const std::string name = opt.scene.empty() ? "<default scene>" : opt.scene;
+  const std::string text = opt.scene.empty() ? std::string(default_scene_toml()) : read_scene_text(opt.scene);
+  const bool grid = std::holds_alternative<GridField>(scene.field);
+  const std::string nodes = fmt::format("{} x {} x {}", v.n[0], v.n[1], v.n[2]);
+  ExportedScene e;
+  if (grid && !opt.resolution.empty()) {
+    e.source = fmt::format("the scene's grid resampled through its interpolation at {} nodes on the box "
+                           "faces (--resolution)", nodes);
+    e.why = "a grid resampled from a grid is not a scene vrv can state (a grid's source is an analytic "
+            "field): export without --resolution, or from the analytic scene";
+    return e;
+  }
+  e.source = grid ? fmt::format("the scene's grid: its {} nodes, bit for bit", nodes)
+                  : fmt::format("the scene's analytic field sampled at {} nodes on the box faces ({}); "
+                                "scene.toml states it as a grid of these nodes",
+                                nodes, opt.resolution.empty() ? "volume.dims" : "--resolution");
+  std::optional<OpacityColourPoints> transfer;
+  if (scene.transfer.convention() != Convention::opacity_color) {
+    OpacityColourPoints t;
+    t.unit_length = opt.unit_distance;
+    for (const TransferRow& r : tabulate_transfer(scene.transfer, opt.unit_distance, opt.table_points)) {
+      t.opacity.push_back({r.value, r.opacity});
+      t.color.push_back({r.value, r.color});
+    }
+    transfer = t;
+  }
+  e.toml = exported_scene_toml(text, name, grid ? std::nullopt : std::optional(v.n), transfer);
+  // The claim checked: the scene read back has the exported nodes, bit for bit.
+  const Scene back = parse_scene(e.toml, "scene.toml");
+  if (sample_volume(back, std::nullopt).values != v.values)
+    throw std::logic_error("export: scene.toml's grid does not reproduce the exported nodes");
+  return e;
+}
+
 nlohmann::ordered_json manifest(const Scene& scene, const Camera& camera, const VolumeSamples& v,
-                                const ExportOptions& opt, const std::vector<OutputFile>& files) {
+                                const ExportOptions& opt, const std::vector<OutputFile>& files,
+                                const ExportedScene& exported) {
   nlohmann::ordered_json j;
   j["scene"] = opt.scene.empty() ? "(embedded default)" : opt.scene;
   j["scene_hash"] = scene_hash(scene);
@@ -87,7 +136,14 @@ nlohmann::ordered_json manifest(const Scene& scene, const Camera& camera, const 
                {"origin", {v.origin[0], v.origin[1], v.origin[2]}},
                {"spacing", {v.spacing[0], v.spacing[1], v.spacing[2]}},
                {"order", "x fastest, then y, then z"},
-               {"source", opt.resolution.empty() ? "the scene's grid" : "resampled at --resolution"}};
+               {"source", exported.source}};
+  if (exported.toml.empty()) {
+    j["scene_file"] = nullptr;
+    j["scene_file_missing"] = exported.why;
+  } else {
+    j["scene_file"] = "scene.toml";
+    j["scene_file_hash"] = scene_hash(parse_scene(exported.toml, "scene.toml"));
+  }
   j["background"] = scene.background;
   j["integral"] = "I = integral of g(f(s)) exp(-integral_entry^s tau(f(u)) du) ds + background exp(-integral tau), over the ray clipped to the box";
   auto names = nlohmann::ordered_json::array();
@@ -144,8 +200,10 @@ void run_export(const ExportOptions& opt) {
                    transfer_json(scene.transfer, opt.unit_distance, opt.table_points).dump(2) + "\n"});
   files.push_back({"camera.json", camera_json(camera).dump(2) + "\n"});
   files.push_back({"rays.npy", rays_npy(camera)});
+  const ExportedScene exported = exported_scene(scene, v, opt);
+  if (!exported.toml.empty()) files.push_back({"scene.toml", exported.toml});
   files.push_back({"export.json", ""});
-  files.back().contents = manifest(scene, camera, v, opt, files).dump(2) + "\n";
+  files.back().contents = manifest(scene, camera, v, opt, files, exported).dump(2) + "\n";
 
   const fs::path dir(opt.out);
   check_outputs(dir, files);
@@ -167,8 +225,8 @@ void add_export_command(CLI::App& app) {
   cmd->footer(
       "Writes into DIR: field_f32/field_f64 as .nrrd (or .nhdr + .raw) and .vti, "
       "transfer_function.csv and .json (opacity per unit distance and colour), camera.json, "
-      "rays.npy (float64, height x width x 2 x 3: origin, direction) and export.json (grid, "
-      "hashes, file list). Loading them into a renderer: docs/export.md.\n"
+      "rays.npy (float64, height x width x 2 x 3: origin, direction), scene.toml (the scene that "
+      "describes exactly what was written: verify against it) and export.json (grid, hashes, file list). Loading them into a renderer: docs/export.md.\n"
       "stdout: one JSON line.");
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
   cmd->add_option("--out", opt->out, "Output directory (created if its parent exists)")->required();

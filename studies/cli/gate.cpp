@@ -74,6 +74,10 @@ DiscreteOptions discrete_options(const RenderSpec& spec, double h) {
   d.oversample = spec.oversample;
   d.correction = spec.correction;
   d.precision = spec.precision;
+  d.opacity_unit = spec.opacity_unit;
+  d.color = spec.color;
+  d.table_size = spec.table_size;
+  d.table_lookup = spec.table_lookup;
   return d;
 }
 

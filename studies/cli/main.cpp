@@ -95,6 +95,7 @@ int main(int argc, char** argv) {
   vrv::cli::add_export_command(app);
   vrv::cli::add_verify_command(app);
   vrv::cli::add_gate_command(app);
+  vrv::cli::add_scene_command(app);
   std::vector<std::string> args = glue_negative_values(argc, argv);
   std::vector<char*> ptrs;
   for (auto& a : args) ptrs.push_back(a.data());

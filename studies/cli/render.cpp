@@ -346,7 +346,8 @@ void run_render(const RenderOptions& opt) {
   j["output"] = out.exr.string();
   j["preview"] = out.png.string();
   j["output_f64"] = out.f64.string();
-  j["scene_hash"] = provenance.scene_hash;
+  // The scene and camera hashed together, named as export.json names the same hash.
+  j["scene_camera_hash"] = provenance.scene_hash;
   j["width"] = camera.width;
   j["height"] = camera.height;
   j["method"] = discrete ? opt.discrete.method : "reference";

@@ -73,9 +73,8 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
     if (bounds) extra.emplace_back("bounds", bound_table(run.rows));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     write_verify_outputs(out, run.report, extra, parameters, seconds);
-    if (!no_plots && draw_study_plots(out) != 0)
-      std::cerr << fmt::format("vrv verify: {}: the plot could not be drawn (python3-matplotlib; VRV_PYTHON)\n",
-                               out.string());
+    if (const std::string why = no_plots ? "" : draw_study_plots(out); !why.empty())
+      std::cerr << fmt::format("vrv verify: {}: the plot could not be drawn: {}\n", out.string(), why);
   }
   return run;
 }

@@ -47,9 +47,11 @@ std::string failures(const std::vector<StudyCheck>& checks) {
 }
 
 // Runs the plot script (plot_script.h) on `dir` (which has plots.json) in its own process group,
-// which an interruption ends; its messages go to stderr.  Its exit status (127: not started).
-int draw_plots(const fs::path& dir) {
-  const std::string py = plot_python(), script = find_plot_script(study_dirs()).string();
+// which an interruption ends; its messages go to stderr.  Its exit status (127: not started, or
+// no script).
+int draw_plots(const fs::path& dir, const PlotScript& found) {
+  if (found.path.empty()) return 127;
+  const std::string py = plot_python(), script = found.path.string();
   const std::string where = dir.string();
   const pid_t pid = fork();
   if (pid < 0) return 127;
@@ -187,9 +189,10 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
   std::error_code ec;
   int plots_status = 0;
   std::string plots = "none";
+  const PlotScript script = find_plot_script(study_dirs());
   if (fs::exists(staging.dir() / "plots.json", ec)) {
     if (!opt.no_plots) {
-      plots_status = draw_plots(staging.dir());
+      plots_status = draw_plots(staging.dir(), script);
       plots = plots_status == 0 ? "drawn" : fmt::format("failed (exit {})", plots_status);
     } else {
       plots = "not drawn (--no-plots)";
@@ -211,10 +214,8 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
     return 1;
   }
   if (plots_status != 0) {
-    std::cerr << fmt::format(
-        "vrv study: {}: plots: {} {} exited with {} (matplotlib: Debian's python3-matplotlib; "
-        "set VRV_PYTHON, or pass --no-plots)\n",
-        study.name, plot_python(), find_plot_script(study_dirs()).string(), plots_status);
+    std::cerr << fmt::format("vrv study: {}: plots: {}, or pass --no-plots\n", study.name,
+                             plot_failure(script, plots_status));
     return 1;
   }
   if (!opt.quiet)
@@ -232,5 +233,9 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
 
 // For `vrv verify` (studies/cli/verify_run.cpp), which writes plots.json as a study does.
 namespace vrv::cli {
-int draw_study_plots(const std::filesystem::path& dir) { return draw_plots(dir); }
+std::string draw_study_plots(const std::filesystem::path& dir) {
+  const PlotScript script = find_plot_script(study_dirs());
+  const int status = draw_plots(dir, script);
+  return status == 0 ? std::string() : plot_failure(script, status);
+}
 }  // namespace vrv::cli

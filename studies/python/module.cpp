@@ -20,6 +20,7 @@
 #include "lib/io/verify_output.h"
 #include "lib/vrv.h"
 #include "studies/cli/discrete_options.h"
+#include "lib/io/image_module.h"
 #include "studies/engine/plot_script.h"
 
 namespace py = pybind11;
@@ -106,6 +107,10 @@ std::optional<DiscreteConfig> discrete_config(const Scene& scene, const py::kwar
     else if (k == "compositing") o.compositing = py::cast<std::string>(value);
     else if (k == "classification") o.classification = py::cast<std::string>(value);
     else if (k == "precision") o.precision = py::cast<std::string>(value);
+    else if (k == "opacity_unit") o.opacity_unit = py::cast<std::string>(value);
+    else if (k == "color") o.color = py::cast<std::string>(value);
+    else if (k == "table_size") o.table_size = py::cast<int>(value);
+    else if (k == "table_lookup") o.table_lookup = py::cast<std::string>(value);
     else throw py::type_error(fmt::format("unexpected keyword argument '{}'", k));
   }
   const bool method_given = !o.method.empty();
@@ -212,8 +217,9 @@ BoundSet bounds_of(const std::filesystem::path& file, const std::optional<std::s
 }
 
 // studies/engine/plot_study.py, looked for as `vrv verify` looks (studies/engine/plot_script.h):
-// under ./studies, <module dir>/../studies, $VRV_STUDY_PATH, the source tree the module was built from.
-std::filesystem::path plot_script() {
+// under ./studies, <module dir>/../studies, $VRV_STUDY_PATH, the source tree the module was built
+// from, then the installed copy relative to the module.
+PlotScript plot_script() {
   namespace fs = std::filesystem;
   std::vector<fs::path> dirs{fs::path("studies")};
   const fs::path module(py::module_::import("vrv").attr("__file__").cast<std::string>());
@@ -228,15 +234,17 @@ std::filesystem::path plot_script() {
 // cannot be drawn is, as there, one line (a RuntimeWarning here) and not an error: the tables stand.
 void draw_plot(const std::filesystem::path& out) {
   const std::string python = plot_python();
+  const PlotScript script = plot_script();
   int status = 127;  // could not be started, as draw_study_plots counts it
   try {
-    status = py::module_::import("subprocess").attr("call")(
-        py::make_tuple(python, plot_script().string(), out.string())).cast<int>();
+    if (!script.path.empty())
+      status = py::module_::import("subprocess").attr("call")(
+          py::make_tuple(python, script.path.string(), out.string())).cast<int>();
   } catch (const py::error_already_set& e) {
     if (!e.matches(PyExc_OSError)) throw;
   }
   const std::string line =
-      fmt::format("vrv.verify: {}: the plot could not be drawn (python3-matplotlib; VRV_PYTHON)", out.string());
+      fmt::format("vrv.verify: {}: the plot could not be drawn: {}", out.string(), plot_failure(script, status));
   if (status != 0 && PyErr_WarnEx(PyExc_RuntimeWarning, line.c_str(), 1) < 0) throw py::error_already_set();
 }
 
@@ -261,7 +269,10 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
     throw std::invalid_argument("--case: needs --bounds");
   }
   if (threshold) options.threshold = *threshold;
-  if (out) check_verify_out(*out);
+  if (out) {
+    check_verify_out(*out);
+    image_module::functions();  // a missing image module is refused before anything is computed
+  }
   std::vector<ValueImage> values;
   for (std::size_t i = 0; i < images.size(); ++i) values.push_back(value_image(images[i], i));
   VerifyReport report;

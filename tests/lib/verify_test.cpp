@@ -12,7 +12,9 @@
 #include <gtest/gtest.h>
 
 #include "lib/io/image_io.h"
+#include "lib/io/atomic_file.h"
 #include "lib/io/image_channels.h"
+#include "lib/io/npy.h"
 #include "lib/io/scene_file.h"
 #include "tests/lib/toy_raycaster.h"
 
@@ -154,6 +156,69 @@ TEST_F(VerifyToy, EightBitImagesStateTheirFloorAndClaimNoOrderBelowIt) {
   EXPECT_NEAR(r.channels.back().floor_rms, 1.0 / 255 / std::sqrt(12.0), 1e-15);
   EXPECT_LT(r.orders[0].fit.points, static_cast<int>(images.size()));  // the floor's points are left out
   EXPECT_TRUE(has_fault(r, "quantisation"));
+}
+
+// The same 8-bit values saved as a float EXR (as a renderer's framebuffer often is): the floor is
+// the integers' 1/255, not the float's ulp, and it is named as quantisation, not as jitter.
+TEST_F(VerifyToy, EightBitValuesInAFloatExrAreAQuantisationFloor) {
+  std::vector<ImageWithStep> images;
+  for (const ImageWithStep& in : toy_images(scene, toy::Fault::none, "eightbit_float")) {
+    Image im(in.image.width, in.image.height);
+    std::transform(in.image.planes[0].begin(), in.image.planes[0].end(), im.pixels.begin(), [](double v) {
+      return static_cast<float>(std::round(std::clamp(v, 0.0, 1.0) * 255) / 255);
+    });
+    const fs::path file = scratch() / fmt::format("eightbit_float_{}.exr", in.step);
+    write_exr(im, file);
+    images.push_back({file.string(), in.step, read_channel_image(file)});
+    ASSERT_EQ(images.back().image.pixel_type, "float");
+  }
+  const VerifyReport r = verify_images(scene, images, options());
+  EXPECT_DOUBLE_EQ(r.channels.back().quantum, 1.0 / 255);
+  EXPECT_TRUE(r.channels.back().at_floor);
+  EXPECT_TRUE(has_fault(r, "quantisation"));
+  EXPECT_FALSE(has_fault(r, "jitter"));
+  // Float values off the grid keep the float's ulp.
+  ImageWithStep fine = images.back();
+  fine.image.planes[0][0] += 1e-4;
+  EXPECT_LT(effective_quantum(fine.image), 1e-6);
+}
+
+// Images as renderers write them: numpy.save's .npy (2-D float32, H x W x 4 float64) read by hand,
+// PFM through OpenImageIO (stored bottom row first: read back top row first), with their values.
+TEST(ImageFormats, NpyAndPfmAreReadAsTheRendererWroteThem) {
+  const int w = 3, h = 2;
+  std::vector<float> grey(w * h);
+  for (int i = 0; i < w * h; ++i) grey[i] = 0.1f * static_cast<float>(i) + 0.05f;
+  write_file_atomically(scratch() / "grey.npy", npy_bytes(std::span<const float>(grey), {2, 3}));
+  const ChannelImage g = read_channel_image(scratch() / "grey.npy");
+  ASSERT_EQ(g.width, w);
+  ASSERT_EQ(g.height, h);
+  EXPECT_EQ(g.names, std::vector<std::string>{"Y"});
+  EXPECT_EQ(g.pixel_type, "float");
+  EXPECT_EQ(g.at(0, 2, 1), static_cast<double>(grey[5]));
+
+  std::vector<double> rgba(w * h * 4);
+  for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = 0.01 * static_cast<double>(i);
+  write_file_atomically(scratch() / "rgba.npy", npy_bytes(std::span<const double>(rgba), {2, 3, 4}));
+  const ChannelImage c = read_channel_image(scratch() / "rgba.npy");
+  EXPECT_EQ(c.names, (std::vector<std::string>{"R", "G", "B", "A"}));
+  EXPECT_EQ(c.alpha, 3);
+  EXPECT_EQ(c.at(2, 1, 1), rgba[(1 * w + 1) * 4 + 2]);
+  EXPECT_EQ(c.at(3, 2, 0), rgba[(0 * w + 2) * 4 + 3]);
+
+  write_file_atomically(scratch() / "five.npy", npy_bytes(std::span<const double>(rgba), {2, 3, 2, 2}));
+  EXPECT_THROW(read_channel_image(scratch() / "five.npy"), std::runtime_error);
+
+  // PFM: "Pf" (grey), width height, -1 (little-endian), rows from the bottom.
+  std::string pfm = fmt::format("Pf\n{} {}\n-1.0\n", w, h);
+  for (int y = h - 1; y >= 0; --y)
+    for (int x = 0; x < w; ++x) pfm.append(reinterpret_cast<const char*>(&grey[y * w + x]), sizeof(float));
+  write_file_atomically(scratch() / "grey.pfm", pfm);
+  const ChannelImage p = read_channel_image(scratch() / "grey.pfm");
+  ASSERT_EQ(p.width, w);
+  ASSERT_EQ(p.height, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) EXPECT_EQ(p.at(0, x, y), static_cast<double>(grey[y * w + x])) << x << ", " << y;
 }
 
 // RGBA over nothing, premultiplied or straight: each colour channel composited over the

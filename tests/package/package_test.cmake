@@ -1,6 +1,6 @@
 # The installed package, as a consumer uses it; run by CTest as `package`.
 # -DBIN=<vrv's build dir> -DSRC=<tests/package> -DOUT=<scratch dir> -DLAUNCHER=<ccache or empty>
-# -DPYTHON=<python3>.  Installs into OUT/prefix, then configures, builds and runs the consumer
+# -DPYTHON=<python3> -DPYDIR=<VRV_INSTALL_PYTHONDIR>.  Installs into OUT/prefix, then configures, builds and runs the consumer
 # project (tests/package/consumer) against it, and runs the installed program and module.
 file(REMOVE_RECURSE ${OUT}/prefix)
 function(run what)
@@ -24,7 +24,7 @@ message(STATUS "${LAST_OUT}")
 
 run(installed_program ${OUT}/prefix/bin/vrv ray --origin=-3,0.5,0 --direction=1,0,0 --json)
 string(STRIP "${LAST_OUT}" cli)
-run(installed_module ${CMAKE_COMMAND} -E env PYTHONPATH=${OUT}/prefix/bin ${PYTHON} -c
+run(installed_module ${CMAKE_COMMAND} -E env PYTHONPATH=${OUT}/prefix/${PYDIR} ${PYTHON} -c
   "import json, sys, vrv
 r = vrv.Scene.default().reference([-3, 0.5, 0], [1, 0, 0])
 assert float(r['value']) == json.loads(sys.argv[1])['value'], (r, sys.argv[1])" "${cli}")

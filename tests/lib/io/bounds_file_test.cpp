@@ -27,7 +27,7 @@ max_nan = { fail = 0 }
 [[case]]
 name = "a"
 steps = [0.2, 0.1]
-render = { method = "alpha", strategy = "inviwo" }
+render = { method = "alpha", strategy = "inviwo", opacity_unit = "distance", color = "premultiplied", table_size = 256, table_lookup = "uncentred" }
 width = 16
 rms = { fail = 5e-3 }
 at = "all"
@@ -44,6 +44,11 @@ study = "convergence"
   EXPECT_DOUBLE_EQ(a.bounds.threshold, 1e-4);
   EXPECT_TRUE(a.bounds.all_images);
   EXPECT_EQ(a.render->strategy, "inviwo");
+  // The opacity/colour conventions of `vrv render` (--opacity-unit, --color, --table-*).
+  EXPECT_EQ(a.render->opacity_unit, "distance");
+  EXPECT_EQ(a.render->color, "premultiplied");
+  EXPECT_EQ(a.render->table_size, 256);
+  EXPECT_EQ(a.render->table_lookup, "uncentred");
   EXPECT_EQ(*a.width, 16);
   EXPECT_EQ(f.cases[1].study, "convergence");
 }
@@ -55,6 +60,10 @@ TEST(BoundsFile, ImagesCaseMayLeaveStepsToProvenance) {
   EXPECT_TRUE(f.cases[0].steps.empty());
   EXPECT_EQ(f.cases[0].images.size(), 2u);
   EXPECT_EQ(f.cases[0].images[1], std::filesystem::path("dir/b.exr"));
+  // Paths as a reader writes them: ./b.toml with ../img/a.exr is ../img/a.exr, not ./../img/a.exr.
+  const BoundsFile g = parse_bounds("[[case]]\nname = \"x\"\nimages = [\"../img/a.exr\"]\nscene = \"./s.toml\"\n", "./b.toml");
+  EXPECT_EQ(g.cases[0].images[0], std::filesystem::path("../img/a.exr"));
+  EXPECT_EQ(g.cases[0].scene, std::filesystem::path("s.toml"));
 }
 
 TEST(BoundsFile, ErrorsNameFileAndKey) {

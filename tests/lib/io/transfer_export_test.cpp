@@ -12,6 +12,22 @@ TransferFunction with_jump() {
       PiecewiseLinear({{0, 0}, {0.5, 1}, {0.5, 2}, {1, 2}}), PiecewiseLinear({{0, 0}, {1, 3}}));
 }
 
+// The default scene's g = v, tau = v / 2: colour 2 everywhere, including v = 0 where tau = 0 (it
+// was written 0 there, a dip a renderer interpolates into and a floor of 1.3e-5 RMS).
+TEST(TransferExport, ColourWhereExtinctionVanishesIsItsLimit) {
+  const TransferFunction tf = TransferFunction::emission_extinction(PiecewiseLinear({{0, 0}, {1, 1}}),
+                                                                   PiecewiseLinear({{0, 0}, {1, 0.5}}));
+  const auto rows = tabulate_transfer(tf, 1, 8);
+  ASSERT_EQ(rows.front().value, 0);
+  for (const auto& r : rows) EXPECT_DOUBLE_EQ(r.color, 2) << r.value;
+  EXPECT_EQ(transfer_json(tf, 1, 8)["emission_without_extinction"], false);
+  // Emission without extinction stays inexpressible: colour 0 there, and flagged.
+  const TransferFunction bad = TransferFunction::emission_extinction(PiecewiseLinear({{0, 0.5}, {1, 1}}),
+                                                                    PiecewiseLinear({{0, 0}, {1, 0.5}}));
+  EXPECT_EQ(tabulate_transfer(bad, 1, 8).front().color, 0);
+  EXPECT_EQ(transfer_json(bad, 1, 8)["emission_without_extinction"], true);
+}
+
 TEST(TransferExport, RowsFollowTheFunctionAndAJumpGivesTwoRows) {
   const TransferFunction tf = with_jump();
   const auto rows = tabulate_transfer(tf, 0.25, 4);

@@ -32,6 +32,11 @@ foreach(h 0.1 0.05 0.025 0.0125)
   list(APPEND images ${OUT}/alpha_${h}.exr)
 endforeach()
 set(steps 0.1,0.05,0.025,0.0125)
+# render names its scene-and-camera hash as export.json does.
+string(JSON render_hash ERROR_VARIABLE no_hash GET "${LAST_OUT}" scene_camera_hash)
+if(no_hash OR NOT render_hash MATCHES "^[0-9a-f]+$")
+  message(FATAL_ERROR "render: no scene_camera_hash in its JSON line:\n${LAST_OUT}")
+endif()
 
 # Converges at order 2: exit 0, the JSON names the verdict and the nearest model; the files exist.
 run_vrv(0 verify_pass verify --scene ${SCENE} ${images} --steps ${steps} --expected-order 2
@@ -49,6 +54,12 @@ foreach(f errors.csv errors.md errors.tex errors.json orders.csv diagnosis.json 
     message(FATAL_ERROR "verify_pass: ${f} was not written")
   endif()
 endforeach()
+# No fault named: faults.md says so instead of a header over no rows.
+string(JSON fault_count LENGTH "${LAST_OUT}" faults)
+file(READ ${OUT}/v/faults.md faults_md)
+if(NOT fault_count EQUAL 0 OR NOT faults_md STREQUAL "none: no fault named\n")
+  message(FATAL_ERROR "verify_pass: faults.md with no fault:\n${faults_md}")
+endif()
 # The second run reads the reference from the cache.
 run_vrv(0 verify_cached verify --scene ${SCENE} ${images} --steps ${steps} --cache-dir ${OUT}/cache --no-diagnosis --quiet)
 string(JSON cached GET "${LAST_OUT}" reference from_cache)

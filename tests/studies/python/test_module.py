@@ -66,6 +66,33 @@ def test_discrete_is_bitwise_vrv_ray_method(tmp_path):
         assert (r["value"][i], r["samples"][i]) == (line["value"], line["samples"])
 
 
+def test_opacity_colour_conventions_are_bitwise_vrv_ray(tmp_path):
+    """The renderer conventions of `vrv ray` (--opacity-unit, --color, --table-size, --table-lookup)
+    as keywords, named as on the command line."""
+    path = tmp_path / "oc.toml"
+    path.write_text("""
+[volume]
+min = [-1.0, -1.0, -1.0]
+max = [1.0, 1.0, 1.0]
+[field]
+kind = "marschner_lobb"
+[transfer]
+opacity = [[0.0, 0.05], [1.0, 0.4]]
+color = [[0.0, 1.0], [1.0, 0.2]]
+unit_length = 0.25
+""")
+    scene = vrv.Scene.from_file(str(path))
+    options = dict(method="alpha", strategy="inviwo", step=0.02, opacity_unit="distance", color="premultiplied",
+                   table_size=256, table_lookup="uncentred")
+    r = scene.discrete(ORIGINS, DIRECTIONS, **options)
+    lines = cli_rays(tmp_path, "--scene", str(path), *[f"--{k.replace('_', '-')}={v}" for k, v in options.items()])
+    assert [line["value"] for line in lines] == list(r["value"])
+    plain = scene.discrete(ORIGINS, DIRECTIONS, method="alpha", strategy="inviwo", step=0.02)
+    assert not np.array_equal(r["value"], plain["value"])
+    with pytest.raises(ValueError, match="--opacity-unit"):
+        scene.discrete(ORIGINS, DIRECTIONS, method="alpha", opacity_unit="metre")
+
+
 def test_arrays_of_any_shape():
     scene = vrv.Scene.default()
     origins, directions = scene.rays(width=7, height=5)

@@ -1,0 +1,28 @@
+// vrv scene --print [FILE]: the scene as TOML, checked as every command checks it, the embedded
+// default when no file is given.  What `vrv export` writes as scene.toml reads back the same way.
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "lib/io/scene_file.h"
+#include "studies/cli/commands.h"
+
+namespace vrv::cli {
+
+void add_scene_command(CLI::App& app) {
+  auto file = std::make_shared<std::string>();
+  auto print = std::make_shared<bool>(false);
+  CLI::App* cmd = app.add_subcommand("scene", "Print a scene as TOML (the embedded default without FILE)");
+  cmd->footer("stdout: the scene's TOML, every number to the digits that read back to the same value.");
+  cmd->add_flag("--print", *print, "Print the scene (the only action, and the default)");
+  cmd->add_option("FILE", *file, "Scene file (TOML); the embedded default when omitted");
+  cmd->callback([file, print] {
+    const std::string text = file->empty() ? std::string(default_scene_toml()) : read_scene_text(*file);
+    const std::string out = scene_toml(text, file->empty() ? "<default scene>" : *file);
+    std::cout << out << std::flush;
+    if (!std::cout) throw std::runtime_error("stdout: write error");
+  });
+}
+
+}  // namespace vrv::cli
