@@ -11,6 +11,9 @@ namespace vrv {
 namespace {
 
 constexpr std::size_t kMaxQuoted = 40;  // longest key or token quoted in an error
+// Deepest array or object nesting read: nlohmann's parser is iterative, but copying and printing
+// a value recurse once per level, so a 70,000-deep id overflowed the stack (issue 22).
+constexpr int kMaxDepth = 100;
 
 std::string cut(const std::string& s) {
   return s.size() <= kMaxQuoted ? s : s.substr(0, kMaxQuoted) + "...";
@@ -76,10 +79,18 @@ Vec3 vector_field(const nlohmann::json& object, const char* key) {
   return v;
 }
 
+// Refuses nesting deeper than kMaxDepth while parsing, before the deep value exists.
+bool within_depth(int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+  using E = nlohmann::json::parse_event_t;
+  if ((event == E::object_start || event == E::array_start) && depth >= kMaxDepth)
+    throw std::invalid_argument(fmt::format("nested more than {} arrays or objects deep", kMaxDepth));
+  return true;
+}
+
 RayLine parse_line(const std::string& text) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text);
+    j = nlohmann::json::parse(text, within_depth);
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument(parse_failure(text, e));
   }

@@ -80,5 +80,18 @@ TEST(RaysFile, LongKeysAreCut) {
   EXPECT_NE(e.find("unknown key 'kkkk"), std::string::npos) << e;
 }
 
+// Copying or printing an id recurses once per level: a 70,000-deep id overflowed the stack
+// (issue 22).  Nesting is bounded while parsing; an id 99 levels deep passes through.
+TEST(RaysFile, DeeplyNestedIdIsAnErrorNotAStackOverflow) {
+  const auto line = [](int depth) {
+    return "{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0], \"id\": " + std::string(depth, '[') +
+           std::string(depth, ']') + "}\n";
+  };
+  EXPECT_EQ(error_of(line(1) + line(70000)), "r.jsonl:2: nested more than 100 arrays or objects deep");
+  EXPECT_EQ(error_of(line(100)), "r.jsonl:1: nested more than 100 arrays or objects deep");
+  std::istringstream in(line(99));
+  EXPECT_EQ(read_rays(in, "r.jsonl").size(), 1u);
+}
+
 }  // namespace
 }  // namespace vrv

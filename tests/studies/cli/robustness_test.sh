@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Issue 22, end to end: hostile inputs to the newer surfaces (--rays, verify, gate, --resume) are
+# refused with one line and the documented exit code, never a crash, a hang, a write outside
+# --out or a lost result (docs/robustness.md).  Each section is one defect of the issue.
+# Usage: robustness_test.sh VRV SOURCE_DIR WORK_DIR
+set -u
+vrv=$1 src=$2 out=$3
+rm -rf "$out" && mkdir -p "$out" || exit 1
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# expect NAME CODE PATTERN CMD...: exits CODE (not a signal), stderr is one line matching PATTERN.
+expect() {
+  local name=$1 code=$2 pattern=$3
+  shift 3
+  timeout 120 "$@" > "$out/$name.out" 2> "$out/$name.err"
+  local rc=$?
+  [ $rc -eq "$code" ] || fail "$name: exit $rc, expected $code: $(head -c 600 "$out/$name.err")"
+  [ "$(wc -l < "$out/$name.err")" -le 1 ] || fail "$name: stderr is more than one line: $(head -c 600 "$out/$name.err")"
+  grep -Eq -- "$pattern" "$out/$name.err" || fail "$name: stderr does not match '$pattern': $(cat "$out/$name.err")"
+}
+
+ray='{"origin": [-3, 0.5, 0], "direction": [1, 0, 0]'
+
+# (1) An id nested 70,000 arrays deep overflowed the stack copying it (SIGSEGV).
+python3 -c "import sys; n = 70000; sys.stdout.write('$ray, \"id\": ' + '[' * n + ']' * n + '}\n')" > "$out/deep.jsonl"
+expect deep_id 2 "^vrv: error: $out/deep.jsonl:1: nested more than 100 arrays or objects deep$" \
+  "$vrv" ray --rays "$out/deep.jsonl"
+
+echo "robustness: all passed"
