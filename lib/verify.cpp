@@ -10,11 +10,11 @@
 #include <numeric>
 #include <sstream>
 
-#include <boost/crc.hpp>
 #include <fmt/format.h>
 
 #include "lib/io/atomic_file.h"
 #include "lib/discrete_raycast.h"
+#include "lib/util/checksum.h"
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
@@ -36,14 +36,9 @@ std::string camera_text(const Camera& c) {
                      c.width, c.height);
 }
 
-// CRC-64 (ECMA-182 polynomial) of the key: Boost.CRC, stable across platforms and runs, unlike
-// std::hash.  The file also stores the whole key, compared on reading, so a collision cannot
-// return another scene's reference.
-std::string cache_name(const std::string& key) {
-  boost::crc_optimal<64, 0x42F0E1EBA9EA3693ULL, 0, 0, false, false> crc;
-  crc.process_bytes(key.data(), key.size());
-  return fmt::format("reference-{:016x}.bin", crc.checksum());
-}
+// CRC-64 of the key (lib/util/checksum.h).  The file also stores the whole key, compared on
+// reading, so a collision cannot return another scene's reference.
+std::string cache_name(const std::string& key) { return fmt::format("reference-{}.bin", crc64_hex(key)); }
 
 constexpr std::string_view kCacheMagic = "vrv reference cache 1\n";
 

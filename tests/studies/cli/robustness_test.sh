@@ -26,4 +26,23 @@ python3 -c "import sys; n = 70000; sys.stdout.write('$ray, \"id\": ' + '[' * n +
 expect deep_id 2 "^vrv: error: $out/deep.jsonl:1: nested more than 100 arrays or objects deep$" \
   "$vrv" ray --rays "$out/deep.jsonl"
 
+# (2) --resume trusted a checkpoint's values: one holding only `end` (SIGSEGV), one with 5 of its
+# 40 values removed (exit 0, another errors.csv), a sample count of 0x1p+1000 (a float-cast
+# overflow, exit 0).  Each is refused now, naming the file (exit 2).
+study="$src/studies/convergence/convergence.toml"
+{ VRV_TEST_KILL_AFTER_CHECKPOINTS=5 "$vrv" study "$study" --quick --no-plots --quiet --out "$out/ck"; } > /dev/null 2>&1
+[ -f "$out/ck/.convergence.partial/checkpoints/ray_0.txt" ] || fail "the killed study stored no ray_0 checkpoint"
+for damage in only_end five_removed huge_count; do
+  cp -r "$out/ck" "$out/ck_$damage"
+  ck="$out/ck_$damage/.convergence.partial/checkpoints/ray_0.txt"
+  case $damage in
+    only_end) echo end > "$ck" ;;
+    five_removed) sed -i '1,5d' "$ck" ;;
+    huge_count) sed -i '21s/.*/0x1p+1000/' "$ck" ;;
+  esac
+  expect "resume_$damage" 2 "^vrv: error: $ck: .*run without --resume$" \
+    "$vrv" study "$study" --quick --no-plots --quiet --resume --out "$out/ck_$damage"
+  [ ! -d "$out/ck_$damage/convergence" ] || fail "resume_$damage: results were published"
+done
+
 echo "robustness: all passed"
