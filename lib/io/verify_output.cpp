@@ -10,6 +10,7 @@
 #include "lib/io/atomic_file.h"
 #include "lib/io/image_io.h"
 #include "lib/io/numbered_error_map.h"
+#include "lib/io/output_paths.h"
 #include "lib/io/run_metadata.h"
 
 namespace vrv {
@@ -79,9 +80,10 @@ void write_table_files(const fs::path& dir, const std::string& name, const Table
   write_file_atomically(dir / (name + ".json"), table.to_json());
 }
 
-void check_verify_out(const fs::path& dir) {
+void check_verify_out(const fs::path& dir, const std::vector<fs::path>& inputs) {
   if (fs::exists(dir) && !fs::is_directory(dir))
     throw std::invalid_argument(fmt::format("--out: {} exists and is not a directory", dir.string()));
+  check_inputs_outside(dir, inputs, "--out");
 }
 
 void write_verify_outputs(const fs::path& dir, const VerifyReport& rep,

@@ -74,7 +74,11 @@ int run_verify(const VerifyCliOptions& o) {
     throw std::invalid_argument("--case: needs --bounds");
   }
   if (o.threshold) opt.threshold = *o.threshold;
-  if (!o.out.empty()) check_verify_out(o.out);
+  if (!o.out.empty()) {
+    std::vector<fs::path> inputs(o.images.begin(), o.images.end());
+    inputs.insert(inputs.end(), {fs::path(o.scene), fs::path(o.bounds)});
+    check_verify_out(o.out, inputs);
+  }
   const std::vector<ImageWithStep> images =
       read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
   const ThreadLimit threads(o.threads);

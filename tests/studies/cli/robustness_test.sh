@@ -8,7 +8,8 @@ vrv=$1 src=$2 out=$3
 rm -rf "$out" && mkdir -p "$out" || exit 1
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-# expect NAME CODE PATTERN CMD...: exits CODE (not a signal), stderr is one line matching PATTERN.
+# expect NAME CODE PATTERN CMD...: exits CODE (not a signal), stderr is one line matching PATTERN
+# (empty: no line).
 expect() {
   local name=$1 code=$2 pattern=$3
   shift 3
@@ -16,7 +17,11 @@ expect() {
   local rc=$?
   [ $rc -eq "$code" ] || fail "$name: exit $rc, expected $code: $(head -c 600 "$out/$name.err")"
   [ "$(wc -l < "$out/$name.err")" -le 1 ] || fail "$name: stderr is more than one line: $(head -c 600 "$out/$name.err")"
-  grep -Eq -- "$pattern" "$out/$name.err" || fail "$name: stderr does not match '$pattern': $(cat "$out/$name.err")"
+  if [ -z "$pattern" ]; then
+    [ ! -s "$out/$name.err" ] || fail "$name: stderr is not empty: $(head -c 600 "$out/$name.err")"
+  else
+    grep -Eq -- "$pattern" "$out/$name.err" || fail "$name: stderr does not match '$pattern': $(cat "$out/$name.err")"
+  fi
 }
 
 ray='{"origin": [-3, 0.5, 0], "direction": [1, 0, 0]'
@@ -44,5 +49,22 @@ for damage in only_end five_removed huge_count; do
     "$vrv" study "$study" --quick --no-plots --quiet --resume --out "$out/ck_$damage"
   [ ! -d "$out/ck_$damage/convergence" ] || fail "resume_$damage: results were published"
 done
+
+# (3) verify --out replaced an input image named like one of its outputs (o/reference.exr); an
+# input anywhere inside --out is refused before anything is computed, under any spelling.
+mkdir -p "$out/o"
+for h in 0.02 0.01; do
+  "$vrv" render --method alpha --strategy step --step $h --width 16 --height 16 -o "$out/o/$h.exr" --quiet \
+    > /dev/null 2>&1 || fail "render at step $h"
+done
+mv "$out/o/0.02.exr" "$out/o/reference.exr"
+before=$(md5sum < "$out/o/reference.exr")
+for dir in "$out/o" "$out/o/../o/"; do
+  expect input_in_out 2 "^vrv: error: --out: $dir: holds the input $out/o/reference.exr" \
+    "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --out "$dir" --no-plots --no-cache --quiet
+done
+[ "$(md5sum < "$out/o/reference.exr")" = "$before" ] || fail "input_in_out: the input image was replaced"
+expect input_outside_out 0 "" \
+  "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --out "$out/v" --no-plots --no-cache --quiet
 
 echo "robustness: all passed"
