@@ -67,4 +67,14 @@ done
 expect input_outside_out 0 "" \
   "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --out "$out/v" --no-plots --no-cache --quiet
 
+# (4) a gate case's name is its folder under --out: "/abs/dir" wrote into /abs/dir, "../x" beside
+# --out.  Refused before anything runs.
+mkdir -p "$out/gate"
+for name in ../x /abs/dir; do
+  printf '[[case]]\nname = "%s"\nrender = { method = "alpha", strategy = "step" }\nsteps = [0.2, 0.1]\nwidth = 8\nheight = 8\n' \
+    "$name" > "$out/gate/escape.toml"
+  expect case_name 2 "$out/gate/escape.toml: case\[0\]\.name: '$name' (begins with|is not a plain file name)" \
+    "$vrv" gate --bounds "$out/gate/escape.toml" --out "$out/gate/out" --no-plots --no-cache --quiet
+  [ ! -e "$out/gate/x" ] && [ ! -e "$out/gate/out" ] || fail "case_name $name: something was written"
+done
 echo "robustness: all passed"
