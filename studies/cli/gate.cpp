@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "lib/io/bounds_file.h"
+#include "lib/io/error_line.h"
 #include "lib/io/verify_output.h"
 #include "lib/util/parallel.h"
 #include "lib/io/scene_file.h"
@@ -20,6 +21,7 @@
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 #include "studies/cli/discrete_options.h"
+#include "studies/engine/study_runner.h"
 
 namespace vrv::cli {
 namespace {
@@ -120,6 +122,18 @@ std::vector<double> case_steps(const GateCase& c, const std::string& bounds) {
   return steps;
 }
 
+// A study case names a study `vrv study --list` finds: anything else (a path, "--help") would be
+// passed to `vrv study` as an argument.
+void check_study_name(const BoundsFile& file, const GateCase& c) {
+  std::string known;
+  for (const auto& [name, path] : find_studies()) {
+    if (name == c.study) return;
+    known += (known.empty() ? "" : ", ") + name;
+  }
+  throw std::invalid_argument(error_line(file.path.string(), fmt::format("case[{}].study", &c - file.cases.data()),
+                                         fmt::format("'{}' is not a study vrv knows ({})", c.study, known)));
+}
+
 int run_gate(const GateOptions& o) {
   const BoundsFile file = load_bounds(o.bounds);
   std::vector<const GateCase*> cases;
@@ -132,6 +146,7 @@ int run_gate(const GateOptions& o) {
   std::vector<std::vector<double>> steps;
   for (const GateCase* c : cases) {
     if (!c->study.empty()) {
+      check_study_name(file, *c);
       scenes.emplace_back();
       steps.emplace_back();
       continue;

@@ -77,4 +77,10 @@ for name in ../x /abs/dir; do
     "$vrv" gate --bounds "$out/gate/escape.toml" --out "$out/gate/out" --no-plots --no-cache --quiet
   [ ! -e "$out/gate/x" ] && [ ! -e "$out/gate/out" ] || fail "case_name $name: something was written"
 done
+
+# (5) study = "--help" ran `vrv study --help` and passed: a study case names a known study.
+printf '[[case]]\nname = "h"\nstudy = "--help"\n' > "$out/gate/help.toml"
+expect study_name 2 "^vrv: error: $out/gate/help.toml: case\[0\]\.study: '--help' is not a study vrv knows \(convergence, " \
+  "$vrv" gate --bounds "$out/gate/help.toml" --out "$out/gate/out" --quiet
+
 echo "robustness: all passed"
