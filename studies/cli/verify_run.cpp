@@ -88,7 +88,7 @@ void run_exiting(const char* command, const std::function<int()>& body) {
     std::cerr << "vrv " << command << ": " << e.what() << '\n';
     std::exit(kExitBadInput);
   }
-  if (rc != 0) std::exit(rc);
+  if (rc != 0) throw CommandFailed(rc, "");  // main checks standard output before it exits
 }
 
 std::string summary_text(const VerifyRun& run) {

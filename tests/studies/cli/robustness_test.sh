@@ -83,4 +83,28 @@ printf '[[case]]\nname = "h"\nstudy = "--help"\n' > "$out/gate/help.toml"
 expect study_name 2 "^vrv: error: $out/gate/help.toml: case\[0\]\.study: '--help' is not a study vrv knows \(convergence, " \
   "$vrv" gate --bounds "$out/gate/help.toml" --out "$out/gate/out" --quiet
 
+# (6) a write error on standard output was ignored: `vrv ray --rays F > /dev/full` exited 0 with
+# every result lost.  Every command flushes and checks it: one line, exit 5.
+if [ -w /dev/full ]; then
+  printf '%s}\n' "$ray" > "$out/one.jsonl"
+  full() {
+    local name=$1
+    shift
+    "$@" > /dev/full 2> "$out/$name.err"
+    local rc=$?
+    [ $rc -eq 5 ] || fail "$name > /dev/full: exit $rc, expected 5: $(head -c 600 "$out/$name.err")"
+    tail -n 1 "$out/$name.err" | grep -Eq "^vrv: error: standard output: (a write failed|No space left on device); the results printed are incomplete$" ||
+      fail "$name > /dev/full: $(cat "$out/$name.err")"
+  }
+  full full_rays "$vrv" ray --rays "$out/one.jsonl"
+  full full_ray "$vrv" ray --origin -3,0.5,0 --direction 1,0,0 --json
+  full full_demo "$vrv" demo
+  full full_list "$vrv" study --list
+  full full_help "$vrv" --help
+  full full_verify "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --no-plots --no-cache --quiet
+  full full_export "$vrv" export --out "$out/export" --resolution 4,4,4
+else
+  echo "robustness: /dev/full is not writable here; the standard output cases are skipped"
+fi
+
 echo "robustness: all passed"
