@@ -22,12 +22,31 @@ fs::path default_cache_dir() {
   return {};
 }
 
+namespace {
+
+// An image is a regular file: a character device (/dev/zero) never ends and hung the reader, a
+// FIFO can be read once.  VerifyInputError "<file>: is a ..., not an image file" otherwise.
+void check_image_file(const std::string& file) {
+  std::error_code ec;
+  const fs::file_status s = fs::status(file, ec);
+  if (!fs::exists(s) || fs::is_regular_file(s)) return;  // a missing file: the reader names it
+  const char* kind = fs::is_directory(s)        ? "a directory"
+                     : fs::is_character_file(s) ? "a character device"
+                     : fs::is_block_file(s)     ? "a block device"
+                     : fs::is_fifo(s)           ? "a FIFO"
+                                                : "a special file";
+  throw VerifyInputError(fmt::format("{}: is {}, not an image file", file, kind));
+}
+
+}  // namespace
+
 std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, const std::vector<double>& steps) {
   if (files.empty()) throw VerifyInputError("IMAGE: give the renderer's images, one per step");
   if (steps.size() != files.size())
     throw VerifyInputError(fmt::format("--steps: {} steps for {} images (one step per image, in the same order)",
                                        steps.size(), files.size()));
   std::vector<ImageWithStep> out;
+  for (const std::string& file : files) check_image_file(file);
   for (std::size_t i = 0; i < files.size(); ++i) {
     try {
       out.push_back({files[i], steps[i], read_channel_image(files[i])});
@@ -39,6 +58,7 @@ std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, co
 }
 
 std::optional<double> provenance_step(const std::string& file) {
+  check_image_file(file);
   try {
     const std::optional<ImageProvenance> p = read_provenance(file);
     return p ? p->step : std::nullopt;

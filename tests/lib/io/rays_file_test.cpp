@@ -93,5 +93,15 @@ TEST(RaysFile, DeeplyNestedIdIsAnErrorNotAStackOverflow) {
   EXPECT_EQ(read_rays(in, "r.jsonl").size(), 1u);
 }
 
+// `--rays /dev/zero` read one endless line into memory (issue 22): a line is at most 1 MiB.
+TEST(RaysFile, ALineLongerThanOneMebibyteIsAnError) {
+  const std::string ray = "{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0]}";
+  EXPECT_EQ(error_of(ray + "\n" + std::string(3 << 20, '\0')),
+            "r.jsonl:2: longer than 1048576 bytes (1 MiB), the longest line read");
+  const std::string padded = ray + std::string((1 << 20) - ray.size(), ' ');  // exactly 1 MiB
+  std::istringstream in(padded + "\n" + padded);
+  EXPECT_EQ(read_rays(in, "r.jsonl").size(), 2u);
+}
+
 }  // namespace
 }  // namespace vrv

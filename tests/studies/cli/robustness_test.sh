@@ -107,4 +107,15 @@ else
   echo "robustness: /dev/full is not writable here; the standard output cases are skipped"
 fi
 
+# (14) a character device as an image hung verify; `ray --rays /dev/zero` read one endless line.
+expect zero_rays 2 "^vrv: error: /dev/zero:1: longer than 1048576 bytes \(1 MiB\), the longest line read$" \
+  "$vrv" ray --rays /dev/zero
+expect zero_image 2 "^vrv: error: /dev/zero: is a character device, not an image file$" \
+  "$vrv" verify "$out/o/reference.exr" /dev/zero --no-cache --quiet
+expect zero_image_steps 2 "^vrv: error: /dev/zero: is a character device, not an image file$" \
+  "$vrv" verify /dev/zero "$out/o/0.01.exr" --steps 0.02,0.01 --no-cache --quiet
+mkfifo "$out/fifo.exr"
+expect fifo_image 2 "^vrv: error: $out/fifo.exr: is a FIFO, not an image file$" \
+  "$vrv" verify "$out/o/reference.exr" "$out/fifo.exr" --steps 0.02,0.01 --no-cache --quiet
+
 echo "robustness: all passed"
