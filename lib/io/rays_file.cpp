@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <set>
 #include <stdexcept>
 #include <utility>
 
@@ -80,18 +81,29 @@ Vec3 vector_field(const nlohmann::json& object, const char* key) {
   return v;
 }
 
-// Refuses nesting deeper than kMaxDepth while parsing, before the deep value exists.
-bool within_depth(int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
-  using E = nlohmann::json::parse_event_t;
-  if ((event == E::object_start || event == E::array_start) && depth >= kMaxDepth)
-    throw std::invalid_argument(fmt::format("nested more than {} arrays or objects deep", kMaxDepth));
-  return true;
-}
+// Checks made while parsing, before the value exists: nesting deeper than kMaxDepth, and a key
+// repeated in an object (nlohmann keeps the last value silently; the id passes through whole).
+class LineChecks {
+ public:
+  bool operator()(int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    if ((event == E::object_start || event == E::array_start) && depth >= kMaxDepth)
+      throw std::invalid_argument(fmt::format("nested more than {} arrays or objects deep", kMaxDepth));
+    if (event == E::object_start) keys_.emplace_back();
+    if (event == E::object_end) keys_.pop_back();
+    if (event == E::key && !keys_.back().insert(parsed.get<std::string>()).second)
+      throw std::invalid_argument(fmt::format("key '{}' given twice", cut(parsed.get<std::string>())));
+    return true;
+  }
+
+ private:
+  std::vector<std::set<std::string>> keys_;  // of each object being read, outermost first
+};
 
 RayLine parse_line(const std::string& text) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text, within_depth);
+    j = nlohmann::json::parse(text, LineChecks());
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument(parse_failure(text, e));
   }

@@ -93,6 +93,17 @@ TEST(RaysFile, DeeplyNestedIdIsAnErrorNotAStackOverflow) {
   EXPECT_EQ(read_rays(in, "r.jsonl").size(), 1u);
 }
 
+// The second value of a repeated key was taken silently (issue 22); inside an id too, since the id
+// is passed through whole.
+TEST(RaysFile, ARepeatedKeyIsAnError) {
+  EXPECT_EQ(error_of("{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0], \"origin\": [-3, 0.5, 0]}"),
+            "r.jsonl:1: key 'origin' given twice");
+  EXPECT_EQ(error_of("{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0], \"id\": {\"a\": 1, \"b\": {\"a\": 2}, \"a\": 3}}"),
+            "r.jsonl:1: key 'a' given twice");
+  std::istringstream in("{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0], \"id\": [{\"a\": 1}, {\"a\": 2}]}");
+  EXPECT_EQ(read_rays(in, "r.jsonl").size(), 1u);
+}
+
 // `--rays /dev/zero` read one endless line into memory (issue 22): a line is at most 1 MiB.
 TEST(RaysFile, ALineLongerThanOneMebibyteIsAnError) {
   const std::string ray = "{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0]}";

@@ -118,4 +118,8 @@ mkfifo "$out/fifo.exr"
 expect fifo_image 2 "^vrv: error: $out/fifo.exr: is a FIFO, not an image file$" \
   "$vrv" verify "$out/o/reference.exr" "$out/fifo.exr" --steps 0.02,0.01 --no-cache --quiet
 
+# A repeated key in a --rays line silently took the second value.
+printf '%s, "origin": [-3, 0, 0]}\n' "$ray" > "$out/dup.jsonl"
+expect duplicate_key 2 "^vrv: error: $out/dup.jsonl:1: key 'origin' given twice$" "$vrv" ray --rays "$out/dup.jsonl"
+
 echo "robustness: all passed"
