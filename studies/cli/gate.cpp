@@ -243,7 +243,7 @@ void add_gate_command(CLI::App& app) {
   cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plots");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
   cmd->add_flag("--quiet", o->quiet, "No progress or summary on stderr");
-  cmd->callback([o] { run_exiting("gate", [&] { return run_gate(*o); }); });
+  cmd->callback([o] { run_exiting([&] { return run_gate(*o); }); });
 }
 
 }  // namespace vrv::cli

@@ -130,7 +130,7 @@ void add_verify_command(CLI::App& app) {
   cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plot");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
   cmd->add_flag("--quiet", o->quiet, "No progress or summary on stderr");
-  cmd->callback([o] { run_exiting("verify", [&] { return run_verify(*o); }); });
+  cmd->callback([o] { run_exiting([&] { return run_verify(*o); }); });
 }
 
 }  // namespace vrv::cli

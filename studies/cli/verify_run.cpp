@@ -100,15 +100,8 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
   return run;
 }
 
-void run_exiting(const char* command, const std::function<int()>& body) {
-  int rc = 0;
-  try {
-    rc = body();
-  } catch (const BoundsFileError& e) {
-    std::cerr << "vrv " << command << ": " << e.what() << '\n';
-    std::exit(kExitBadInput);
-  }
-  if (rc != 0) throw CommandFailed(rc, "");  // main checks standard output before it exits
+void run_exiting(const std::function<int()>& body) {
+  if (const int rc = body(); rc != 0) throw CommandFailed(rc, "");  // main checks standard output first
 }
 
 std::string summary_text(const VerifyRun& run) {

@@ -44,9 +44,10 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
                            const std::string& case_name, const std::filesystem::path& out,
                            const nlohmann::json& parameters, bool no_plots);
 
-// A subcommand's callback around `body` (verify, gate): a bad bounds file is one line
-// "vrv <command>: <file>: <key>: <reason>" and exit 2; a non-zero result is the exit code.
-void run_exiting(const char* command, const std::function<int()>& body);
+// A subcommand's callback around `body` (verify, gate): a non-zero result is the exit code.  Errors
+// (a bad bounds file: BoundsFileError, "<file>: <key>: <reason>") are main's, "vrv: error: ...",
+// exit 2, as for every command.
+void run_exiting(const std::function<int()>& body);
 
 // The summary line on stderr: verdict, orders, nearest model, faults, failed bounds.
 std::string summary_text(const VerifyRun& run);

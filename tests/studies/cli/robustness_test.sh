@@ -73,7 +73,7 @@ mkdir -p "$out/gate"
 for name in ../x /abs/dir; do
   printf '[[case]]\nname = "%s"\nrender = { method = "alpha", strategy = "step" }\nsteps = [0.2, 0.1]\nwidth = 8\nheight = 8\n' \
     "$name" > "$out/gate/escape.toml"
-  expect case_name 2 "$out/gate/escape.toml: case\[0\]\.name: '$name' (begins with|is not a plain file name)" \
+  expect case_name 2 "^vrv: error: $out/gate/escape.toml: case\[0\]\.name: '$name' (begins with|is not a plain file name)" \
     "$vrv" gate --bounds "$out/gate/escape.toml" --out "$out/gate/out" --no-plots --no-cache --quiet
   [ ! -e "$out/gate/x" ] && [ ! -e "$out/gate/out" ] || fail "case_name $name: something was written"
 done
@@ -121,5 +121,11 @@ expect fifo_image 2 "^vrv: error: $out/fifo.exr: is a FIFO, not an image file$" 
 # A repeated key in a --rays line silently took the second value.
 printf '%s, "origin": [-3, 0, 0]}\n' "$ray" > "$out/dup.jsonl"
 expect duplicate_key 2 "^vrv: error: $out/dup.jsonl:1: key 'origin' given twice$" "$vrv" ray --rays "$out/dup.jsonl"
+
+# gate's and verify's errors began "vrv gate:" / "vrv verify:" where every other command says
+# "vrv: error:".
+expect gate_prefix 2 "^vrv: error: $out/none.toml: \(file\): no such bounds file$" "$vrv" gate --bounds "$out/none.toml"
+expect verify_prefix 2 "^vrv: error: $out/none.toml: \(file\): no such bounds file$" \
+  "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --bounds "$out/none.toml" --no-cache --quiet
 
 echo "robustness: all passed"
