@@ -650,13 +650,15 @@ ReferenceImage reference_image(const Scene& scene, const Camera& camera, const V
   }
   ReferenceImage r = render_reference(scene, camera, opt.reference_tol, opt.progress);
   if (cache) {
+    // An optional cache that cannot be written (a full disk) does not fail the computed run.
     std::error_code ec;
     fs::create_directories(opt.cache_dir, ec);
-    if (ec)
-      throw std::runtime_error(fmt::format("{}: cannot create the reference cache: {}",
-                                           opt.cache_dir.string(), ec.message()));
-    write_cache(file, key, r);
-    r.cache_file = file.string();
+    try {
+      write_cache(file, key, r);
+      r.cache_file = file.string();
+    } catch (const std::runtime_error& e) {
+      std::cerr << fmt::format("vrv: the reference cache was not written: {}\n", e.what());
+    }
   }
   return r;
 }

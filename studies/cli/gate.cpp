@@ -14,6 +14,7 @@
 
 #include "lib/io/bounds_file.h"
 #include "lib/io/error_line.h"
+#include "lib/io/output_paths.h"
 #include "lib/io/verify_output.h"
 #include "lib/util/parallel.h"
 #include "lib/io/scene_file.h"
@@ -134,6 +135,16 @@ void check_study_name(const BoundsFile& file, const GateCase& c) {
                                          fmt::format("'{}' is not a study vrv knows ({})", c.study, known)));
 }
 
+// Without --out the gate writes into a temporary folder (its table goes to stderr, its verdict to
+// stdout), removed on every way out of run_gate, errors included.
+struct TemporaryFolder {
+  fs::path dir;
+  ~TemporaryFolder() {
+    std::error_code ec;
+    if (!dir.empty()) fs::remove_all(dir, ec);
+  }
+};
+
 int run_gate(const GateOptions& o) {
   const BoundsFile file = load_bounds(o.bounds);
   std::vector<const GateCase*> cases;
@@ -162,9 +173,9 @@ int run_gate(const GateOptions& o) {
     }
   }
   const fs::path out = o.out.empty() ? fs::temp_directory_path() / fmt::format("vrv-gate-{}", getpid()) : fs::path(o.out);
-  std::error_code ec;
-  fs::create_directories(out, ec);
-  if (ec) throw std::invalid_argument(fmt::format("--out: {}: cannot create: {}", out.string(), ec.message()));
+  TemporaryFolder temporary{o.out.empty() ? out : fs::path()};
+  check_writable_dir(out, "--out");
+  const fs::path cache = reference_cache_dir(o.cache_dir, o.no_cache);
   const ThreadLimit threads(o.threads);
   std::vector<BoundRow> rows;
   nlohmann::ordered_json case_json = nlohmann::ordered_json::array();
@@ -193,7 +204,7 @@ int run_gate(const GateOptions& o) {
     opt.allow_nan = c.bounds.limits.count(Bound::max_nan) > 0;
     opt.diagnose = !o.no_diagnosis;
     opt.progress = !o.quiet;
-    if (!o.no_cache) opt.cache_dir = o.cache_dir.empty() ? default_cache_dir() : fs::path(o.cache_dir);
+    opt.cache_dir = cache;
     std::vector<std::string> files;
     for (const auto& p : c.images) files.push_back(p.string());
     const std::vector<ImageWithStep> images = c.render ? render_case(c, scenes[i]) : read_images(files, steps[i]);
@@ -216,7 +227,7 @@ int run_gate(const GateOptions& o) {
   if (!o.quiet) std::cerr << table.to_markdown();
   nlohmann::ordered_json j;
   j["bounds"] = o.bounds;
-  j["out"] = out.string();
+  j["out"] = o.out.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(out.string());
   j["pass"] = pass;
   j["worst"] = bound_verdict_name(worst(rows));
   j["cases"] = case_json;
@@ -236,7 +247,7 @@ void add_gate_command(CLI::App& app) {
               "hard-fail level crossed, 2 bad input. See docs/verify.md.");
   cmd->add_option("--bounds", o->bounds, "Bounds file (TOML)")->required();
   cmd->add_option("--case", o->case_name, "Run only this case");
-  cmd->add_option("--out", o->out, "Output directory (default: a temporary directory)");
+  cmd->add_option("--out", o->out, "Output directory (default: a temporary directory, removed at the end)");
   cmd->add_option("--cache-dir", o->cache_dir, "Reference cache (default $XDG_CACHE_HOME/vrv or ~/.cache/vrv)");
   cmd->add_flag("--no-cache", o->no_cache, "Do not read or write the reference cache");
   cmd->add_flag("--no-diagnosis", o->no_diagnosis, "Skip casting vrv's own models");

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "lib/io/bounds_file.h"
+#include "lib/io/output_paths.h"
 #include "lib/util/parallel.h"
 #include "lib/io/scene_file.h"
 #include "lib/io/verify_output.h"
@@ -64,7 +65,6 @@ int run_verify(const VerifyCliOptions& o) {
   opt.alpha = o.alpha == "straight" ? AlphaMode::straight : AlphaMode::premultiplied;
   opt.diagnose = !o.no_diagnosis;
   opt.progress = !o.quiet;
-  if (!o.no_cache) opt.cache_dir = o.cache_dir.empty() ? default_cache_dir() : fs::path(o.cache_dir);
   std::optional<BoundSet> bounds;
   if (!o.bounds.empty()) {
     const BoundsFile file = load_bounds(o.bounds);
@@ -81,6 +81,9 @@ int run_verify(const VerifyCliOptions& o) {
   }
   const std::vector<ImageWithStep> images =
       read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
+  // Where results go is checked before the reference is computed, not after.
+  if (!o.out.empty()) check_writable_dir(o.out, "--out");
+  opt.cache_dir = reference_cache_dir(o.cache_dir, o.no_cache);
   const ThreadLimit threads(o.threads);
   const nlohmann::json parameters = {{"command", "verify"}, {"scene", o.scene}, {"images", o.images},
                                      {"steps", o.steps.value_or("")}, {"expected_order", o.expected_order ? nlohmann::json(*o.expected_order) : nlohmann::json(nullptr)},

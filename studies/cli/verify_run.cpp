@@ -9,6 +9,7 @@
 #include "lib/io/bounds_file.h"
 #include "lib/io/image_channels.h"
 #include "lib/io/image_io.h"
+#include "lib/io/output_paths.h"
 #include "lib/io/verify_output.h"
 #include "studies/cli/commands.h"
 
@@ -16,13 +17,13 @@ namespace vrv::cli {
 
 namespace fs = std::filesystem;
 
+namespace {
+
 fs::path default_cache_dir() {
   if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "vrv";
   if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "vrv";
   return {};
 }
-
-namespace {
 
 // An image is a regular file: a character device (/dev/zero) never ends and hung the reader, a
 // FIFO can be read once.  VerifyInputError "<file>: is a ..., not an image file" otherwise.
@@ -39,6 +40,22 @@ void check_image_file(const std::string& file) {
 }
 
 }  // namespace
+
+fs::path reference_cache_dir(const std::string& option, bool no_cache) {
+  if (no_cache) return {};
+  if (!option.empty()) {
+    check_writable_dir(option, "--cache-dir");
+    return option;
+  }
+  const fs::path dir = default_cache_dir();
+  try {
+    if (!dir.empty()) check_writable_dir(dir, "the default reference cache");
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "vrv: " << e.what() << "; running without a cache\n";
+    return {};
+  }
+  return dir;
+}
 
 std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, const std::vector<double>& steps) {
   if (files.empty()) throw VerifyInputError("IMAGE: give the renderer's images, one per step");

@@ -27,8 +27,11 @@
 namespace vrv::cli {
 
 
-// --cache-dir, else $XDG_CACHE_HOME/vrv, else $HOME/.cache/vrv; empty when none is set.
-std::filesystem::path default_cache_dir();
+// The reference cache to use, checked before any work: `option` (--cache-dir; std::invalid_argument
+// when it cannot be written), else $XDG_CACHE_HOME/vrv, else $HOME/.cache/vrv when it can be
+// written (else none, said in one stderr line: an optional cache never fails a run); none with
+// `no_cache`.
+std::filesystem::path reference_cache_dir(const std::string& option, bool no_cache);
 
 struct VerifyRun {
   VerifyReport report;

@@ -128,4 +128,28 @@ expect gate_prefix 2 "^vrv: error: $out/none.toml: \(file\): no such bounds file
 expect verify_prefix 2 "^vrv: error: $out/none.toml: \(file\): no such bounds file$" \
   "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --bounds "$out/none.toml" --no-cache --quiet
 
+# gate without --out left /tmp/vrv-gate-PID behind: it is removed on every way out (a pass, and an
+# error after the folder was made: images that cannot be read).
+mkdir -p "$out/tmp"
+printf '[[case]]\nname = "c"\nrender = { method = "alpha", strategy = "step" }\nsteps = [0.2, 0.1]\nwidth = 8\nheight = 8\n' \
+  > "$out/gate/pass.toml"
+printf '[[case]]\nname = "c"\nimages = ["no1.exr", "no2.exr"]\nsteps = [0.2, 0.1]\n' > "$out/gate/noimages.toml"
+TMPDIR="$out/tmp" expect gate_temporary 0 "" "$vrv" gate --bounds "$out/gate/pass.toml" --no-plots --no-cache --quiet
+grep -q '"out":null' "$out/gate_temporary.out" || fail "gate_temporary: $(cat "$out/gate_temporary.out")"
+TMPDIR="$out/tmp" expect gate_temporary_error 2 "no1.exr" "$vrv" gate --bounds "$out/gate/noimages.toml" --no-plots --no-cache --quiet
+[ -z "$(ls -A "$out/tmp")" ] || fail "gate without --out left $(ls "$out/tmp")"
+
+# An unwritable --cache-dir or --out was found only after the whole reference was computed (and an
+# unwritable default cache failed the run): both are checked first; the default cache is optional.
+touch "$out/afile"
+expect cache_unwritable 2 "^vrv: error: --cache-dir: $out/afile/cache: cannot create the folder: Not a directory$" \
+  "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --cache-dir "$out/afile/cache" --no-plots --quiet
+expect out_unwritable 2 "^vrv: error: --out: $out/afile/out: cannot create the folder: Not a directory$" \
+  "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --out "$out/afile/out" --no-cache --no-plots --quiet
+expect gate_out_unwritable 2 "^vrv: error: --out: $out/afile/out: cannot create the folder: Not a directory$" \
+  "$vrv" gate --bounds "$out/gate/pass.toml" --out "$out/afile/out" --no-plots --no-cache --quiet
+HOME="$out/afile" XDG_CACHE_HOME= expect default_cache_unwritable 0 \
+  "^vrv: the default reference cache: $out/afile/.cache/vrv: cannot create the folder: Not a directory; running without a cache$" \
+  "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --no-plots --quiet
+
 echo "robustness: all passed"
