@@ -187,16 +187,6 @@ PixelGeometry pixel_geometry(const Scene& scene, const Camera& camera, const Ref
 // ---------------------------------------------------------------------------------------------
 // Per-channel errors
 
-Camera choose_camera(const Scene& scene, const VerifyOptions& opt, int w, int h) {
-  Camera c = opt.camera ? *opt.camera : scene.camera ? *scene.camera : default_camera(scene.box);
-  c.width = w, c.height = h;
-  try {
-    validate(c);
-  } catch (const CameraError& e) {
-    throw VerifyInputError(fmt::format("camera: {}", e.what()));
-  }
-  return c;
-}
 
 void check_inputs(const std::vector<ImageWithStep>& images, const VerifyOptions& opt) {
   if (images.empty()) throw VerifyInputError("no images to verify");
@@ -663,6 +653,17 @@ ReferenceImage reference_image(const Scene& scene, const Camera& camera, const V
   return r;
 }
 
+Camera verify_camera(const Scene& scene, const VerifyOptions& opt, int w, int h) {
+  Camera c = opt.camera ? *opt.camera : scene.camera ? *scene.camera : default_camera(scene.box);
+  c.width = w, c.height = h;
+  try {
+    validate(c);
+  } catch (const CameraError& e) {
+    throw VerifyInputError(fmt::format("camera: {}", e.what()));
+  }
+  return c;
+}
+
 std::vector<double> discrete_image(const Scene& scene, const Camera& camera, const DiscreteConfig& config) {
   std::vector<long> all(static_cast<std::size_t>(camera.width) * camera.height);
   std::iota(all.begin(), all.end(), 0L);
@@ -691,7 +692,7 @@ VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>&
   VerifyReport rep;
   rep.width = images.front().image.width;
   rep.height = images.front().image.height;
-  rep.camera = choose_camera(scene, opt, rep.width, rep.height);
+  rep.camera = verify_camera(scene, opt, rep.width, rep.height);
   rep.threshold = opt.threshold;
   rep.order_metric = opt.order_metric;
 

@@ -18,6 +18,7 @@
 #include "lib/io/verify_output.h"
 #include "lib/util/parallel.h"
 #include "lib/io/scene_file.h"
+#include "lib/work_estimate.h"
 #include "studies/cli/verify_run.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
@@ -33,6 +34,7 @@ struct GateOptions {
   std::string bounds, out, case_name, cache_dir;
   bool no_cache = false, no_plots = false, no_diagnosis = false, quiet = false;
   int threads = 0;
+  double max_work = kDefaultVerifyWorkLimit;
 };
 
 // `vrv study NAME --quick` in a child process (this executable), its checks read back from
@@ -80,11 +82,30 @@ DiscreteOptions discrete_options(const RenderSpec& spec, double h) {
   return d;
 }
 
-std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
+// The camera a render case renders with: the scene's (or the default), at the case's size.
+Camera case_camera(const GateCase& c, const Scene& scene) {
   Camera camera = scene.camera ? *scene.camera : default_camera(scene.box);
   if (c.width) camera.width = *c.width;
   if (c.height) camera.height = *c.height;
   validate(camera);
+  return camera;
+}
+
+// A render case above --max-work (its renders at every step and the reference) is refused before
+// any case runs: 4096 x 4096 at step 1e-6 (about 1e14 samples) started at once.
+void check_render_work(const GateCase& c, const Scene& scene, const BoundsFile& file, double max_work) {
+  const Camera camera = case_camera(c, scene);
+  double renders = 0;
+  for (double h : c.steps) {
+    const DiscreteConfig config = *discrete_config(discrete_options(*c.render, h), scene);
+    renders += camera_work(scene, camera, 0, &config);
+  }
+  check_verification_work(scene, VerifyOptions{}, camera.width, camera.height, renders, max_work,
+                          fmt::format("{}: case[{}]", file.path.string(), &c - file.cases.data()));
+}
+
+std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
+  const Camera camera = case_camera(c, scene);
   std::vector<ImageWithStep> images;
   for (double h : c.steps) {
     const DiscreteConfig config = *discrete_config(discrete_options(*c.render, h), scene);
@@ -170,6 +191,7 @@ int run_gate(const GateOptions& o) {
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(fmt::format("{}: case {}: render: {}", o.bounds, c->name, e.what()));
       }
+      check_render_work(*c, scenes.back(), file, o.max_work);
     }
   }
   const fs::path out = o.out.empty() ? fs::temp_directory_path() / fmt::format("vrv-gate-{}", getpid()) : fs::path(o.out);
@@ -208,6 +230,9 @@ int run_gate(const GateOptions& o) {
     std::vector<std::string> files;
     for (const auto& p : c.images) files.push_back(p.string());
     const std::vector<ImageWithStep> images = c.render ? render_case(c, scenes[i]) : read_images(files, steps[i]);
+    if (!c.render)  // an images case's size is known once they are read: before its reference
+      check_verification_work(scenes[i], opt, images.front().image.width, images.front().image.height, 0, o.max_work,
+                              fmt::format("{}: case[{}]", o.bounds, &c - file.cases.data()));
     const nlohmann::json parameters = {{"command", "gate"}, {"bounds", o.bounds}, {"case", c.name}};
     const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, out / c.name, parameters, o.no_plots);
     if (!run.report.pass)
@@ -253,6 +278,10 @@ void add_gate_command(CLI::App& app) {
   cmd->add_flag("--no-diagnosis", o->no_diagnosis, "Skip casting vrv's own models");
   cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plots");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+  cmd->add_option("--max-work", o->max_work,
+                  "Field evaluations a render case may take (its renders and the reference), estimated "
+                  "before any case runs")
+      ->capture_default_str();
   cmd->add_flag("--quiet", o->quiet, "No progress or summary on stderr");
   cmd->callback([o] { run_exiting([&] { return run_gate(*o); }); });
 }

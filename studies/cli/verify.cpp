@@ -37,6 +37,7 @@ struct VerifyCliOptions {
   std::string cache_dir;
   bool no_cache = false, no_diagnosis = false, no_plots = false, quiet = false;
   double unit_distance = 0;
+  double max_work = kDefaultVerifyWorkLimit;
   int threads = 0;
 };
 
@@ -81,6 +82,8 @@ int run_verify(const VerifyCliOptions& o) {
   }
   const std::vector<ImageWithStep> images =
       read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
+  check_verification_work(scene, opt, images.front().image.width, images.front().image.height, 0, o.max_work,
+                          "--max-work");
   // Where results go is checked before the reference is computed, not after.
   if (!o.out.empty()) check_writable_dir(o.out, "--out");
   opt.cache_dir = reference_cache_dir(o.cache_dir, o.no_cache);
@@ -132,6 +135,9 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--unit-distance", o->unit_distance, "Unit distance of the uncorrected-opacity models (default: the largest step)");
   cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plot");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+  cmd->add_option("--max-work", o->max_work,
+                  "Field evaluations the reference may take, estimated before it is computed")
+      ->capture_default_str();
   cmd->add_flag("--quiet", o->quiet, "No progress or summary on stderr");
   cmd->callback([o] { run_exiting([&] { return run_verify(*o); }); });
 }

@@ -152,4 +152,14 @@ HOME="$out/afile" XDG_CACHE_HOME= expect default_cache_unwritable 0 \
   "^vrv: the default reference cache: $out/afile/.cache/vrv: cannot create the folder: Not a directory; running without a cache$" \
   "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --no-plots --quiet
 
+# (10) verify had no work limit (two 8192^2 images started 67 M reference rays); (11) nor had gate's
+# render cases (4096^2 at step 1e-6 started at once).  Both are estimated first, as ray and render.
+expect verify_work 2 "^vrv: error: --max-work: about .* field evaluations \(the reference on 16 x 16 pixels at --tol 1e-10: .*\), above the work limit of 1e\+03; .* allow it with --max-work " \
+  "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --max-work 1000 --no-cache --no-plots --quiet
+printf '[[case]]\nname = "big"\nrender = { method = "alpha", strategy = "step" }\nsteps = [2e-6, 1e-6]\nwidth = 4096\nheight = 4096\n' \
+  > "$out/gate/big.toml"
+expect gate_work 2 "^vrv: error: $out/gate/big.toml: case\[0\]: about .* field evaluations \(the reference on 4096 x 4096 pixels .*; the renders: .*\), above the work limit of 1e\+09" \
+  "$vrv" gate --bounds "$out/gate/big.toml" --out "$out/gate/big" --no-cache --quiet
+[ ! -e "$out/gate/big" ] || fail "gate_work: wrote $out/gate/big"
+
 echo "robustness: all passed"
