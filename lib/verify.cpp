@@ -5,16 +5,17 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <map>
 #include <numeric>
 #include <sstream>
 
-#include <boost/crc.hpp>
 #include <fmt/format.h>
 
 #include "lib/io/atomic_file.h"
 #include "lib/discrete_raycast.h"
+#include "lib/util/checksum.h"
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
@@ -36,36 +37,49 @@ std::string camera_text(const Camera& c) {
                      c.width, c.height);
 }
 
-// CRC-64 (ECMA-182 polynomial) of the key: Boost.CRC, stable across platforms and runs, unlike
-// std::hash.  The file also stores the whole key, compared on reading, so a collision cannot
-// return another scene's reference.
-std::string cache_name(const std::string& key) {
-  boost::crc_optimal<64, 0x42F0E1EBA9EA3693ULL, 0, 0, false, false> crc;
-  crc.process_bytes(key.data(), key.size());
-  return fmt::format("reference-{:016x}.bin", crc.checksum());
-}
+// CRC-64 of the key (lib/util/checksum.h).  The file also stores the whole key, compared on
+// reading, so a collision cannot return another scene's reference.
+std::string cache_name(const std::string& key) { return fmt::format("reference-{}.bin", crc64_hex(key)); }
 
-constexpr std::string_view kCacheMagic = "vrv reference cache 1\n";
+// Version 2 ends with the CRC-64 of everything before it (lib/util/checksum.h): a file whose
+// values were changed (the verdict flipped before) or cut is recomputed, never used.
+constexpr std::string_view kCacheMagic = "vrv reference cache 2\n";
 
-std::optional<ReferenceImage> read_cache(const fs::path& file, const std::string& key, int w, int h) {
+// The file's bytes when it is a whole cache entry for `key` with w x h pixels.  A missing file is
+// a plain miss; any other is said in one stderr line, and recomputed and rewritten by the caller.
+std::optional<std::string> cache_entry(const fs::path& file, const std::string& key, int w, int h) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return std::nullopt;
-  std::string magic(kCacheMagic.size(), '\0');
-  in.read(magic.data(), static_cast<std::streamsize>(magic.size()));
-  std::uint64_t key_size = 0;
-  in.read(reinterpret_cast<char*>(&key_size), sizeof key_size);
-  if (!in || magic != kCacheMagic || key_size != key.size()) return std::nullopt;
-  std::string stored(key_size, '\0');
-  in.read(stored.data(), static_cast<std::streamsize>(key_size));
-  if (!in || stored != key) return std::nullopt;
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string bytes = text.str();
+  const std::size_t key_end = kCacheMagic.size() + sizeof(std::uint64_t) + key.size();
+  const std::size_t crc_at = key_end + 3 * sizeof(double) * static_cast<std::size_t>(w) * h;
+  const auto recompute = [&](std::string_view why) {
+    std::cerr << fmt::format("vrv: the reference cache {} {}; recomputing it\n", file.string(), why);
+    return std::nullopt;
+  };
+  if (!bytes.starts_with(kCacheMagic) || bytes.size() != crc_at + sizeof(std::uint64_t) ||
+      bytes.compare(key_end - key.size(), key.size(), key) != 0)
+    return recompute("is not this reference's (another vrv version, key or image size)");
+  std::uint64_t crc = 0;
+  std::memcpy(&crc, bytes.data() + crc_at, sizeof crc);
+  if (crc != crc64(std::string_view(bytes).substr(0, crc_at))) return recompute("fails its checksum (changed or damaged)");
+  return bytes;
+}
+
+std::optional<ReferenceImage> read_cache(const fs::path& file, const std::string& key, int w, int h) {
+  const std::optional<std::string> bytes = cache_entry(file, key, w, h);
+  if (!bytes) return std::nullopt;
   ReferenceImage r;
   r.width = w, r.height = h;
   const std::size_t n = static_cast<std::size_t>(w) * h;
+  const char* at = bytes->data() + kCacheMagic.size() + sizeof(std::uint64_t) + key.size();
   for (auto* plane : {&r.value, &r.error_estimate, &r.optical_depth}) {
     plane->resize(n);
-    in.read(reinterpret_cast<char*>(plane->data()), static_cast<std::streamsize>(n * sizeof(double)));
+    std::memcpy(plane->data(), at, n * sizeof(double));
+    at += n * sizeof(double);
   }
-  if (!in) return std::nullopt;
   r.from_cache = true;
   r.cache_file = file.string();
   return r;
@@ -78,6 +92,8 @@ void write_cache(const fs::path& file, const std::string& key, const ReferenceIm
   bytes += key;
   for (const auto* plane : {&r.value, &r.error_estimate, &r.optical_depth})
     bytes.append(reinterpret_cast<const char*>(plane->data()), plane->size() * sizeof(double));
+  const std::uint64_t crc = crc64(bytes);
+  bytes.append(reinterpret_cast<const char*>(&crc), sizeof crc);
   write_file_atomically(file, bytes);
 }
 
@@ -171,16 +187,6 @@ PixelGeometry pixel_geometry(const Scene& scene, const Camera& camera, const Ref
 // ---------------------------------------------------------------------------------------------
 // Per-channel errors
 
-Camera choose_camera(const Scene& scene, const VerifyOptions& opt, int w, int h) {
-  Camera c = opt.camera ? *opt.camera : scene.camera ? *scene.camera : default_camera(scene.box);
-  c.width = w, c.height = h;
-  try {
-    validate(c);
-  } catch (const CameraError& e) {
-    throw VerifyInputError(fmt::format("camera: {}", e.what()));
-  }
-  return c;
-}
 
 void check_inputs(const std::vector<ImageWithStep>& images, const VerifyOptions& opt) {
   if (images.empty()) throw VerifyInputError("no images to verify");
@@ -648,15 +654,28 @@ ReferenceImage reference_image(const Scene& scene, const Camera& camera, const V
   }
   ReferenceImage r = render_reference(scene, camera, opt.reference_tol, opt.progress);
   if (cache) {
+    // An optional cache that cannot be written (a full disk) does not fail the computed run.
     std::error_code ec;
     fs::create_directories(opt.cache_dir, ec);
-    if (ec)
-      throw std::runtime_error(fmt::format("{}: cannot create the reference cache: {}",
-                                           opt.cache_dir.string(), ec.message()));
-    write_cache(file, key, r);
-    r.cache_file = file.string();
+    try {
+      write_cache(file, key, r);
+      r.cache_file = file.string();
+    } catch (const std::runtime_error& e) {
+      std::cerr << fmt::format("vrv: the reference cache was not written: {}\n", e.what());
+    }
   }
   return r;
+}
+
+Camera verify_camera(const Scene& scene, const VerifyOptions& opt, int w, int h) {
+  Camera c = opt.camera ? *opt.camera : scene.camera ? *scene.camera : default_camera(scene.box);
+  c.width = w, c.height = h;
+  try {
+    validate(c);
+  } catch (const CameraError& e) {
+    throw VerifyInputError(fmt::format("camera: {}", e.what()));
+  }
+  return c;
 }
 
 std::vector<double> discrete_image(const Scene& scene, const Camera& camera, const DiscreteConfig& config) {
@@ -687,7 +706,7 @@ VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>&
   VerifyReport rep;
   rep.width = images.front().image.width;
   rep.height = images.front().image.height;
-  rep.camera = choose_camera(scene, opt, rep.width, rep.height);
+  rep.camera = verify_camera(scene, opt, rep.width, rep.height);
   rep.threshold = opt.threshold;
   rep.order_metric = opt.order_metric;
 

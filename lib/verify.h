@@ -172,6 +172,10 @@ struct ReferenceImage {
 };
 ReferenceImage reference_image(const Scene& scene, const Camera& camera, const VerifyOptions& options);
 
+// The camera images of w x h pixels are judged with: VerifyOptions::camera, else the scene's, else
+// default_camera(scene.box), at the images' size; VerifyInputError when it is not valid.
+Camera verify_camera(const Scene& scene, const VerifyOptions& options, int width, int height);
+
 // A discrete raycast of every pixel (vrv's own model of a renderer).
 std::vector<double> discrete_image(const Scene& scene, const Camera& camera, const DiscreteConfig& config);
 

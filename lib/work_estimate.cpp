@@ -66,6 +66,20 @@ double grid_reference_evaluations(const std::array<int, 3>& nodes, int degree) {
   return cells * (degree + 1);
 }
 
+double camera_work(const Scene& scene, const Camera& camera, double tol, const DiscreteConfig* config) {
+  constexpr int kSide = 64;  // at most kSide x kSide pixels are estimated
+  const int sx = std::min(camera.width, kSide), sy = std::min(camera.height, kSide);
+  double work = 0;
+  for (int j = 0; j < sy; ++j)
+    for (int i = 0; i < sx; ++i) {
+      // The centre of each sub-grid cell, a pixel of the image.
+      const Ray ray = camera.ray(static_cast<int>((i + 0.5) * camera.width / sx),
+                                 static_cast<int>((j + 0.5) * camera.height / sy));
+      work += config ? discrete_samples(*config, scene, ray) : reference_evaluations(scene, ray, tol);
+    }
+  return work * (static_cast<double>(camera.width) * camera.height) / (static_cast<double>(sx) * sy);
+}
+
 std::string work_limit_allowing(double work) {
   if (!(work > 0) || !std::isfinite(work)) return fmt::format("{:.2g}", work);
   const double unit = std::pow(10.0, std::floor(std::log10(work)) - 1);

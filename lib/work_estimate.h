@@ -7,6 +7,7 @@
 #include <array>
 #include <string>
 
+#include "lib/camera.h"
 #include "lib/discrete_raycast.h"
 #include "lib/geometry.h"
 #include "lib/scene.h"
@@ -33,6 +34,11 @@ double reference_evaluations(const Scene& scene, double tol);
 // The reference on a grid of `nodes` of known degree along rays (trilinear: 3) before the grid
 // is built: one panel per cell the box's diagonal crosses, at most the sum of the cells per axis.
 double grid_reference_evaluations(const std::array<int, 3>& nodes, int degree);
+
+// Over every pixel of `camera`: the reference's evaluations at `tol`, or with `config` a discrete
+// raycast's samples, from at most 4096 pixels on a regular sub-grid scaled to all of them (each
+// of a 8192 x 8192 image's 67 M rays, one by one, took a minute to estimate).
+double camera_work(const Scene& scene, const Camera& camera, double tol, const DiscreteConfig* config = nullptr);
 
 // "2.1e+09": a work limit that allows `work`, rounded up to two significant digits (what a
 // refusal tells the user to pass).

@@ -73,6 +73,19 @@ RenderSpec read_render(const StudyReader& r, const toml::node& n, std::string_vi
   return s;
 }
 
+// A case's name is the folder vrv gate writes it into (OUT/NAME/): one plain file-name component,
+// never a path ("/abs/dir" wrote into /abs/dir, "../x" beside --out) nor a hidden name.
+void check_case_name(const StudyReader& r, const std::string& name, std::string_view key) {
+  constexpr std::size_t kMaxName = 100;
+  if (name.empty()) r.fail(key, "empty");
+  if (name.size() > kMaxName) r.fail(key, fmt::format("{} bytes, more than {}", name.size(), kMaxName));
+  if (name.front() == '.') r.fail(key, fmt::format("'{}' begins with '.' (it names the folder OUT/NAME)", name));
+  for (const char c : name)
+    if (c == '/' || c == '\\' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      r.fail(key, fmt::format("'{}' is not a plain file name: no '/', '\\' or control characters (it names "
+                              "the folder OUT/NAME)", name));
+}
+
 GateCase read_case(const StudyReader& r, const toml::table& t, std::string_view path, const BoundSet& defaults,
                    const fs::path& base) {
   r.check_keys(t, path, {"name", "scene", "steps", "expected_order", "render", "images", "study", "width",
@@ -80,6 +93,7 @@ GateCase read_case(const StudyReader& r, const toml::table& t, std::string_view 
                          "min_order", "max_nan"});
   GateCase c;
   c.name = r.string(r.require(t, "name", path), StudyReader::child(path, "name"));
+  check_case_name(r, c.name, StudyReader::child(path, "name"));
   c.bounds = defaults;
   read_bound_set(r, t, path, c.bounds);
   const int kinds = t.contains("render") + t.contains("images") + t.contains("study");

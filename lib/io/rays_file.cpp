@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <set>
 #include <stdexcept>
 #include <utility>
 
@@ -11,6 +12,10 @@ namespace vrv {
 namespace {
 
 constexpr std::size_t kMaxQuoted = 40;  // longest key or token quoted in an error
+// Deepest array or object nesting read: nlohmann's parser is iterative, but copying and printing
+// a value recurse once per level, so a 70,000-deep id overflowed the stack (issue 22).
+constexpr int kMaxDepth = 100;
+constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
 
 std::string cut(const std::string& s) {
   return s.size() <= kMaxQuoted ? s : s.substr(0, kMaxQuoted) + "...";
@@ -76,10 +81,29 @@ Vec3 vector_field(const nlohmann::json& object, const char* key) {
   return v;
 }
 
+// Checks made while parsing, before the value exists: nesting deeper than kMaxDepth, and a key
+// repeated in an object (nlohmann keeps the last value silently; the id passes through whole).
+class LineChecks {
+ public:
+  bool operator()(int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    if ((event == E::object_start || event == E::array_start) && depth >= kMaxDepth)
+      throw std::invalid_argument(fmt::format("nested more than {} arrays or objects deep", kMaxDepth));
+    if (event == E::object_start) keys_.emplace_back();
+    if (event == E::object_end) keys_.pop_back();
+    if (event == E::key && !keys_.back().insert(parsed.get<std::string>()).second)
+      throw std::invalid_argument(fmt::format("key '{}' given twice", cut(parsed.get<std::string>())));
+    return true;
+  }
+
+ private:
+  std::vector<std::set<std::string>> keys_;  // of each object being read, outermost first
+};
+
 RayLine parse_line(const std::string& text) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text);
+    j = nlohmann::json::parse(text, LineChecks());
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument(parse_failure(text, e));
   }
@@ -103,14 +127,30 @@ RayLine parse_line(const std::string& text) {
   return r;
 }
 
+// std::getline with a bound on the line: `--rays /dev/zero` (no line break, ever) read one endless
+// line into memory.  False at the end of the input; std::invalid_argument for a longer line.
+bool read_line(std::istream& in, std::string& text) {
+  text.clear();
+  std::streambuf* buffer = in.rdbuf();
+  for (int c = buffer->sbumpc(); c != std::char_traits<char>::eof(); c = buffer->sbumpc()) {
+    if (c == '\n') return true;
+    if (text.size() == kMaxLineBytes)
+      throw std::invalid_argument(fmt::format("longer than {} bytes (1 MiB), the longest line read", kMaxLineBytes));
+    text.push_back(static_cast<char>(c));
+  }
+  in.setstate(std::ios::eofbit);
+  return !text.empty();
+}
+
 }  // namespace
 
 std::vector<RayLine> read_rays(std::istream& in, const std::string& name) {
   std::vector<RayLine> rays;
   std::string text;
-  for (long number = 1; std::getline(in, text); ++number) {
-    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
+  for (long number = 1;; ++number) {
     try {
+      if (!read_line(in, text)) break;
+      if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
       RayLine r = parse_line(text);
       r.line = number;
       rays.push_back(std::move(r));

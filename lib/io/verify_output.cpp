@@ -11,6 +11,7 @@
 #include "lib/io/image_io.h"
 #include "lib/io/image_module.h"
 #include "lib/io/numbered_error_map.h"
+#include "lib/io/output_paths.h"
 #include "lib/io/run_metadata.h"
 
 namespace vrv {
@@ -82,9 +83,10 @@ void write_table_files(const fs::path& dir, const std::string& name, const Table
   write_file_atomically(dir / (name + ".json"), table.to_json());
 }
 
-void check_verify_out(const fs::path& dir) {
+void check_verify_out(const fs::path& dir, const std::vector<fs::path>& inputs) {
   if (fs::exists(dir) && !fs::is_directory(dir))
     throw std::invalid_argument(fmt::format("--out: {} exists and is not a directory", dir.string()));
+  check_inputs_outside(dir, inputs, "--out");
 }
 
 void write_verify_outputs(const fs::path& dir, const VerifyReport& rep,

@@ -36,9 +36,10 @@ void write_table_files(const std::filesystem::path& dir, const std::string& name
                        std::string_view empty_markdown = {});
 
 // Before any work (vrv verify --out, vrv.verify(out=)): `dir` is a directory or does not exist
-// yet (write_verify_outputs creates it); std::invalid_argument "--out: DIR exists and is not a
-// directory" otherwise.
-void check_verify_out(const std::filesystem::path& dir);
+// yet (write_verify_outputs creates it), and holds none of `inputs` (the images, scene and bounds
+// files: the reference.exr and error images written there would replace them; output_paths.h);
+// std::invalid_argument "--out: ..." otherwise.
+void check_verify_out(const std::filesystem::path& dir, const std::vector<std::filesystem::path>& inputs = {});
 
 // `extra`: further tables (e.g. {"bounds", ...}); parameters go to meta.json with the summary.
 void write_verify_outputs(const std::filesystem::path& dir, const VerifyReport& report,

@@ -18,9 +18,10 @@ inline constexpr int kExitCheckFailed = 1;      // a study check, verify bound o
 inline constexpr int kExitBadInput = 2;         // bad option, file or combination; nothing computed
 inline constexpr int kExitToleranceMissed = 3;  // results written, but a reference value missed --tol
 inline constexpr int kExitNotFinite = 4;        // a result is NaN or infinite (never printed as a number)
+inline constexpr int kExitWriteFailed = 5;      // writing standard output failed: the results are incomplete
 
 // Thrown by a command that must end with a non-zero status other than kExitBadInput;
-// main prints what() (one line) on stderr and exits with code().
+// main prints what() (one line; nothing when empty) on stderr and exits with code().
 class CommandFailed : public std::runtime_error {
  public:
   CommandFailed(int code, const std::string& line) : std::runtime_error(line), code_(code) {}

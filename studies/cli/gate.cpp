@@ -13,13 +13,17 @@
 #include <fmt/format.h>
 
 #include "lib/io/bounds_file.h"
+#include "lib/io/error_line.h"
+#include "lib/io/output_paths.h"
 #include "lib/io/verify_output.h"
 #include "lib/util/parallel.h"
 #include "lib/io/scene_file.h"
+#include "lib/work_estimate.h"
 #include "studies/cli/verify_run.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 #include "studies/cli/discrete_options.h"
+#include "studies/engine/study_runner.h"
 
 namespace vrv::cli {
 namespace {
@@ -30,6 +34,7 @@ struct GateOptions {
   std::string bounds, out, case_name, cache_dir;
   bool no_cache = false, no_plots = false, no_diagnosis = false, quiet = false;
   int threads = 0;
+  double max_work = kDefaultVerifyWorkLimit;
 };
 
 // `vrv study NAME --quick` in a child process (this executable), its checks read back from
@@ -81,11 +86,30 @@ DiscreteOptions discrete_options(const RenderSpec& spec, double h) {
   return d;
 }
 
-std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
+// The camera a render case renders with: the scene's (or the default), at the case's size.
+Camera case_camera(const GateCase& c, const Scene& scene) {
   Camera camera = scene.camera ? *scene.camera : default_camera(scene.box);
   if (c.width) camera.width = *c.width;
   if (c.height) camera.height = *c.height;
   validate(camera);
+  return camera;
+}
+
+// A render case above --max-work (its renders at every step and the reference) is refused before
+// any case runs: 4096 x 4096 at step 1e-6 (about 1e14 samples) started at once.
+void check_render_work(const GateCase& c, const Scene& scene, const BoundsFile& file, double max_work) {
+  const Camera camera = case_camera(c, scene);
+  double renders = 0;
+  for (double h : c.steps) {
+    const DiscreteConfig config = *discrete_config(discrete_options(*c.render, h), scene);
+    renders += camera_work(scene, camera, 0, &config);
+  }
+  check_verification_work(scene, VerifyOptions{}, camera.width, camera.height, renders, max_work,
+                          fmt::format("{}: case[{}]", file.path.string(), &c - file.cases.data()));
+}
+
+std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
+  const Camera camera = case_camera(c, scene);
   std::vector<ImageWithStep> images;
   for (double h : c.steps) {
     const DiscreteConfig config = *discrete_config(discrete_options(*c.render, h), scene);
@@ -124,6 +148,28 @@ std::vector<double> case_steps(const GateCase& c, const std::string& bounds) {
   return steps;
 }
 
+// A study case names a study `vrv study --list` finds: anything else (a path, "--help") would be
+// passed to `vrv study` as an argument.
+void check_study_name(const BoundsFile& file, const GateCase& c) {
+  std::string known;
+  for (const auto& [name, path] : find_studies()) {
+    if (name == c.study) return;
+    known += (known.empty() ? "" : ", ") + name;
+  }
+  throw std::invalid_argument(error_line(file.path.string(), fmt::format("case[{}].study", &c - file.cases.data()),
+                                         fmt::format("'{}' is not a study vrv knows ({})", c.study, known)));
+}
+
+// Without --out the gate writes into a temporary folder (its table goes to stderr, its verdict to
+// stdout), removed on every way out of run_gate, errors included.
+struct TemporaryFolder {
+  fs::path dir;
+  ~TemporaryFolder() {
+    std::error_code ec;
+    if (!dir.empty()) fs::remove_all(dir, ec);
+  }
+};
+
 int run_gate(const GateOptions& o) {
   const BoundsFile file = load_bounds(o.bounds);
   std::vector<const GateCase*> cases;
@@ -136,6 +182,7 @@ int run_gate(const GateOptions& o) {
   std::vector<std::vector<double>> steps;
   for (const GateCase* c : cases) {
     if (!c->study.empty()) {
+      check_study_name(file, *c);
       scenes.emplace_back();
       steps.emplace_back();
       continue;
@@ -148,12 +195,13 @@ int run_gate(const GateOptions& o) {
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(fmt::format("{}: case {}: render: {}", o.bounds, c->name, e.what()));
       }
+      check_render_work(*c, scenes.back(), file, o.max_work);
     }
   }
   const fs::path out = o.out.empty() ? fs::temp_directory_path() / fmt::format("vrv-gate-{}", getpid()) : fs::path(o.out);
-  std::error_code ec;
-  fs::create_directories(out, ec);
-  if (ec) throw std::invalid_argument(fmt::format("--out: {}: cannot create: {}", out.string(), ec.message()));
+  TemporaryFolder temporary{o.out.empty() ? out : fs::path()};
+  check_writable_dir(out, "--out");
+  const fs::path cache = reference_cache_dir(o.cache_dir, o.no_cache);
   const ThreadLimit threads(o.threads);
   std::vector<BoundRow> rows;
   nlohmann::ordered_json case_json = nlohmann::ordered_json::array();
@@ -182,10 +230,13 @@ int run_gate(const GateOptions& o) {
     opt.allow_nan = c.bounds.limits.count(Bound::max_nan) > 0;
     opt.diagnose = !o.no_diagnosis;
     opt.progress = !o.quiet;
-    if (!o.no_cache) opt.cache_dir = o.cache_dir.empty() ? default_cache_dir() : fs::path(o.cache_dir);
+    opt.cache_dir = cache;
     std::vector<std::string> files;
     for (const auto& p : c.images) files.push_back(p.string());
     const std::vector<ImageWithStep> images = c.render ? render_case(c, scenes[i]) : read_images(files, steps[i]);
+    if (!c.render)  // an images case's size is known once they are read: before its reference
+      check_verification_work(scenes[i], opt, images.front().image.width, images.front().image.height, 0, o.max_work,
+                              fmt::format("{}: case[{}]", o.bounds, &c - file.cases.data()));
     const nlohmann::json parameters = {{"command", "gate"}, {"bounds", o.bounds}, {"case", c.name}};
     const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, out / c.name, parameters, o.no_plots);
     if (!run.report.pass)
@@ -205,7 +256,7 @@ int run_gate(const GateOptions& o) {
   if (!o.quiet) std::cerr << table.to_markdown();
   nlohmann::ordered_json j;
   j["bounds"] = o.bounds;
-  j["out"] = out.string();
+  j["out"] = o.out.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(out.string());
   j["pass"] = pass;
   j["worst"] = bound_verdict_name(worst(rows));
   j["cases"] = case_json;
@@ -225,14 +276,18 @@ void add_gate_command(CLI::App& app) {
               "hard-fail level crossed, 2 bad input. See docs/verify.md.");
   cmd->add_option("--bounds", o->bounds, "Bounds file (TOML)")->required();
   cmd->add_option("--case", o->case_name, "Run only this case");
-  cmd->add_option("--out", o->out, "Output directory (default: a temporary directory)");
+  cmd->add_option("--out", o->out, "Output directory (default: a temporary directory, removed at the end)");
   cmd->add_option("--cache-dir", o->cache_dir, "Reference cache (default $XDG_CACHE_HOME/vrv or ~/.cache/vrv)");
   cmd->add_flag("--no-cache", o->no_cache, "Do not read or write the reference cache");
   cmd->add_flag("--no-diagnosis", o->no_diagnosis, "Skip casting vrv's own models");
   cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plots");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+  cmd->add_option("--max-work", o->max_work,
+                  "Field evaluations a render case may take (its renders and the reference), estimated "
+                  "before any case runs")
+      ->capture_default_str();
   cmd->add_flag("--quiet", o->quiet, "No progress or summary on stderr");
-  cmd->callback([o] { run_exiting("gate", [&] { return run_gate(*o); }); });
+  cmd->callback([o] { run_exiting([&] { return run_gate(*o); }); });
 }
 
 }  // namespace vrv::cli

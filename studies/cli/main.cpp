@@ -1,6 +1,8 @@
 // The vrv command line: one subcommand per job; errors are one line on stderr, exit code 2
 // (other codes: studies/cli_support.h and README, "Exit codes").
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -82,6 +84,37 @@ std::string parse_error_line(const CLI::App& app, const CLI::ParseError& e) {
   return what;
 }
 
+// Results go to standard output (std::cout writes through C stdio, as fmt::print does): a write
+// error there (a full disk, /dev/full) loses them, so every exit path flushes and checks it, and a
+// failure is one line and kExitWriteFailed instead of a success.
+int checked_exit(int code) {
+  std::cout.flush();
+  const bool flushed = std::fflush(stdout) == 0;
+  const int error = errno;
+  if (flushed && !std::ferror(stdout) && std::cout.good()) return code;
+  std::cerr << "vrv: error: standard output: "
+            << (flushed ? "a write failed" : std::strerror(error)) << "; the results printed are incomplete\n";
+  return vrv::cli::kExitWriteFailed;
+}
+
+int run(CLI::App& app, std::vector<char*>& ptrs) {
+  try {
+    app.parse(static_cast<int>(ptrs.size()), ptrs.data());
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "vrv: error: " << parse_error_line(app, e) << '\n';
+    return vrv::cli::kExitBadInput;
+  } catch (const vrv::cli::CommandFailed& e) {
+    if (*e.what()) std::cerr << one_line(e.what()) << '\n';
+    return e.code();
+  } catch (const std::exception& e) {
+    std::cerr << "vrv: error: " << one_line(e.what()) << '\n';
+    return vrv::cli::kExitBadInput;
+  }
+  return vrv::cli::kExitPass;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -99,19 +132,5 @@ int main(int argc, char** argv) {
   std::vector<std::string> args = glue_negative_values(argc, argv);
   std::vector<char*> ptrs;
   for (auto& a : args) ptrs.push_back(a.data());
-  try {
-    app.parse(static_cast<int>(ptrs.size()), ptrs.data());
-  } catch (const CLI::Success& e) {
-    return app.exit(e);  // --help
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "vrv: error: " << parse_error_line(app, e) << '\n';
-    return vrv::cli::kExitBadInput;
-  } catch (const vrv::cli::CommandFailed& e) {
-    std::cerr << one_line(e.what()) << '\n';
-    return e.code();
-  } catch (const std::exception& e) {
-    std::cerr << "vrv: error: " << one_line(e.what()) << '\n';
-    return vrv::cli::kExitBadInput;
-  }
-  return 0;
+  return checked_exit(run(app, ptrs));
 }

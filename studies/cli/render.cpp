@@ -22,6 +22,7 @@
 #include "lib/discrete_raycast.h"
 #include "lib/io/image_io.h"
 #include "lib/io/image_module.h"
+#include "lib/io/output_paths.h"
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
@@ -101,13 +102,6 @@ void check_writable(const fs::path& file) {
           fmt::format("-o: {}: cannot write into {}", file.string(), dir.string()));
   }
   if (!existed) fs::remove(probe, ec);
-}
-
-// The same file under two names (or one name): never overwrite the render's own input.
-bool same_file(const fs::path& a, const fs::path& b) {
-  std::error_code ec;
-  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
-  return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
 }
 
 // The double image beside a reference EXR (REF.f64.tiff next to REF.exr), if there is one.

@@ -16,6 +16,7 @@
 
 #include "lib/io/error_line.h"
 #include "lib/io/study_file.h"
+#include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/interrupt.h"
@@ -185,7 +186,7 @@ void add_study_command(CLI::App& app) {
                 "Print the study's estimated memory and field evaluations, per part, as one JSON line; run nothing");
   cmd->callback([opt] {
     const int rc = run_study(*opt);
-    if (rc != 0) std::exit(rc);
+    if (rc != 0) throw CommandFailed(rc, "");  // main checks standard output before it exits
   });
 }
 

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "lib/io/bounds_file.h"
+#include "lib/io/output_paths.h"
 #include "lib/util/parallel.h"
 #include "lib/io/scene_file.h"
 #include "lib/io/verify_output.h"
@@ -36,6 +37,7 @@ struct VerifyCliOptions {
   std::string cache_dir;
   bool no_cache = false, no_diagnosis = false, no_plots = false, quiet = false;
   double unit_distance = 0;
+  double max_work = kDefaultVerifyWorkLimit;
   int threads = 0;
 };
 
@@ -64,7 +66,6 @@ int run_verify(const VerifyCliOptions& o) {
   opt.alpha = o.alpha == "straight" ? AlphaMode::straight : AlphaMode::premultiplied;
   opt.diagnose = !o.no_diagnosis;
   opt.progress = !o.quiet;
-  if (!o.no_cache) opt.cache_dir = o.cache_dir.empty() ? default_cache_dir() : fs::path(o.cache_dir);
   std::optional<BoundSet> bounds;
   if (!o.bounds.empty()) {
     const BoundsFile file = load_bounds(o.bounds);
@@ -74,9 +75,18 @@ int run_verify(const VerifyCliOptions& o) {
     throw std::invalid_argument("--case: needs --bounds");
   }
   if (o.threshold) opt.threshold = *o.threshold;
-  if (!o.out.empty()) check_verify_out(o.out);
+  if (!o.out.empty()) {
+    std::vector<fs::path> inputs(o.images.begin(), o.images.end());
+    inputs.insert(inputs.end(), {fs::path(o.scene), fs::path(o.bounds)});
+    check_verify_out(o.out, inputs);
+  }
   const std::vector<ImageWithStep> images =
       read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
+  check_verification_work(scene, opt, images.front().image.width, images.front().image.height, 0, o.max_work,
+                          "--max-work");
+  // Where results go is checked before the reference is computed, not after.
+  if (!o.out.empty()) check_writable_dir(o.out, "--out");
+  opt.cache_dir = reference_cache_dir(o.cache_dir, o.no_cache);
   const ThreadLimit threads(o.threads);
   const nlohmann::json parameters = {{"command", "verify"}, {"scene", o.scene}, {"images", o.images},
                                      {"steps", o.steps.value_or("")}, {"expected_order", o.expected_order ? nlohmann::json(*o.expected_order) : nlohmann::json(nullptr)},
@@ -125,8 +135,11 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--unit-distance", o->unit_distance, "Unit distance of the uncorrected-opacity models (default: the largest step)");
   cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plot");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+  cmd->add_option("--max-work", o->max_work,
+                  "Field evaluations the reference may take, estimated before it is computed")
+      ->capture_default_str();
   cmd->add_flag("--quiet", o->quiet, "No progress or summary on stderr");
-  cmd->callback([o] { run_exiting("verify", [&] { return run_verify(*o); }); });
+  cmd->callback([o] { run_exiting([&] { return run_verify(*o); }); });
 }
 
 }  // namespace vrv::cli

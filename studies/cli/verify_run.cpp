@@ -9,6 +9,8 @@
 #include "lib/io/bounds_file.h"
 #include "lib/io/image_channels.h"
 #include "lib/io/image_io.h"
+#include "lib/io/output_paths.h"
+#include "lib/work_estimate.h"
 #include "lib/io/verify_output.h"
 #include "studies/cli/commands.h"
 
@@ -16,10 +18,44 @@ namespace vrv::cli {
 
 namespace fs = std::filesystem;
 
+namespace {
+
 fs::path default_cache_dir() {
   if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "vrv";
   if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "vrv";
   return {};
+}
+
+// An image is a regular file: a character device (/dev/zero) never ends and hung the reader, a
+// FIFO can be read once.  VerifyInputError "<file>: is a ..., not an image file" otherwise.
+void check_image_file(const std::string& file) {
+  std::error_code ec;
+  const fs::file_status s = fs::status(file, ec);
+  if (!fs::exists(s) || fs::is_regular_file(s)) return;  // a missing file: the reader names it
+  const char* kind = fs::is_directory(s)        ? "a directory"
+                     : fs::is_character_file(s) ? "a character device"
+                     : fs::is_block_file(s)     ? "a block device"
+                     : fs::is_fifo(s)           ? "a FIFO"
+                                                : "a special file";
+  throw VerifyInputError(fmt::format("{}: is {}, not an image file", file, kind));
+}
+
+}  // namespace
+
+fs::path reference_cache_dir(const std::string& option, bool no_cache) {
+  if (no_cache) return {};
+  if (!option.empty()) {
+    check_writable_dir(option, "--cache-dir");
+    return option;
+  }
+  const fs::path dir = default_cache_dir();
+  try {
+    if (!dir.empty()) check_writable_dir(dir, "the default reference cache");
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "vrv: " << e.what() << "; running without a cache\n";
+    return {};
+  }
+  return dir;
 }
 
 std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, const std::vector<double>& steps) {
@@ -28,6 +64,7 @@ std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, co
     throw VerifyInputError(fmt::format("--steps: {} steps for {} images (one step per image, in the same order)",
                                        steps.size(), files.size()));
   std::vector<ImageWithStep> out;
+  for (const std::string& file : files) check_image_file(file);
   for (std::size_t i = 0; i < files.size(); ++i) {
     try {
       out.push_back({files[i], steps[i], read_channel_image(files[i])});
@@ -39,6 +76,7 @@ std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, co
 }
 
 std::optional<double> provenance_step(const std::string& file) {
+  check_image_file(file);
   try {
     const std::optional<ImageProvenance> p = read_provenance(file);
     return p ? p->step : std::nullopt;
@@ -79,15 +117,22 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
   return run;
 }
 
-void run_exiting(const char* command, const std::function<int()>& body) {
-  int rc = 0;
-  try {
-    rc = body();
-  } catch (const BoundsFileError& e) {
-    std::cerr << "vrv " << command << ": " << e.what() << '\n';
-    std::exit(kExitBadInput);
-  }
-  if (rc != 0) std::exit(rc);
+void check_verification_work(const Scene& scene, const VerifyOptions& options, int width, int height,
+                             double renders, double max_work, const std::string& who) {
+  if (!(max_work > 0)) throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", max_work));
+  const double reference = camera_work(scene, verify_camera(scene, options, width, height), options.reference_tol);
+  const double work = reference + renders;
+  if (work <= max_work) return;
+  throw std::invalid_argument(fmt::format(
+      "{}: about {:.3g} field evaluations (the reference on {} x {} pixels at --tol {:g}: {:.3g}{}), above the work "
+      "limit of {:.3g}; use smaller images, a looser tolerance, or allow it with --max-work {}",
+      who, work, width, height, options.reference_tol, reference,
+      renders > 0 ? fmt::format("; the renders: {:.3g}", renders) : std::string(), max_work,
+      work_limit_allowing(work)));
+}
+
+void run_exiting(const std::function<int()>& body) {
+  if (const int rc = body(); rc != 0) throw CommandFailed(rc, "");  // main checks standard output first
 }
 
 std::string summary_text(const VerifyRun& run) {

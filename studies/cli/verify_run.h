@@ -27,8 +27,11 @@
 namespace vrv::cli {
 
 
-// --cache-dir, else $XDG_CACHE_HOME/vrv, else $HOME/.cache/vrv; empty when none is set.
-std::filesystem::path default_cache_dir();
+// The reference cache to use, checked before any work: `option` (--cache-dir; std::invalid_argument
+// when it cannot be written), else $XDG_CACHE_HOME/vrv, else $HOME/.cache/vrv when it can be
+// written (else none, said in one stderr line: an optional cache never fails a run); none with
+// `no_cache`.
+std::filesystem::path reference_cache_dir(const std::string& option, bool no_cache);
 
 struct VerifyRun {
   VerifyReport report;
@@ -44,9 +47,20 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
                            const std::string& case_name, const std::filesystem::path& out,
                            const nlohmann::json& parameters, bool no_plots);
 
-// A subcommand's callback around `body` (verify, gate): a bad bounds file is one line
-// "vrv <command>: <file>: <key>: <reason>" and exit 2; a non-zero result is the exit code.
-void run_exiting(const char* command, const std::function<int()>& body);
+// A subcommand's callback around `body` (verify, gate): a non-zero result is the exit code.  Errors
+// (a bad bounds file: BoundsFileError, "<file>: <key>: <reason>") are main's, "vrv: error: ...",
+// exit 2, as for every command.
+void run_exiting(const std::function<int()>& body);
+
+// Work limit of verify and gate, as of ray and render (--max-work, field evaluations).
+inline constexpr double kDefaultVerifyWorkLimit = 1e9;
+
+// Refuses, before any work, a verification above `max_work` field evaluations: the reference on
+// every pixel of images of width x height (camera_work, lib/work_estimate.h) plus `renders` (a
+// gate render case's own images).  The diagnosis (vrv's models cast at the images' steps) is not
+// counted.  std::invalid_argument "<who>: about ... above the work limit ..." naming `who`.
+void check_verification_work(const Scene& scene, const VerifyOptions& options, int width, int height,
+                             double renders, double max_work, const std::string& who);
 
 // The summary line on stderr: verdict, orders, nearest model, faults, failed bounds.
 std::string summary_text(const VerifyRun& run);

@@ -59,11 +59,6 @@ void read_grid_refinement(const StudyReader& r, const toml::table& doc, StudyDef
     r.fail("grid_refinement.steps_per_cell", fmt::format("must be in [0.01, 10], got {}", s.grid_steps_per_cell));
 }
 
-std::vector<double> stored(const StudyCheckpoint& checkpoint, const std::string& key,
-                           const std::function<std::vector<double>()>& compute) {
-  return checkpoint ? checkpoint(key, compute) : compute();
-}
-
 }  // namespace
 
 StudyDefinition read_convergence_study(const StudyInput& in) {
@@ -220,7 +215,7 @@ void refine_grid(const StudyDefinition& study, bool quick, const std::vector<Ray
       },
       study.scene.field);
   const std::size_t n = rays.size(), M = study.methods.size() + 1, R = res.size();
-  const std::vector<double> truth = stored(checkpoint, "grid_truth", [&] {
+  const std::vector<double> truth = checkpointed(checkpoint, "grid_truth", n, [&] {
     std::vector<double> t(n);
     parallel_for_index(static_cast<long>(n), [&](long i) {
       t[static_cast<std::size_t>(i)] =
@@ -232,7 +227,7 @@ void refine_grid(const StudyDefinition& study, bool quick, const std::vector<Ray
   Progress bar("study " + study.name + " (grids)", static_cast<long>(R * n), progress);
   for (std::size_t k = 0; k < R; ++k) {
     // One resolution is one checkpoint: its M x n errors.
-    const std::vector<double> errors_k = stored(checkpoint, fmt::format("grid_{}", res[k]), [&] {
+    const std::vector<double> errors_k = checkpointed(checkpoint, fmt::format("grid_{}", res[k]), M * n, [&] {
       return grid_errors(study, source, rays, truth, res[k], bar);
     });
     std::copy(errors_k.begin(), errors_k.end(), error.begin() + static_cast<std::ptrdiff_t>(k * M * n));
@@ -285,7 +280,7 @@ StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progr
     Progress bar("study " + study.name, n, progress);
     parallel_for_index(n, [&](long i) {
       // One ray is one checkpoint: its errors, then its sample counts (exact as doubles).
-      const std::vector<double> v = stored(checkpoint, fmt::format("ray_{}", i), [&] {
+      const std::vector<double> v = checkpointed(checkpoint, fmt::format("ray_{}", i), 2 * per_ray, [&] {
         const Ray& ray = rays[static_cast<std::size_t>(i)];
         const double reference = audited_reference(field, study.scene.box, study.scene.transfer,
                                                    study.scene.background, ray,

@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "lib/io/atomic_file.h"
+#include "lib/util/checksum.h"
 #include "lib/util/parallel.h"
 
 namespace vrv {
@@ -31,10 +32,13 @@ std::string read_all(const fs::path& p) {
 }
 
 std::string fingerprint(std::string_view identity) {
-  // FNV-1a, 64 bits: a stable digest (std::hash is not guaranteed stable across builds).
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (const unsigned char c : identity) h = (h ^ c) * 0x100000001b3ull;
-  return fmt::format("{:016x} {}\n", h, identity.size());
+  return fmt::format("{} {}\n", crc64_hex(identity), identity.size());
+}
+
+// The last line of a checkpoint, "end COUNT CRC": the count of values and the CRC-64 of the key
+// and the value lines before it, so a file cut, edited or copied to another key is never used.
+std::string end_line(const std::string& key, std::size_t count, std::string_view values_text) {
+  return fmt::format("end {} {}\n", count, crc64_hex(key + '\n' + std::string(values_text)));
 }
 
 }  // namespace
@@ -62,34 +66,48 @@ Checkpoints::Checkpoints(const fs::path& dir, std::string_view identity, bool re
   }
 }
 
+fs::path Checkpoints::file(const std::string& key) const { return dir_ / (key + ".txt"); }
+
+// Stored files are written whole (atomically), so one that fails its end line was changed or
+// damaged: it is refused, never used.
 std::optional<std::vector<double>> Checkpoints::find(const std::string& key) const {
-  std::ifstream in(dir_ / (key + ".txt"));
+  std::ifstream in(file(key));
   if (!in) return std::nullopt;
+  const auto refuse = [&](const std::string& why) {
+    return StudyResumeError(fmt::format("{}: {}: the checkpoint was changed or damaged; run without --resume",
+                                        file(key).string(), why));
+  };
   std::vector<double> values;
-  std::string word;
-  while (in >> word) {
-    if (word == "end") return values;  // written last: a complete checkpoint
+  std::string line, text;
+  while (std::getline(in, line) && !line.starts_with("end")) {
     char* end = nullptr;
-    values.push_back(std::strtod(word.c_str(), &end));
-    if (*end != '\0') return std::nullopt;
+    values.push_back(std::strtod(line.c_str(), &end));
+    if (line.empty() || *end != '\0') throw refuse(fmt::format("line {} is not a number", values.size()));
+    text += line + '\n';
   }
-  return std::nullopt;
+  if (line + '\n' != end_line(key, values.size(), text) || std::getline(in, line))
+    throw refuse(fmt::format("{} values and their checksum do not match its end line", values.size()));
+  return values;
 }
 
 void Checkpoints::store(const std::string& key, const std::vector<double>& values) {
   std::string text;
   for (const double v : values) text += fmt::format("{:a}\n", v);  // exact; nan, inf as words
-  text += "end\n";
+  text += end_line(key, values.size(), text);
   if (before_store_) before_store_(dir_);
-  write_file_atomically(dir_ / (key + ".txt"), text);
+  write_file_atomically(file(key), text);
 }
 
-std::vector<double> Checkpoints::get(const std::string& key,
-                                     const std::function<std::vector<double>()>& compute) {
+std::vector<double> Checkpoints::get(const std::string& key, const std::function<std::vector<double>()>& compute,
+                                     std::optional<std::size_t> expected) {
   for (const char c : key)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       throw std::logic_error("checkpoint key '" + key + "' has a character other than [A-Za-z0-9_.-]");
   if (auto stored = find(key)) {
+    if (expected && stored->size() != *expected)
+      throw StudyResumeError(fmt::format("{}: {} values, expected {}: the checkpoint belongs to another "
+                                         "computation; run without --resume",
+                                         file(key).string(), stored->size(), *expected));
     ++reused_;
     return *stored;
   }
@@ -100,8 +118,14 @@ std::vector<double> Checkpoints::get(const std::string& key,
 }
 
 std::vector<double> checkpointed(Checkpoints* checkpoints, const std::string& key,
+                                 const std::function<std::vector<double>()>& compute,
+                                 std::optional<std::size_t> expected) {
+  return checkpoints ? checkpoints->get(key, compute, expected) : compute();
+}
+
+std::vector<double> checkpointed(const StudyCheckpoint& checkpoint, const std::string& key, std::size_t expected,
                                  const std::function<std::vector<double>()>& compute) {
-  return checkpoints ? checkpoints->get(key, compute) : compute();
+  return checkpoint ? checkpoint(key, expected, compute) : compute();
 }
 
 std::vector<double> checkpointed_items(Checkpoints* checkpoints, const std::string& key, long n, long block,
@@ -113,6 +137,7 @@ std::vector<double> checkpointed_items(Checkpoints* checkpoints, const std::stri
   parallel_for_index(blocks, [&](long b) {
     const long first = b * block, count = std::min(block, n - first);
     bool computed = false;
+    const std::size_t expected = static_cast<std::size_t>(count) * width;
     const std::vector<double> v = checkpointed(checkpoints, fmt::format("{}.{}", key, first), [&] {
       std::vector<double> values(static_cast<std::size_t>(count) * width);
       parallel_for_index(count, [&](long i) {
@@ -121,10 +146,7 @@ std::vector<double> checkpointed_items(Checkpoints* checkpoints, const std::stri
       });
       computed = true;
       return values;
-    });
-    if (v.size() != static_cast<std::size_t>(count) * width)
-      throw StudyResumeError(fmt::format("checkpoint {}.{}: {} values, expected {}", key, first, v.size(),
-                                         static_cast<std::size_t>(count) * width));
+    }, expected);
     std::copy(v.begin(), v.end(), out.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(first) * width));
     if (!computed && advance) advance(count);
   });
@@ -133,8 +155,9 @@ std::vector<double> checkpointed_items(Checkpoints* checkpoints, const std::stri
 
 StudyCheckpoint checkpoint_function(Checkpoints* checkpoints) {
   if (!checkpoints) return {};
-  return [checkpoints](const std::string& key, const std::function<std::vector<double>()>& compute) {
-    return checkpoints->get(key, compute);
+  return [checkpoints](const std::string& key, std::size_t expected,
+                       const std::function<std::vector<double>()>& compute) {
+    return checkpoints->get(key, compute, expected);
   };
 }
 

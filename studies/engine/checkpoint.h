@@ -31,8 +31,11 @@ class Checkpoints {
 
   // The values stored under `key` (letters, digits, '_', '-', '.') by this run or the one being
   // resumed; else computes them, stores them (atomically) and returns them.  Thread-safe for
-  // distinct keys.
-  std::vector<double> get(const std::string& key, const std::function<std::vector<double>()>& compute);
+  // distinct keys.  A stored file carries its count and a checksum (CRC-64): one that fails them,
+  // or holds other than `expected` values (when given), is refused with StudyResumeError naming
+  // the file, never used.
+  std::vector<double> get(const std::string& key, const std::function<std::vector<double>()>& compute,
+                          std::optional<std::size_t> expected = std::nullopt);
 
   long reused() const { return reused_; }    // configurations taken from the interrupted run
   long computed() const { return computed_; }
@@ -47,6 +50,7 @@ class Checkpoints {
   bool found_stored() const { return found_stored_; }
 
  private:
+  std::filesystem::path file(const std::string& key) const;
   std::optional<std::vector<double>> find(const std::string& key) const;
   void store(const std::string& key, const std::vector<double>& values);
 
@@ -58,15 +62,20 @@ class Checkpoints {
   int kill_signal_ = 9;
 };
 
-// What a study's computation takes: the values stored under `key`, or compute() stored under it.
-// Empty: compute every time (tests, or a run without checkpoints).
-using StudyCheckpoint = std::function<std::vector<double>(const std::string& key,
-                                                          const std::function<std::vector<double>()>& compute)>;
+// What a study's computation takes: the `expected` values stored under `key`, or compute() stored
+// under it.  Empty: compute every time (tests, or a run without checkpoints).
+using StudyCheckpoint = std::function<std::vector<double>(
+    const std::string& key, std::size_t expected, const std::function<std::vector<double>()>& compute)>;
 StudyCheckpoint checkpoint_function(Checkpoints* checkpoints);  // empty for null
+// Through `checkpoint`, or compute() when it is empty.
+std::vector<double> checkpointed(const StudyCheckpoint& checkpoint, const std::string& key, std::size_t expected,
+                                 const std::function<std::vector<double>()>& compute);
 
 // The stored checkpoints, or none: what a driver's run sees (StudyRun::checkpoints may be null).
+// `expected`, when given: the count of values a stored checkpoint must hold.
 std::vector<double> checkpointed(Checkpoints* checkpoints, const std::string& key,
-                                 const std::function<std::vector<double>()>& compute);
+                                 const std::function<std::vector<double>()>& compute,
+                                 std::optional<std::size_t> expected = std::nullopt);
 
 // A long loop (pixels, rays, views) checkpointed in blocks: items 0..n-1 of `width` doubles each,
 // item(i, out) filling out[0..width); blocks of `block` consecutive items are computed in parallel
@@ -79,9 +88,11 @@ std::vector<double> checkpointed_items(Checkpoints* checkpoints, const std::stri
 
 // The whole vector of records of one configuration as one checkpoint: encode(record) appends its
 // doubles, decode(values, i) rebuilds record i from `width` doubles at values[i * width].
+// `count`, when given: the number of records a stored checkpoint must hold.
 template <class T, class Compute, class Encode, class Decode>
 std::vector<T> checkpointed_records(Checkpoints* checkpoints, const std::string& key, std::size_t width,
-                                    Compute&& compute, Encode&& encode, Decode&& decode) {
+                                    Compute&& compute, Encode&& encode, Decode&& decode,
+                                    std::optional<std::size_t> count = std::nullopt) {
   std::vector<T> computed;
   bool fresh = false;
   const std::vector<double> v = checkpointed(checkpoints, key, [&] {
@@ -91,7 +102,7 @@ std::vector<T> checkpointed_records(Checkpoints* checkpoints, const std::string&
     flat.reserve(computed.size() * width);
     for (const T& r : computed) encode(r, flat);
     return flat;
-  });
+  }, count ? std::optional(*count * width) : std::nullopt);
   if (fresh) return computed;
   if (width == 0 || v.size() % width != 0)
     throw StudyResumeError("checkpoint " + key + ": " + std::to_string(v.size()) + " values, not records of " +

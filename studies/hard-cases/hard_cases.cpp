@@ -89,13 +89,6 @@ HardCasesStudy load_hard_cases_study(const std::filesystem::path& path) {
   return parse_hard_cases_study(read_study_text(path), path.string(), path.stem().string());
 }
 
-namespace {
-std::vector<double> stored(const StudyCheckpoint& checkpoint, const std::string& key,
-                           const std::function<std::vector<double>()>& compute) {
-  return checkpoint ? checkpoint(key, compute) : compute();
-}
-}  // namespace
-
 StudyWork hard_cases_work(const HardCasesStudy& study) {
   StudyWork work;
   for (const HardCase& hc : study.cases) {
@@ -118,7 +111,7 @@ HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress, const
   Progress bar("study " + study.name, static_cast<long>(C + jobs.size()), progress);
   parallel_for_index(static_cast<long>(C), [&](long i) {
     const HardCase& hc = study.cases[static_cast<std::size_t>(i)];
-    const std::vector<double> v = stored(checkpoint, fmt::format("truth_{}", i), [&] {
+    const std::vector<double> v = checkpointed(checkpoint, fmt::format("truth_{}", i), 2, [&] {
       const ReferenceResult r = audited_reference(hc.scene, make_ray(hc.origin, hc.direction), {study.reference_tol});
       return std::vector<double>{r.value, r.error_estimate};
     });
@@ -136,7 +129,7 @@ HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress, const
     row.method = method.label;
     row.reference = method.reference;
     // One (case, method) is one checkpoint: value, bound, work.
-    const std::vector<double> v = stored(checkpoint, fmt::format("case_{}_{}", c, m), [&] {
+    const std::vector<double> v = checkpointed(checkpoint, fmt::format("case_{}_{}", c, m), 3, [&] {
       if (method.reference) {
         const ReferenceResult r = integrate_reference(hc.scene, ray, {method.tol});
         return std::vector<double>{r.value, r.error_estimate, static_cast<double>(r.evaluations)};

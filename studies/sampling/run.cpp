@@ -86,14 +86,14 @@ std::vector<ContinuousRay> continuous(Checkpoints* c, const std::string& key, co
   return checkpointed_records<ContinuousRay>(
       c, key, 3, [&] { return continuous_rays(scene, rays, tol); },
       [](const ContinuousRay& r, std::vector<double>& out) { out.insert(out.end(), {r.chord, r.value, r.estimate}); },
-      [](std::span<const double> v) { return ContinuousRay{v[0], v[1], v[2]}; });
+      [](std::span<const double> v) { return ContinuousRay{v[0], v[1], v[2]}; }, rays.size());
 }
 std::vector<RayValue> discrete(Checkpoints* c, const std::string& key, const Scene& scene,
                                const std::vector<Ray>& rays, const DiscreteConfig& config) {
   return checkpointed_records<RayValue>(
       c, key, 2, [&] { return discrete_rays(scene, rays, config); },
       [](const RayValue& r, std::vector<double>& out) { out.insert(out.end(), {r.value, static_cast<double>(r.samples)}); },
-      [](std::span<const double> v) { return RayValue{v[0], static_cast<long>(v[1])}; });
+      [](std::span<const double> v) { return RayValue{v[0], static_cast<long>(v[1])}; }, rays.size());
 }
 
 }  // namespace

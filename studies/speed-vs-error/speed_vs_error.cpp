@@ -218,7 +218,7 @@ SpeedErrorPoint measured(Checkpoints* checkpoints, const std::string& key, const
     fresh = run();
     return std::vector<double>{fresh->max_error, fresh->mean_error, fresh->max_estimate, fresh->seconds_per_ray,
                                fresh->work_per_ray};
-  });
+  }, 5);
   if (fresh) return *fresh;
   SpeedErrorPoint p = named_point(level);
   p.max_error = v.at(0);
@@ -459,11 +459,13 @@ StudyPlan parse_speed_vs_error(const StudyInput& in) {
           r.value = v[0];
           r.error_estimate = v[1];
           return r;
-        });
+        },
+        rays.size());
     double truth_estimate = 0;
     for (const ReferenceResult& t : truth) truth_estimate = std::max(truth_estimate, t.error_estimate);
     const std::vector<double> independent =
-        checkpointed(run.checkpoints, "truth", [&] { return independent_truth(d.scene, rays, run.progress); });
+        checkpointed(run.checkpoints, "truth", [&] { return independent_truth(d.scene, rays, run.progress); },
+                     rays.size());
     const TruthCheck truth_check = compare_truth(independent, truth);
     std::vector<SpeedErrorPoint> pts;
     Progress progress("speed-vs-error", static_cast<long>(d.levels.size()), run.progress);

@@ -59,7 +59,7 @@ ViewCulling culled_view(Checkpoints* checkpoints, const std::string& key, bool w
     for (int m = 0; m < kCullMethods; ++m)
       out.insert(out.end(), {double(v.culled[m]), v.max_error[m], v.min_front_opacity[m], double(v.samples[m])});
     return out;
-  });
+  }, 2 + 4 * kCullMethods);
   if (fresh) return v;
   v.nonempty = static_cast<int>(o.at(0));
   v.samples_all = static_cast<long>(o.at(1));

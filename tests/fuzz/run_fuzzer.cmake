@@ -4,7 +4,7 @@ file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK}/new)
 execute_process(
   COMMAND ${FUZZER} ${WORK}/new ${CORPUS} -dict=${DICT} -runs=${RUNS} -seed=1
-    -max_len=4096 -timeout=30 -rss_limit_mb=3072 -artifact_prefix=${WORK}/ -print_final_stats=1
+    -max_len=${MAX_LEN} -timeout=30 -rss_limit_mb=3072 -artifact_prefix=${WORK}/ -print_final_stats=1
   RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   file(GLOB crashes ${WORK}/crash-* ${WORK}/leak-* ${WORK}/timeout-* ${WORK}/oom-*)

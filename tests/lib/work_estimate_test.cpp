@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "lib/camera.h"
 #include "lib/discrete_raycast.h"
 #include "lib/discrete_raycast_impl.h"
 #include "lib/reference_integrator.h"
@@ -137,6 +138,27 @@ TEST(WorkEstimate, TheLimitThatAllowsAnEstimateIsRoundedUp) {
   EXPECT_EQ(work_limit_allowing(2.01e9), "2.1e+09");
   EXPECT_EQ(work_limit_allowing(2e9), "2e+09");
   EXPECT_EQ(work_limit_allowing(123), "1.3e+02");
+}
+
+// What verify and gate compare with --max-work (issue 22): every pixel's work for an image of at
+// most 64 x 64 pixels, and the sub-grid's scaled for a larger one (a 4096^2 image, at once).
+TEST(WorkEstimate, CameraWorkIsEveryPixelsUpTo64SquaredAndScaledAbove) {
+  const Scene scene = ml_scene(6);
+  Camera camera = default_camera(scene.box);
+  camera.width = 40, camera.height = 24;
+  double exact = 0;
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) exact += reference_evaluations(scene, camera.ray(x, y), 1e-10);
+  EXPECT_DOUBLE_EQ(camera_work(scene, camera, 1e-10), exact);
+  const DiscreteConfig config = step_config(SegmentRule::alpha, 0.01, 1, Correction::none, false);
+  double samples = 0;
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) samples += discrete_samples(config, scene, camera.ray(x, y));
+  EXPECT_DOUBLE_EQ(camera_work(scene, camera, 0, &config), samples);
+  camera.width = camera.height = 4096;
+  const double big = camera_work(scene, camera, 1e-10);
+  EXPECT_GT(big, 0.3 * exact * 4096 * 4096 / (40 * 24));
+  EXPECT_LT(big, 3 * exact * 4096 * 4096 / (40 * 24));
 }
 
 }  // namespace

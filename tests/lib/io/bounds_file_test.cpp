@@ -66,6 +66,20 @@ TEST(BoundsFile, ImagesCaseMayLeaveStepsToProvenance) {
   EXPECT_EQ(g.cases[0].scene, std::filesystem::path("s.toml"));
 }
 
+// A case's name is its folder under --out: "/abs/dir" wrote into /abs/dir and "../x" beside --out
+// (issue 22); only a plain file-name component is taken.
+TEST(BoundsFile, CaseNamesArePlainFileNames) {
+  const auto named = [](const std::string& name) { return "[[case]]\nname = \"" + name + "\"\nstudy = \"s\"\n"; };
+  EXPECT_EQ(error_of(named("/abs/dir")), "b.toml: case[0].name: '/abs/dir' is not a plain file name: no '/', '\\' or "
+                                         "control characters (it names the folder OUT/NAME)");
+  EXPECT_NE(error_of(named("../x")).find("case[0].name: '../x' begins with '.'"), std::string::npos);
+  EXPECT_NE(error_of(named("..")).find("begins with '.'"), std::string::npos);
+  EXPECT_NE(error_of(named("a\\tb")).find("not a plain file name"), std::string::npos);
+  EXPECT_NE(error_of(named("")).find("case[0].name: empty"), std::string::npos);
+  EXPECT_NE(error_of(named(std::string(101, 'n'))).find("101 bytes, more than 100"), std::string::npos);
+  EXPECT_EQ(error_of(named("alpha step 0.1")), "no error");
+}
+
 TEST(BoundsFile, ErrorsNameFileAndKey) {
   EXPECT_EQ(error_of("[defaults]\nrms = { fial = 1 }\n").rfind("b.toml: defaults.rms.fial: unknown key", 0), 0u) << error_of("[defaults]\nrms = { fial = 1 }\n");
   EXPECT_NE(error_of("[defaults]\nrms = { warn = 1, fail = 0.5 }\n").find("ordered"), std::string::npos);

@@ -80,5 +80,39 @@ TEST(RaysFile, LongKeysAreCut) {
   EXPECT_NE(e.find("unknown key 'kkkk"), std::string::npos) << e;
 }
 
+// Copying or printing an id recurses once per level: a 70,000-deep id overflowed the stack
+// (issue 22).  Nesting is bounded while parsing; an id 99 levels deep passes through.
+TEST(RaysFile, DeeplyNestedIdIsAnErrorNotAStackOverflow) {
+  const auto line = [](int depth) {
+    return "{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0], \"id\": " + std::string(depth, '[') +
+           std::string(depth, ']') + "}\n";
+  };
+  EXPECT_EQ(error_of(line(1) + line(70000)), "r.jsonl:2: nested more than 100 arrays or objects deep");
+  EXPECT_EQ(error_of(line(100)), "r.jsonl:1: nested more than 100 arrays or objects deep");
+  std::istringstream in(line(99));
+  EXPECT_EQ(read_rays(in, "r.jsonl").size(), 1u);
+}
+
+// The second value of a repeated key was taken silently (issue 22); inside an id too, since the id
+// is passed through whole.
+TEST(RaysFile, ARepeatedKeyIsAnError) {
+  EXPECT_EQ(error_of("{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0], \"origin\": [-3, 0.5, 0]}"),
+            "r.jsonl:1: key 'origin' given twice");
+  EXPECT_EQ(error_of("{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0], \"id\": {\"a\": 1, \"b\": {\"a\": 2}, \"a\": 3}}"),
+            "r.jsonl:1: key 'a' given twice");
+  std::istringstream in("{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0], \"id\": [{\"a\": 1}, {\"a\": 2}]}");
+  EXPECT_EQ(read_rays(in, "r.jsonl").size(), 1u);
+}
+
+// `--rays /dev/zero` read one endless line into memory (issue 22): a line is at most 1 MiB.
+TEST(RaysFile, ALineLongerThanOneMebibyteIsAnError) {
+  const std::string ray = "{\"origin\": [-3, 0, 0], \"direction\": [1, 0, 0]}";
+  EXPECT_EQ(error_of(ray + "\n" + std::string(3 << 20, '\0')),
+            "r.jsonl:2: longer than 1048576 bytes (1 MiB), the longest line read");
+  const std::string padded = ray + std::string((1 << 20) - ray.size(), ' ');  // exactly 1 MiB
+  std::istringstream in(padded + "\n" + padded);
+  EXPECT_EQ(read_rays(in, "r.jsonl").size(), 2u);
+}
+
 }  // namespace
 }  // namespace vrv

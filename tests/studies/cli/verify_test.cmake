@@ -143,5 +143,5 @@ endif()
 
 # A gate case naming a study that does not exist is bad input (exit 2), not a failed bound.
 file(WRITE ${OUT}/nostudy.toml "[[case]]\nname = \"s\"\nstudy = \"no_such_study\"\n")
-expect_bad_input(gate_no_study "case s: study no_such_study exited with 2"
+expect_bad_input(gate_no_study "case\\[0\\]\\.study: 'no_such_study' is not a study vrv knows"
   gate --bounds ${OUT}/nostudy.toml --out ${OUT}/nostudy --quiet)

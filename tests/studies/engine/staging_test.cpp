@@ -128,6 +128,38 @@ TEST(Checkpoints, StoreExactlyAndReuseOnResume) {
   EXPECT_THROW(c.get("a/b", compute), std::logic_error);
 }
 
+// A stored checkpoint carries its count and a CRC-64: one cut to its end line (SIGSEGV before),
+// with values removed (a wrong table published before) or edited (0x1p+1000 samples overflowed a
+// cast), or holding another count than its computation gives, is refused naming the file.
+TEST(Checkpoints, DamagedOrMisshapenCheckpointsAreRefusedNamingTheFile) {
+  const fs::path dir = fresh_dir("damaged") / "checkpoints";
+  const std::vector<double> v{0.25, 3, 7};
+  { Checkpoints c(dir, "study", false); c.get("k", [&] { return v; }); }
+  const std::string good = [&] { std::ifstream in(dir / "k.txt"); std::stringstream s; s << in.rdbuf(); return s.str(); }();
+  const auto refusal = [&](const std::string& text, std::optional<std::size_t> expected = std::nullopt) {
+    std::ofstream(dir / "k.txt") << text;
+    Checkpoints c(dir, "study", true);
+    try {
+      c.get("k", [&] { return v; }, expected);
+    } catch (const StudyResumeError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(used)");
+  };
+  const std::string file = (dir / "k.txt").string();
+  EXPECT_EQ(refusal("end\n").rfind(file + ": 0 values and their checksum do not match", 0), 0u) << refusal("end\n");
+  EXPECT_NE(refusal(good.substr(good.find('\n') + 1)).find("do not match its end line"), std::string::npos);
+  std::string edited = good;
+  edited.replace(edited.find("0x1.8p+1"), 8, "0x1p+1000");
+  EXPECT_NE(refusal(edited).find("changed or damaged"), std::string::npos);
+  EXPECT_NE(refusal("x\n" + good).find("line 1 is not a number"), std::string::npos);
+  EXPECT_NE(refusal(good, 4).find(file + ": 3 values, expected 4"), std::string::npos);
+  EXPECT_EQ(refusal(good, 3), "(used)");
+  std::ofstream(dir / "other.txt") << good;  // a good file under another key
+  Checkpoints c(dir, "study", true);
+  EXPECT_THROW(c.get("other", [&] { return v; }), StudyResumeError);
+}
+
 TEST(Checkpoints, ItemsResumeAtTheFirstMissingBlock) {
   const fs::path dir = fresh_dir("items") / "checkpoints";
   std::atomic<long> calls{0}, advanced{0};
