@@ -10,6 +10,10 @@
 namespace vrv {
 namespace {
 
+// Strictly opposite signs, without the product (1e-300 times 1e-300 underflows to 0: a ramp of
+// gradient 1e-300 lost its crossings' bands and was charged the whole ray).
+bool opposite(double x, double y) { return (x < 0 && y > 0) || (x > 0 && y < 0); }
+
 // Root of p(t) - v on [lo, hi] where p(lo) - v and p(hi) - v have opposite signs.
 template <class F>
 double bracketed_root(F&& f, double lo, double hi, double f_lo, double f_hi) {
@@ -41,7 +45,7 @@ void monotone_breaks(const RayPanel& panel, std::vector<double>& breaks) {
     for (int j = m - 2; j >= 0; --j) {
       const double x = xs[j];
       const double d = ds[j];
-      if (d_prev * d < 0) {
+      if (opposite(d_prev, d)) {
         const double root = bracketed_root(
             [&](double y) { return chebyshev_evaluate(derivative, y); }, x_prev, x, d_prev, d);
         breaks.push_back(panel.t_of(root));
@@ -106,7 +110,7 @@ std::optional<LevelBand> level_band(const RayPanel& panel, double lo, double hi,
   // The end of the stretch on the side where p passes `target`, or the part's end.
   const auto where = [&](double target, double fallback) {
     const double f_lo = p_lo - target, f_hi = p_hi - target;
-    if (!(f_lo * f_hi < 0)) return fallback;
+    if (!opposite(f_lo, f_hi)) return fallback;
     return bracketed_root([&](double t) { return panel(t) - target; }, lo, hi, f_lo, f_hi);
   };
   const double below = where(level - margin, rising ? lo : hi);

@@ -81,6 +81,32 @@ TEST(ReferenceHonesty, JumpJustAboveAnExtremumIsLocated) {
   expect_promise(r, truth.value, {30 * 100 * 2 * noise / slope, 1000});
 }
 
+// The same ray with the jump within the field's rounding of the minimum (1e-15 above, at, 1e-15
+// below): the field may cross it or not, so each crossing is known only to the band where the
+// proxy is within its error of the level, ~2 sqrt(2 noise / f'') wide at a tangency.  The old
+// shift noise / |p'| was unbounded there and capped at the panel's length: estimates of 0.19
+// and 453 (for values of 0.12), and 4.7e-15 where the proxy passed just above the level.
+TEST(ReferenceHonesty, JumpWithinRoundingOfAnExtremumIsChargedItsBand) {
+  const Box box{Vec3(-1, -1, -30), Vec3(1, 1, 30)};
+  const double alpha = 0.25;
+  const MarschnerLobb ml{24, alpha};
+  const ind::MarschnerLobbLD ml_ref{24, static_cast<LD>(alpha)};
+  const Vec3 origin(0, 0, -31), direction(0, 0, 1);
+  const double pi = std::numbers::pi;
+  const double curvature = (pi / 2) * (pi / 2) / (2 * (1 + alpha));
+  const double noise = ml.value_noise_within(Vec3(0, 0, 31));
+  // 15 minima, each a band of ~2 sqrt(2 noise / f'') under an emission jump of 100; 10x that.
+  const double floor = 10 * 15 * 100 * 2 * std::sqrt(2 * noise / curvature);
+  for (double above : {1e-15, 0.0, -1e-15}) {
+    const double level = alpha / (1 + alpha) + above;
+    const TransferFunction tf = one_jump(level, 100, 5, 0.01, 0.08, 0, 1);
+    const ind::Result truth = ind::independent_integral(ml_ref, box, tf, 0, origin, direction);
+    const ReferenceResult r = integrate_reference(ml, box, tf, 0, make_ray(origin, direction), {1e-12});
+    SCOPED_TRACE(::testing::Message() << "jump " << above << " above the minimum");
+    expect_promise(r, truth.value, {floor, 1000});
+  }
+}
+
 // Far origins on the exact line of a non-unit direction: the rounding of the normalised direction,
 // carried over 1e6 ... 1e15 units, moved the ray by up to 4.8e-4 uncharged.  The origin is
 // q - D g with D a power of two, checked to lie exactly on the line through q (near the box).
