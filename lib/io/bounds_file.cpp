@@ -54,11 +54,11 @@ void read_bound_set(const StudyReader& r, const toml::table& t, std::string_view
   }
 }
 
-RenderSpec read_render(const StudyReader& r, const toml::node& n, std::string_view path) {
+GateRenderSpec read_render(const StudyReader& r, const toml::node& n, std::string_view path) {
   const toml::table& t = r.table(n, path);
   r.check_keys(t, path, {"method", "strategy", "correction", "precision", "oversample", "opacity_unit", "color",
                          "table_size", "table_lookup"});
-  RenderSpec s;
+  GateRenderSpec s;
   if (const auto* v = t.get("method")) s.method = r.string(*v, StudyReader::child(path, "method"));
   if (const auto* v = t.get("strategy")) s.strategy = r.string(*v, StudyReader::child(path, "strategy"));
   if (const auto* v = t.get("correction")) s.correction = r.string(*v, StudyReader::child(path, "correction"));

@@ -58,7 +58,7 @@ struct BoundSet {
   bool all_images = false;  // at = "all": error bounds on every image, not only the finest
 };
 
-struct RenderSpec {  // a case where vrv renders its own discrete method
+struct GateRenderSpec {  // a case where vrv renders its own discrete method
   std::string method = "alpha", strategy = "step", correction = "none", precision = "double";
   int oversample = 1;
   std::string opacity_unit = "sample", color = "straight", table_lookup = "centred";
@@ -70,7 +70,7 @@ struct GateCase {
   std::filesystem::path scene;  // empty: the embedded default scene
   std::vector<double> steps;  // empty only for an images case: the images' provenance steps
   std::optional<double> expected_order;
-  std::optional<RenderSpec> render;
+  std::optional<GateRenderSpec> render;
   std::vector<std::filesystem::path> images;
   std::string study;
   std::optional<int> width, height;

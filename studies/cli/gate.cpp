@@ -71,7 +71,7 @@ int run_study_case(const GateCase& c, const fs::path& out, long& failed) {
 }
 
 // The render case's method at step h, as `vrv render --method ... --step h` takes it.
-DiscreteOptions discrete_options(const RenderSpec& spec, double h) {
+DiscreteOptions discrete_options(const GateRenderSpec& spec, double h) {
   DiscreteOptions d;
   d.method = spec.method;
   d.strategy = spec.strategy;
