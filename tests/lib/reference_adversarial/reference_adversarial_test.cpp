@@ -8,8 +8,8 @@
 //               field moves by its own rounding eta (sensitivity) and 8 eps (1 + Phi) |I| (the
 //               rounding of e^-Phi); see kClasses for why each class may sit at that floor;
 //   bounded:    evaluations <= the class's limit (kClasses).
-// Fast by default (the cases and a few rays per class); the whole set is
-// DISABLED_FullSet, run by CTest under the label `adversarial` (tests/CMakeLists.txt).  Every
+// All of it runs by default (FullSet: every ray at both tolerances, 0.2 s), after the issue's
+// cases and a few rays per class, which fail first and name the class.  Every
 // run prints a per-class table and writes it to <build>/adversarial_summary_tol*.md.
 #include <gtest/gtest.h>
 
