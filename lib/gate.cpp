@@ -69,7 +69,7 @@ std::vector<BoundRow> evaluate_bounds(const std::string& case_name, const Verify
       double lowest = std::numeric_limits<double>::infinity();
       std::string where;
       for (const OrderReport& o : report.orders)
-        if (o.kind == "reference" && !(o.fit.order >= lowest)) lowest = o.fit.order, where = o.channel;
+        if (o.kind == OrderKind::reference && !(o.fit.order >= lowest)) lowest = o.fit.order, where = o.channel;
       if (report.orders.empty()) lowest = kNaN;
       rows.push_back(judge_bound(case_name, bound, fmt::format("order against the reference ({})", where),
                                  lowest, limits));

@@ -49,7 +49,7 @@ VerifyTables verify_tables(const VerifyReport& rep) {
   t.errors.set_format("fraction_over", "{:.4f}");
   for (const ChannelReport& c : rep.channels)
     for (const RegionStats& r : c.regions)
-      t.errors.add_row({c.image, c.channel, c.step, r.region, r.pixels, r.stats.max, r.stats.mean, r.stats.rms,
+      t.errors.add_row({c.image, c.channel, c.step, std::string(region_name(r.region)), r.pixels, r.stats.max, r.stats.mean, r.stats.rms,
                         r.stats.p99, r.stats.fraction_over, r.stats.mean_signed, c.nan_count, c.floor_rms,
                         std::string(c.at_floor ? "yes" : "no")});
   t.orders.allow_missing("order");
@@ -58,9 +58,9 @@ VerifyTables verify_tables(const VerifyReport& rep) {
   t.orders.set_format("std_error", "{:.3f}");
   t.points.allow_missing("error");
   for (const OrderReport& o : rep.orders) {
-    t.orders.add_row({o.channel, o.kind, o.fit.order, o.fit.std_error, static_cast<long>(o.fit.points),
+    t.orders.add_row({o.channel, std::string(order_kind_name(o.kind)), o.fit.order, o.fit.std_error, static_cast<long>(o.fit.points),
                       std::string(verdict_name(o.judgement.verdict)), o.judgement.reason});
-    const std::string series = fmt::format("{} {}", o.channel, o.kind == "self" ? "successive differences" : "against the reference");
+    const std::string series = fmt::format("{} {}", o.channel, o.kind == OrderKind::self ? "successive differences" : "against the reference");
     for (std::size_t k = 0; k < o.steps.size(); ++k)
       if (o.errors[k] > 0) t.points.add_row({series, o.steps[k], o.errors[k]});
   }
@@ -70,7 +70,7 @@ VerifyTables verify_tables(const VerifyReport& rep) {
   long rank = 1;
   for (const Candidate& c : rep.diagnosis)
     t.diagnosis.add_row({rank++, c.placement, c.rule, c.opacity, c.color, c.table, c.rms, c.max, c.name});
-  for (const Fault& f : rep.faults) t.faults.add_row({f.name, f.evidence});
+  for (const Fault& f : rep.faults) t.faults.add_row({f.name(), f.evidence});
   return t;
 }
 

@@ -139,11 +139,11 @@ std::string summary_text(const VerifyRun& run) {
   const VerifyReport& r = run.report;
   std::string s = fmt::format("{} ({}): {}", verdict_name(r.verdict.verdict), r.verdict_channel, r.verdict.reason);
   for (const OrderReport& o : r.orders)
-    if (o.kind == "self" && o.channel == r.verdict_channel && std::isfinite(o.fit.order))
+    if (o.kind == OrderKind::self && o.channel == r.verdict_channel && std::isfinite(o.fit.order))
       s += fmt::format("; self-convergence order {:.3g}", o.fit.order);
   if (!r.diagnosis.empty())
     s += fmt::format("; behaves like {} to {:.2g} RMS", r.diagnosis.front().name, r.diagnosis.front().rms);
-  for (const Fault& f : r.faults) s += fmt::format("; fault: {}", f.name);
+  for (const Fault& f : r.faults) s += fmt::format("; fault: {}", f.name());
   for (const std::string& f : r.failures) s += fmt::format("; FAIL: {}", f);
   for (const BoundRow& b : run.rows)
     if (b.verdict != BoundVerdict::pass)

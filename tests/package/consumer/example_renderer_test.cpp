@@ -72,7 +72,7 @@ TEST(ExampleRenderer, VerifyNamesTheMidpointRule) {
       EXPECT_LT(report.diagnosis.front().rms, 0.1 * c.rms) << c.name;
       break;
     }
-  EXPECT_TRUE(report.faults.empty()) << report.faults.front().name;
+  EXPECT_TRUE(report.faults.empty()) << report.faults.front().name();
 }
 
 TEST(ExampleRenderer, PlantedHalfStepOffsetIsNamedByVerify) {
@@ -80,7 +80,7 @@ TEST(ExampleRenderer, PlantedHalfStepOffsetIsNamedByVerify) {
   EXPECT_FALSE(report.pass);
   EXPECT_EQ(report.verdict.verdict, vrv::Verdict::converges_lower) << report.verdict.reason;
   std::vector<std::string> faults;
-  for (const vrv::Fault& f : report.faults) faults.push_back(f.name);
+  for (const vrv::Fault& f : report.faults) faults.push_back(f.name());
   EXPECT_NE(std::find(faults.begin(), faults.end(), "half-step offset"), faults.end())
       << ::testing::PrintToString(faults);
 }

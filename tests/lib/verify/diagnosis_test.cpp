@@ -1,4 +1,4 @@
-// The diagnosis names the convention a renderer reads its transfer function with: a toy renderer
+// lib/verify/diagnosis and model_catalogue: the diagnosis names the convention a renderer reads its transfer function with: a toy renderer
 // (tests/lib/toy_renderer_conventions.h, not vrv's raycaster) on an opacity/colour scene, with the
 // opacity per unit distance corrected to the sample distance, premultiplied colour, and N-entry
 // tables read with and without half-texel centring; each image set's nearest model is that one.
@@ -113,9 +113,9 @@ TEST(VerifyDiagnosisFaults, OpacityPerSampleIsMissingCorrection) {
   }
   const VerifyReport r = verify_images(scene, ims, {});
   ASSERT_FALSE(r.diagnosis.empty());
-  EXPECT_NE(r.diagnosis.front().opacity.find("not corrected"), std::string::npos) << r.diagnosis.front().name;
+  EXPECT_FALSE(r.diagnosis.front().opacity_corrected) << r.diagnosis.front().name;
   bool named = false;
-  for (const Fault& f : r.faults) named = named || f.name == "missing opacity correction";
+  for (const Fault& f : r.faults) named = named || f.kind == FaultKind::missing_opacity_correction;
   EXPECT_TRUE(named);
 }
 

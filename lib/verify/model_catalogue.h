@@ -1,0 +1,25 @@
+#pragma once
+// The catalogue of vrv's discrete models of a renderer that the diagnosis (diagnosis.h) casts at
+// the images' steps: every sample placement x segment rule; for opacity/colour transfer
+// functions the renderers' convention (opacity per unit distance corrected to the sample
+// distance), also with premultiplied colour; that corrected alpha rule with the transfer function
+// read from N-entry tables, with and without half-texel centring; and, for
+// emission/extinction, the opacity of a fixed unit distance left uncorrected.
+#include <vector>
+
+#include "lib/discrete_raycast.h"
+#include "lib/scene.h"
+#include "lib/verify/verify_options.h"
+#include "lib/verify/verify_report.h"
+
+namespace vrv {
+
+struct Model {
+  Candidate label;                       // what the report says of it (rms and max still 0)
+  std::vector<DiscreteConfig> per_step;  // its configuration at each of the images' steps
+};
+
+// The catalogue for images at `steps` (in the images' order), in the order the report lists ties.
+std::vector<Model> model_catalogue(const Scene& scene, const std::vector<double>& steps, const VerifyOptions& options);
+
+}  // namespace vrv

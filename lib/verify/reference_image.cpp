@@ -1,0 +1,64 @@
+#include "lib/verify/reference_image.h"
+
+#include <iostream>
+
+#include <fmt/format.h>
+
+#include "lib/reference_integrator.h"
+#include "lib/util/parallel.h"
+#include "lib/util/progress.h"
+#include "lib/verify/reference_cache.h"
+
+namespace vrv {
+namespace {
+
+namespace fs = std::filesystem;
+
+ReferenceImage render_reference(const Scene& scene, const Camera& camera, double tol, bool progress) {
+  ReferenceImage r;
+  r.width = camera.width, r.height = camera.height;
+  const long n = static_cast<long>(camera.width) * camera.height;
+  r.value.resize(n), r.error_estimate.resize(n), r.optical_depth.resize(n);
+  Progress bar("reference", n, progress);
+  visit_field(scene, [&](const auto& field) {
+    parallel_for_index(n, [&](long i) {
+      const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
+      const ReferenceResult v =
+          integrate_reference(field, scene.box, scene.transfer, scene.background, ray, {tol});
+      r.value[i] = v.value, r.error_estimate[i] = v.error_estimate, r.optical_depth[i] = v.optical_depth;
+      bar.advance();
+    });
+  });
+  bar.finish();
+  return r;
+}
+
+// An optional cache that cannot be written (a full disk) does not fail the computed run.
+void try_to_cache(const fs::path& dir, const fs::path& file, const std::string& key, ReferenceImage& r) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  try {
+    write_reference_cache(file, key, r);
+    r.cache_file = file.string();
+  } catch (const std::runtime_error& e) {
+    std::cerr << fmt::format("vrv: the reference cache was not written: {}\n", e.what());
+  }
+}
+
+}  // namespace
+
+ReferenceImage reference_image(const Scene& scene, const Camera& camera, const VerifyOptions& opt) {
+  const bool cache = !opt.cache_dir.empty() && !opt.scene_text.empty();
+  std::string key;
+  fs::path file;
+  if (cache) {
+    key = reference_cache_key(opt.scene_text, camera, opt.reference_tol);
+    file = opt.cache_dir / reference_cache_name(key);
+    if (auto r = read_reference_cache(file, key, camera.width, camera.height)) return *r;
+  }
+  ReferenceImage r = render_reference(scene, camera, opt.reference_tol, opt.progress);
+  if (cache) try_to_cache(opt.cache_dir, file, key, r);
+  return r;
+}
+
+}  // namespace vrv

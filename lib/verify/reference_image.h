@@ -1,0 +1,26 @@
+#pragma once
+// The reference image a renderer's images are judged against: every pixel's ray integrated to
+// VerifyOptions::reference_tol, read from the on-disk cache when it holds it (reference_cache.h).
+#include <string>
+#include <vector>
+
+#include "lib/camera.h"
+#include "lib/scene.h"
+#include "lib/verify/verify_options.h"
+
+namespace vrv {
+
+// Per pixel (row-major): the value, its error estimate and the optical depth.
+struct ReferenceImage {
+  int width = 0, height = 0;
+  std::vector<double> value, error_estimate, optical_depth;
+  bool from_cache = false;
+  std::string cache_file;
+};
+
+// From the cache when options.cache_dir and options.scene_text are given and it holds this
+// reference (then written there after computing it; a cache that cannot be written is said on
+// stderr and does not fail the run); else computed, with a progress bar when options.progress.
+ReferenceImage reference_image(const Scene& scene, const Camera& camera, const VerifyOptions& options);
+
+}  // namespace vrv

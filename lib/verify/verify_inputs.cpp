@@ -1,0 +1,76 @@
+#include "lib/verify/verify_inputs.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "lib/transfer_table.h"
+
+namespace vrv {
+namespace {
+
+void check_image(const ImageWithStep& im, const std::vector<ImageWithStep>& images, bool allow_nan) {
+  const ChannelImage& first = images.front().image;
+  if (!(im.step > 0) || !std::isfinite(im.step))
+    throw VerifyInputError(fmt::format("{}: step {} must be positive and finite", im.name, im.step));
+  if (im.image.width != first.width || im.image.height != first.height)
+    throw VerifyInputError(fmt::format("{}: size {} x {} differs from {}'s {} x {}", im.name,
+                                       im.image.width, im.image.height, images.front().name,
+                                       first.width, first.height));
+  if (im.image.planes.size() != first.planes.size())
+    throw VerifyInputError(fmt::format("{}: {} channels, {} has {}", im.name, im.image.planes.size(),
+                                       images.front().name, first.planes.size()));
+  for (const ImageWithStep& other : images)
+    if (&other != &im && other.step == im.step)
+      throw VerifyInputError(fmt::format("{}: step {} repeats {}'s", im.name, im.step, other.name));
+  if (allow_nan) return;
+  for (std::size_t c = 0; c < im.image.planes.size(); ++c)
+    for (std::size_t i = 0; i < im.image.planes[c].size(); ++i)
+      if (!std::isfinite(im.image.planes[c][i]))
+        throw VerifyInputError(fmt::format("{}: pixel ({}, {}) channel {} is {}", im.name,
+                                           i % im.image.width, i / im.image.width,
+                                           im.image.names[c], im.image.planes[c][i]));
+}
+
+void check_options(const VerifyOptions& opt) {
+  if (!(opt.threshold >= 0)) throw std::invalid_argument("--threshold: must be >= 0");
+  if (!(opt.reference_tol > 0) || !std::isfinite(opt.reference_tol))
+    throw std::invalid_argument("--tol: must be positive and finite");
+  if (opt.expected_order && !std::isfinite(*opt.expected_order))
+    throw std::invalid_argument("--expected-order: must be finite");
+  for (int n : opt.table_sizes)
+    if (n < 2 || n > kMaxTableSize)
+      throw std::invalid_argument(fmt::format("table_sizes: {} is not in [2, {}]", n, kMaxTableSize));
+}
+
+}  // namespace
+
+void check_inputs(const std::vector<ImageWithStep>& images, const VerifyOptions& opt) {
+  if (images.empty()) throw VerifyInputError("no images to verify");
+  for (const ImageWithStep& im : images) check_image(im, images, opt.allow_nan);
+  check_options(opt);
+}
+
+std::vector<const ImageWithStep*> sorted_by_step(const std::vector<ImageWithStep>& images) {
+  std::vector<const ImageWithStep*> sorted;
+  for (const ImageWithStep& im : images) sorted.push_back(&im);
+  std::stable_sort(sorted.begin(), sorted.end(), [](auto* a, auto* b) { return a->step > b->step; });
+  return sorted;
+}
+
+double comparable(const ChannelImage& im, int c, std::size_t i, double background, AlphaMode mode) {
+  const double v = im.planes[c][i];
+  if (im.alpha < 0 || c == im.alpha) return v;
+  const double a = im.planes[im.alpha][i];
+  return (mode == AlphaMode::straight ? v * a : v) + background * (1 - a);
+}
+
+int first_colour_channel(const ChannelImage& image) {
+  const int nc = static_cast<int>(image.planes.size());
+  int colour = 0;
+  while (colour < nc && colour == image.alpha) ++colour;
+  return colour;
+}
+
+}  // namespace vrv

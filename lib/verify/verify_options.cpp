@@ -1,0 +1,22 @@
+#include "lib/verify/verify_options.h"
+
+#include <fmt/format.h>
+
+#include "lib/reference_integrator.h"
+
+namespace vrv {
+
+void apply(const VerifySettings& s, VerifyOptions& o) {
+  validate(ReferenceOptions{s.tol});
+  if (!(s.order_tolerance > 0)) throw std::invalid_argument("--order-tolerance: must be positive");
+  const auto metric = parse_metric(s.order_metric);
+  if (!metric || *metric == Metric::fraction_over)
+    throw std::invalid_argument(fmt::format("--order-metric: '{}' is not one of max, mean, rms, p99", s.order_metric));
+  if (s.unit_distance < 0) throw std::invalid_argument("--unit-distance: must be positive");
+  o.reference_tol = s.tol;
+  o.order_tolerance = s.order_tolerance;
+  o.order_metric = *metric;
+  o.unit_distance = s.unit_distance;
+}
+
+}  // namespace vrv

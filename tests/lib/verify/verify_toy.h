@@ -1,0 +1,78 @@
+#pragma once
+// The verification tests' toy renderer (tests/lib/toy_raycaster.h, not vrv's raycaster) on a small
+// Marschner-Lobb scene, its images written to EXR and read back as a user's files would be, and
+// the helpers the tests of lib/verify share.
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "lib/io/image_channels.h"
+#include "lib/io/image_io.h"
+#include "lib/io/scene_file.h"
+#include "lib/verify.h"
+#include "tests/lib/toy_raycaster.h"
+
+namespace vrv::verify_toy {
+
+inline constexpr const char* kScene = R"(
+[volume]
+min = [-1.0, -1.0, -1.0]
+max = [1.0, 1.0, 1.0]
+[field]
+kind = "marschner_lobb"
+[transfer]
+emission = [[0.0, 0.0], [1.0, 1.0]]
+extinction = [[0.0, 0.0], [1.0, 2.0]]
+[background]
+intensity = 0.2
+[camera]
+eye = [1.5, 1.0, -4.0]
+target = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+fov = 40.0
+width = 32
+height = 32
+)";
+
+inline const std::vector<double> kSteps{0.1, 0.05, 0.025, 0.0125};
+
+inline std::filesystem::path scratch() {
+  const std::filesystem::path d = std::filesystem::path(VRV_BINARY_DIR) / "tests" / "verify_scratch";
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+// The toy's images at every step, through EXR files.
+inline std::vector<ImageWithStep> toy_images(const Scene& scene, toy::Fault fault, const std::string& tag) {
+  std::vector<ImageWithStep> out;
+  for (double h : kSteps) {
+    const std::vector<double> v = toy::render(scene, *scene.camera, h, fault, kSteps.front());
+    Image im(scene.camera->width, scene.camera->height);
+    std::transform(v.begin(), v.end(), im.pixels.begin(), [](double x) { return static_cast<float>(x); });
+    const std::filesystem::path file = scratch() / (tag + "_" + std::to_string(h) + ".exr");
+    write_exr(im, file);
+    out.push_back({file.string(), h, read_channel_image(file)});
+  }
+  return out;
+}
+
+// Expecting order 2.
+inline VerifyOptions options() {
+  VerifyOptions o;
+  o.expected_order = 2;
+  return o;
+}
+
+inline bool has_fault(const VerifyReport& r, FaultKind kind) {
+  return std::any_of(r.faults.begin(), r.faults.end(), [&](const Fault& f) { return f.kind == kind; });
+}
+
+class VerifyToy : public ::testing::Test {
+ protected:
+  Scene scene = parse_scene(kScene, "toy.toml");
+};
+
+}  // namespace vrv::verify_toy
