@@ -7,17 +7,20 @@
 
 #include "lib/util/parallel.h"
 #include "lib/verify/model_catalogue.h"
+#include "lib/work_estimate.h"
 
 namespace vrv {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Pixels the diagnosis compares: all of them up to 128 x 128, else a regular lattice of about
-// that many, so that the diagnosis stays a matter of seconds.
-std::vector<long> diagnosis_pixels(int w, int h) {
+using Casts = std::vector<std::vector<double>>;  // one model's pixels, per step
+
+// A regular lattice of about `target` pixels (all of them when the image has no more), one at
+// the centre of each cell: deterministic, and spread over the whole image.
+std::vector<long> lattice_pixels(int w, int h, long target) {
   const long n = static_cast<long>(w) * h;
-  const int stride = std::max(1, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n) / 16384.0))));
+  const int stride = std::max(1, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n) / target))));
   std::vector<long> p;
   for (int y = stride / 2; y < h; y += stride)
     for (int x = stride / 2; x < w; x += stride) p.push_back(static_cast<long>(y) * w + x);
@@ -27,7 +30,7 @@ std::vector<long> diagnosis_pixels(int w, int h) {
 // Whether two models' pixels agree to rounding (1e-11 of the largest value): then the later,
 // more elaborate one (a centred table of a transfer function whose breakpoints fall on its
 // entries, premultiplied colour where alpha = a) says nothing the earlier one does not.
-bool same_pixels(const std::vector<std::vector<double>>& a, const std::vector<std::vector<double>>& b) {
+bool same_pixels(const Casts& a, const Casts& b) {
   double scale = 1, diff = 0;
   for (std::size_t k = 0; k < a.size(); ++k)
     for (std::size_t j = 0; j < a[k].size(); ++j) {
@@ -37,7 +40,64 @@ bool same_pixels(const std::vector<std::vector<double>>& a, const std::vector<st
   return diff <= 1e-11 * scale;
 }
 
+// Every listed model at every step on `pixels`, (model, step) pairs in parallel; each pair
+// writes its own slot, so the casts do not depend on the thread count.
+std::vector<Casts> cast_models(const Scene& scene, const Camera& camera, const std::vector<Model>& models,
+                               const std::vector<std::size_t>& which, const std::vector<long>& pixels) {
+  std::vector<Casts> out(models.size());
+  const std::size_t steps = models.empty() ? 0 : models.front().per_step.size();
+  for (std::size_t m : which) out[m].resize(steps);
+  parallel_for_index(static_cast<long>(which.size() * steps), [&](long pair) {
+    const std::size_t m = which[pair / steps], k = pair % steps;
+    out[m][k] = cast_pixels(scene, camera, models[m].per_step[k], pixels);
+  });
+  return out;
+}
+
+// RMS and max over every image of the difference between the images' pixels and a model's.
+void measure(Candidate& c, const Casts& casts, const std::vector<const ImageWithStep*>& sorted, int channel,
+             const std::vector<long>& pixels, double background, AlphaMode alpha) {
+  double sum_sq = 0, max = 0;
+  long count = 0;
+  for (std::size_t k = 0; k < sorted.size(); ++k)
+    for (std::size_t j = 0; j < pixels.size(); ++j) {
+      const double u = comparable(sorted[k]->image, channel, pixels[j], background, alpha);
+      if (!std::isfinite(u)) continue;
+      const double d = u - casts[k][j];
+      sum_sq += d * d, max = std::max(max, std::abs(d)), ++count;
+    }
+  c.rms = count ? std::sqrt(sum_sq / count) : kNaN;
+  c.max = max;
+  c.pixels = static_cast<long>(pixels.size());
+}
+
+// The models ranked by their RMS (ties in catalogue order); NaN last.
+std::vector<std::size_t> ranked(const std::vector<Candidate>& c, const std::vector<std::size_t>& which) {
+  std::vector<std::size_t> order = which;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return c[a].rms < c[b].rms; });
+  return order;
+}
+
+// The leaders of a ranking: the first kMinLeaders, and any other within kLeaderFactor of the best.
+std::vector<bool> leaders(const std::vector<Candidate>& c, const std::vector<std::size_t>& order) {
+  std::vector<bool> lead(c.size());
+  for (std::size_t r = 0; r < order.size(); ++r)
+    lead[order[r]] = r < kMinLeaders || c[order[r]].rms <= kLeaderFactor * c[order.front()].rms;
+  return lead;
+}
+
 }  // namespace
+
+std::vector<long> diagnosis_pixels(int width, int height) { return lattice_pixels(width, height, kDiagnosisPixels); }
+std::vector<long> ranking_pixels(int width, int height) { return lattice_pixels(width, height, kRankingPixels); }
+
+std::vector<Model> distinct_models(const Scene& scene, const std::vector<double>& steps, const VerifyOptions& opt) {
+  std::vector<Model> out;
+  for (Model& m : model_catalogue(scene, steps, opt))
+    if (std::none_of(out.begin(), out.end(), [&](const Model& kept) { return same_model(kept, m, scene); }))
+      out.push_back(std::move(m));
+  return out;
+}
 
 std::vector<double> cast_pixels(const Scene& scene, const Camera& camera, const DiscreteConfig& config,
                                 const std::vector<long>& pixels) {
@@ -59,35 +119,68 @@ std::vector<double> discrete_image(const Scene& scene, const Camera& camera, con
   return cast_pixels(scene, camera, config, all);
 }
 
+// Coarse to fine: every distinct model is ranked on the ranking pixels; the leaders are cast again
+// on the diagnosis pixels and reported first, by their RMS there, the rest after them by their
+// ranking RMS.  A model whose pixels equal an earlier one's is left out (on the diagnosis pixels
+// for a leader, on the ranking pixels otherwise).
 std::vector<Candidate> diagnose(const Scene& scene, const Camera& camera,
                                 const std::vector<const ImageWithStep*>& sorted, int channel,
                                 const VerifyOptions& opt) {
   std::vector<double> steps;
   for (const auto* im : sorted) steps.push_back(im->step);
-  const std::vector<long> pixels = diagnosis_pixels(camera.width, camera.height);
-  std::vector<Candidate> out;
-  std::vector<std::vector<std::vector<double>>> kept;  // the pixels of every model kept, per step
-  for (Model& m : model_catalogue(scene, steps, opt)) {
-    std::vector<std::vector<double>> casts;
-    for (std::size_t k = 0; k < sorted.size(); ++k) casts.push_back(cast_pixels(scene, camera, m.per_step[k], pixels));
-    if (std::any_of(kept.begin(), kept.end(), [&](const auto& other) { return same_pixels(casts, other); }))
-      continue;
-    double sum_sq = 0, max = 0;
-    long count = 0;
-    for (std::size_t k = 0; k < sorted.size(); ++k)
-      for (std::size_t j = 0; j < pixels.size(); ++j) {
-        const double u = comparable(sorted[k]->image, channel, pixels[j], scene.background, opt.alpha);
-        if (!std::isfinite(u)) continue;
-        const double d = u - casts[k][j];
-        sum_sq += d * d, max = std::max(max, std::abs(d)), ++count;
-      }
-    m.label.rms = count ? std::sqrt(sum_sq / count) : kNaN;
-    m.label.max = max;
-    out.push_back(m.label);
-    kept.push_back(std::move(casts));
+  const std::vector<Model> models = distinct_models(scene, steps, opt);
+  std::vector<std::size_t> all(models.size());
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  const std::vector<long> coarse = ranking_pixels(camera.width, camera.height);
+  const std::vector<Casts> coarse_casts = cast_models(scene, camera, models, all, coarse);
+  std::vector<Candidate> c;
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    c.push_back(models[m].label);
+    measure(c[m], coarse_casts[m], sorted, channel, coarse, scene.background, opt.alpha);
   }
-  std::stable_sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) { return a.rms < b.rms; });
+  const std::vector<bool> lead = leaders(c, ranked(c, all));
+  std::vector<std::size_t> leading;
+  for (std::size_t m : all)
+    if (lead[m]) leading.push_back(m);
+  const std::vector<long> fine = diagnosis_pixels(camera.width, camera.height);
+  const std::vector<Casts> fine_casts = cast_models(scene, camera, models, leading, fine);
+  // A leader is compared with the leaders kept before it on the diagnosis pixels, any other model
+  // with every model kept before it on the ranking pixels (equal pixels rank alike, so a model
+  // equal to a leader is one).
+  std::vector<std::size_t> kept_leaders, kept_others, kept;
+  for (std::size_t m : all) {
+    const bool repeats = lead[m] ? std::any_of(kept_leaders.begin(), kept_leaders.end(),
+                                               [&](std::size_t k) { return same_pixels(fine_casts[m], fine_casts[k]); })
+                                 : std::any_of(kept.begin(), kept.end(),
+                                               [&](std::size_t k) { return same_pixels(coarse_casts[m], coarse_casts[k]); });
+    if (repeats) continue;
+    if (lead[m]) measure(c[m], fine_casts[m], sorted, channel, fine, scene.background, opt.alpha);
+    (lead[m] ? kept_leaders : kept_others).push_back(m);
+    kept.push_back(m);
+  }
+  std::vector<Candidate> out;
+  for (const auto* kept : {&kept_leaders, &kept_others})
+    for (std::size_t m : ranked(c, *kept)) out.push_back(c[m]);
   return out;
+}
+
+double diagnosis_work(const Scene& scene, const Camera& camera, const std::vector<double>& steps,
+                      const VerifyOptions& opt) {
+  const double pixels = static_cast<double>(camera.width) * camera.height;
+  const double coarse = static_cast<double>(ranking_pixels(camera.width, camera.height).size());
+  const double fine = static_cast<double>(diagnosis_pixels(camera.width, camera.height).size());
+  std::vector<double> per_model;  // samples of a model over all steps, per pixel
+  for (const Model& m : distinct_models(scene, steps, opt)) {
+    double samples = 0;
+    for (const DiscreteConfig& config : m.per_step) samples += camera_work(scene, camera, 0, &config) / pixels;
+    per_model.push_back(samples);
+  }
+  // The leaders: at least kMinLeaders, counted as the dearest.
+  std::sort(per_model.rbegin(), per_model.rend());
+  double work = 0;
+  for (std::size_t m = 0; m < per_model.size(); ++m)
+    work += per_model[m] * (coarse + (m < kMinLeaders ? fine : 0));
+  return work;
 }
 
 }  // namespace vrv

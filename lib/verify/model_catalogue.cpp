@@ -156,4 +156,46 @@ std::vector<Model> model_catalogue(const Scene& scene, const std::vector<double>
   return out;
 }
 
+namespace {
+
+// Whether a centred N-entry table reproduces the transfer function (to rounding): every
+// breakpoint of its curves sits on an entry, and it has no jump a table cannot hold.
+bool table_holds_breakpoints(const TransferFunction& tf, int n) {
+  const std::vector<double>& b = tf.breakpoints();
+  if (b.size() < 2 || !(b.back() > b.front())) return false;
+  for (double v : b) {
+    const auto jump = tf.jump_at(v);
+    if (jump.emission != 0 || jump.extinction != 0) return false;
+    const double x = (v - b.front()) / (b.back() - b.front()) * (n - 1);
+    if (std::abs(x - std::round(x)) > 1e-9 * n) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::string configuration_key(DiscreteConfig c, const Scene& scene) {
+  if (c.table_size > 0 && c.table_lookup == TableLookup::centred && table_holds_breakpoints(scene.transfer, c.table_size))
+    c.table_size = 0;
+  if (c.table_size == 0) c.table_lookup = TableLookup::centred;  // read only with a table
+  const SamplingConfig& s = c.sampling;
+  const auto optional = [](const std::optional<double>& v) { return v ? fmt::format("{:a}", *v) : "-"; };
+  return fmt::format("rule {} strategy {} rate {:a} step {:a} dims {} {} {} eye {} oversample {} centred {} "
+                     "correction {} termination {} skip {} compositing {} classification {} precision {} "
+                     "opacity {} color {} table {} {}",
+                     static_cast<int>(c.rule), static_cast<int>(s.strategy), s.rate, s.step, s.dims[0], s.dims[1],
+                     s.dims[2], s.eye ? fmt::format("{:a} {:a} {:a}", (*s.eye)[0], (*s.eye)[1], (*s.eye)[2]) : "-",
+                     c.oversample, c.centred_oversamples, static_cast<int>(c.correction), optional(c.termination),
+                     optional(c.skip_below), static_cast<int>(c.compositing), static_cast<int>(c.classification),
+                     static_cast<int>(c.precision), static_cast<int>(c.opacity_unit), static_cast<int>(c.color),
+                     c.table_size, static_cast<int>(c.table_lookup));
+}
+
+bool same_model(const Model& a, const Model& b, const Scene& scene) {
+  if (a.per_step.size() != b.per_step.size()) return false;
+  for (std::size_t k = 0; k < a.per_step.size(); ++k)
+    if (configuration_key(a.per_step[k], scene) != configuration_key(b.per_step[k], scene)) return false;
+  return true;
+}
+
 }  // namespace vrv

@@ -5,6 +5,7 @@
 // distance), also with premultiplied colour; that corrected alpha rule with the transfer function
 // read from N-entry tables, with and without half-texel centring; and, for
 // emission/extinction, the opacity of a fixed unit distance left uncorrected.
+#include <string>
 #include <vector>
 
 #include "lib/discrete_raycast.h"
@@ -21,5 +22,12 @@ struct Model {
 
 // The catalogue for images at `steps` (in the images' order), in the order the report lists ties.
 std::vector<Model> model_catalogue(const Scene& scene, const std::vector<double>& steps, const VerifyOptions& options);
+
+// A configuration's cast on `scene` as text, with what does not change it normalised away: the
+// table lookup without a table, and a centred table that holds every breakpoint of the transfer
+// function on an entry (it reads the curves themselves, to rounding).  Equal keys cast the same.
+std::string configuration_key(DiscreteConfig config, const Scene& scene);
+// Whether two models have equal configuration keys at every step.
+bool same_model(const Model& a, const Model& b, const Scene& scene);
 
 }  // namespace vrv

@@ -67,7 +67,7 @@ nlohmann::ordered_json to_json(const OrderReport& o) {
 
 nlohmann::ordered_json to_json(const Candidate& c) {
   return {{"name", c.name}, {"placement", c.placement}, {"rule", c.rule}, {"opacity", c.opacity},
-          {"color", c.color}, {"table", c.table}, {"rms", number(c.rms)}, {"max", number(c.max)}};
+          {"color", c.color}, {"table", c.table}, {"rms", number(c.rms)}, {"max", number(c.max)}, {"pixels", c.pixels}};
 }
 
 template <class T>

@@ -61,6 +61,7 @@ struct Candidate {
   // false when the model takes an opacity per sample whatever the sample distance (no correction)
   bool opacity_corrected = true;
   double rms = 0, max = 0;  // RMS over all images of the per-pixel difference, and its max
+  long pixels = 0;          // the pixels per image rms and max are over (lib/verify/diagnosis.h)
 };
 
 enum class FaultKind {

@@ -1,5 +1,5 @@
-// lib/verify/diagnosis and model_catalogue: the diagnosis names the convention a renderer reads its transfer function with: a toy renderer
-// (tests/lib/toy_renderer_conventions.h, not vrv's raycaster) on an opacity/colour scene, with the
+// lib/verify/diagnosis and model_catalogue: the diagnosis names the convention a renderer reads
+// its transfer function with: a toy renderer (tests/lib/toy_renderer_conventions.h, not vrv's raycaster) on an opacity/colour scene, with the
 // opacity per unit distance corrected to the sample distance, premultiplied colour, and N-entry
 // tables read with and without half-texel centring; each image set's nearest model is that one.
 #include <algorithm>
