@@ -9,6 +9,7 @@
 #include "lib/verify/convergence_orders.h"
 #include "lib/verify/fault_hints.h"
 #include "lib/verify/pixel_geometry.h"
+#include "lib/work_estimate.h"
 
 namespace vrv {
 namespace {
@@ -55,6 +56,15 @@ Camera verify_camera(const Scene& scene, const VerifyOptions& opt, int w, int h)
     throw VerifyInputError(fmt::format("camera: {}", e.what()));
   }
   return c;
+}
+
+VerificationWork verification_work(const Scene& scene, const VerifyOptions& opt, int w, int h,
+                                   const std::vector<double>& steps) {
+  const Camera camera = verify_camera(scene, opt, w, h);
+  VerificationWork work;
+  work.reference = camera_work(scene, camera, opt.reference_tol);
+  if (opt.diagnose && !steps.empty()) work.diagnosis = diagnosis_work(scene, camera, steps, opt);
+  return work;
 }
 
 VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>& images,

@@ -40,4 +40,14 @@ VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>&
 // default_camera(scene.box), at the images' size; VerifyInputError when it is not valid.
 Camera verify_camera(const Scene& scene, const VerifyOptions& options, int width, int height);
 
+// Field evaluations a verification of w x h images at `steps` takes, estimated before any work:
+// the reference on every pixel at options.reference_tol (camera_work, lib/work_estimate.h) and,
+// with options.diagnose, the diagnosis' casts (diagnosis_work, lib/verify/diagnosis.h).
+struct VerificationWork {
+  double reference = 0, diagnosis = 0;
+  double total() const { return reference + diagnosis; }
+};
+VerificationWork verification_work(const Scene& scene, const VerifyOptions& options, int width, int height,
+                                   const std::vector<double>& steps);
+
 }  // namespace vrv

@@ -104,7 +104,7 @@ void check_render_work(const GateCase& c, const Scene& scene, const BoundsFile& 
     const DiscreteConfig config = *discrete_config(discrete_options(*c.render, h), scene);
     renders += camera_work(scene, camera, 0, &config);
   }
-  check_verification_work(scene, VerifyOptions{}, camera.width, camera.height, renders, max_work,
+  check_verification_work(scene, VerifyOptions{}, camera.width, camera.height, c.steps, renders, max_work,
                           fmt::format("{}: case[{}]", file.path.string(), &c - file.cases.data()));
 }
 
@@ -235,7 +235,8 @@ int run_gate(const GateOptions& o) {
     for (const auto& p : c.images) files.push_back(p.string());
     const std::vector<ImageWithStep> images = c.render ? render_case(c, scenes[i]) : read_images(files, steps[i]);
     if (!c.render)  // an images case's size is known once they are read: before its reference
-      check_verification_work(scenes[i], opt, images.front().image.width, images.front().image.height, 0, o.max_work,
+      check_verification_work(scenes[i], opt, images.front().image.width, images.front().image.height, steps[i], 0,
+                              o.max_work,
                               fmt::format("{}: case[{}]", o.bounds, &c - file.cases.data()));
     const nlohmann::json parameters = {{"command", "gate"}, {"bounds", o.bounds}, {"case", c.name}};
     const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, out / c.name, parameters, o.no_plots);

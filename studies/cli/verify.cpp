@@ -82,8 +82,10 @@ int run_verify(const VerifyCliOptions& o) {
   }
   const std::vector<ImageWithStep> images =
       read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
-  check_verification_work(scene, opt, images.front().image.width, images.front().image.height, 0, o.max_work,
-                          "--max-work");
+  std::vector<double> steps;
+  for (const ImageWithStep& im : images) steps.push_back(im.step);
+  check_verification_work(scene, opt, images.front().image.width, images.front().image.height, steps, 0,
+                          o.max_work, "--max-work");
   // Where results go is checked before the reference is computed, not after.
   if (!o.out.empty()) check_writable_dir(o.out, "--out");
   opt.cache_dir = reference_cache_dir(o.cache_dir, o.no_cache);

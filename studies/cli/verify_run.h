@@ -56,11 +56,12 @@ void run_exiting(const std::function<int()>& body);
 inline constexpr double kDefaultVerifyWorkLimit = 1e9;
 
 // Refuses, before any work, a verification above `max_work` field evaluations: the reference on
-// every pixel of images of width x height (camera_work, lib/work_estimate.h) plus `renders` (a
-// gate render case's own images).  The diagnosis (vrv's models cast at the images' steps) is not
-// counted.  std::invalid_argument "<who>: about ... above the work limit ..." naming `who`.
+// every pixel of images of width x height and the diagnosis (vrv's models cast at `steps`), as
+// verification_work (lib/verify.h) estimates them, plus `renders` (a gate render case's own
+// images).  std::invalid_argument "<who>: about ... above the work limit ..." naming `who`.
 void check_verification_work(const Scene& scene, const VerifyOptions& options, int width, int height,
-                             double renders, double max_work, const std::string& who);
+                             const std::vector<double>& steps, double renders, double max_work,
+                             const std::string& who);
 
 // The summary line on stderr: verdict, orders, nearest model, faults, failed bounds.
 std::string summary_text(const VerifyRun& run);

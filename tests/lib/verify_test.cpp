@@ -12,6 +12,7 @@
 
 #include "lib/io/atomic_file.h"
 #include "lib/io/npy.h"
+#include "lib/work_estimate.h"
 #include "tests/lib/verify/verify_toy.h"
 
 namespace vrv::verify_toy {
@@ -122,6 +123,21 @@ TEST(ImageFormats, NpyAndPfmAreReadAsTheRendererWroteThem) {
   ASSERT_EQ(p.height, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) EXPECT_EQ(p.at(0, x, y), static_cast<double>(grey[y * w + x])) << x << ", " << y;
+}
+
+// What --max-work compares (issue 22): the reference on every pixel and the diagnosis' casts,
+// which a fine step makes the larger part; without the diagnosis only the reference.
+TEST_F(VerifyToy, TheWorkEstimateCountsTheDiagnosis) {
+  VerifyOptions o = options();
+  const Camera camera = verify_camera(scene, o, 32, 32);
+  const VerificationWork work = verification_work(scene, o, 32, 32, kSteps);
+  EXPECT_EQ(work.reference, camera_work(scene, camera, o.reference_tol));
+  EXPECT_EQ(work.diagnosis, diagnosis_work(scene, camera, kSteps, o));
+  EXPECT_EQ(work.total(), work.reference + work.diagnosis);
+  const VerificationWork fine = verification_work(scene, o, 32, 32, {1e-4, 5e-5});
+  EXPECT_GT(fine.diagnosis, 100 * fine.reference);
+  o.diagnose = false;
+  EXPECT_EQ(verification_work(scene, o, 32, 32, kSteps).diagnosis, 0);
 }
 
 }  // namespace
