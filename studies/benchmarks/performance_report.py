@@ -831,6 +831,15 @@ def section_reference_image(build_dir, rounds=3):
         "`--before OLD_BUILD`.", 1200)
 
 
+def section_verify_speed(build_dir, rounds=3):
+    """verify_speed.py's table: `vrv verify` with its reference cached, default and grid scene."""
+    return script_section(
+        "## verify with its reference cached", "verify_speed.py", [str(build_dir), "--rounds", str(rounds)],
+        "`vrv verify --out` on 5 images of 256² with the reference cached, with and without the plot, on "
+        "the default scene and a 64³ grid scene (issue 23's goal: at most 2 and 3 CPU s). Old against new "
+        "builds side by side: `--before OLD_BUILD`.", 1800)
+
+
 def section_study_work(build_dir):
     """study_work.py's table: each shipped study's estimated work against its wall time."""
     return script_section(
@@ -874,6 +883,7 @@ def main():
 
     startup_text = section_startup(build_dir)
     reference_image_text = section_reference_image(build_dir)
+    verify_speed_text = section_verify_speed(build_dir)
     study_work_text = section_study_work(build_dir)
     scaling_text, fits = section_scaling(by_name.get("bench_scaling"))
     largest_text, largest_headline = section_largest(by_name.get("bench_scaling"), fits, machine)
@@ -903,6 +913,8 @@ def main():
         startup_text,
         "",
         reference_image_text,
+        "",
+        verify_speed_text,
         "",
         study_work_text,
         "",
