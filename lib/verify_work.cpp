@@ -1,0 +1,25 @@
+#include "lib/verify_work.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "lib/work_estimate.h"
+
+namespace vrv {
+
+void check_verification_work(const Scene& scene, const VerifyOptions& options, int width, int height,
+                             double renders, double max_work, const std::string& who) {
+  if (!(max_work > 0)) throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", max_work));
+  const double reference = camera_work(scene, verify_camera(scene, options, width, height), options.reference_tol);
+  const double work = reference + renders;
+  if (work <= max_work) return;
+  throw std::invalid_argument(fmt::format(
+      "{}: about {:.3g} field evaluations (the reference on {} x {} pixels at --tol {:g}: {:.3g}{}), above the work "
+      "limit of {:.3g}; use smaller images, a looser tolerance, or allow it with --max-work {}",
+      who, work, width, height, options.reference_tol, reference,
+      renders > 0 ? fmt::format("; the renders: {:.3g}", renders) : std::string(), max_work,
+      work_limit_allowing(work)));
+}
+
+}  // namespace vrv
