@@ -98,9 +98,16 @@ ValueImage render_discrete_image(const Scene& scene, const Camera& camera, const
 
 namespace {
 
+std::string image_label(std::size_t index, double step) { return fmt::format("image {} (step {:g})", index, step); }
+
+void check_step_count(std::size_t steps, std::size_t images) {
+  if (images != steps)
+    throw VerifyInputError(fmt::format("--steps: {} steps for {} images (one step per image, in the same order)",
+                                       steps, images));
+}
+
 // A computed image as verify_images reads a file: one channel "Y" in double, no quantisation.
-ImageWithStep with_step(const ValueImage& image, double step, std::size_t index) {
-  const std::string name = fmt::format("image {} (step {:g})", index, step);
+ChannelImage channels_of(const ValueImage& image, const std::string& name) {
   if (image.width <= 0 || image.height <= 0 ||
       image.values.size() != static_cast<std::size_t>(image.width) * image.height)
     throw VerifyInputError(fmt::format("{}: {} values for {} x {} pixels", name, image.values.size(),
@@ -111,19 +118,25 @@ ImageWithStep with_step(const ValueImage& image, double step, std::size_t index)
   channels.names = {"Y"};
   channels.planes = {image.values};
   channels.pixel_type = "double";  // quantum 0: in memory, not rounded to a file's type
-  return ImageWithStep{name, step, std::move(channels)};
+  return channels;
 }
 
 }  // namespace
 
+VerifyReport verify(const Scene& scene, const std::vector<ChannelImage>& images,
+                    const std::vector<double>& steps, const VerifyOptions& options) {
+  check_step_count(steps.size(), images.size());
+  std::vector<ImageWithStep> inputs;
+  for (std::size_t i = 0; i < images.size(); ++i) inputs.push_back({image_label(i, steps[i]), steps[i], images[i]});
+  return verify_images(scene, inputs, options);
+}
+
 VerifyReport verify(const Scene& scene, const std::vector<ValueImage>& images,
                     const std::vector<double>& steps, const VerifyOptions& options) {
-  if (images.size() != steps.size())
-    throw VerifyInputError(fmt::format("--steps: {} steps for {} images (one step per image, in the same order)",
-                                       steps.size(), images.size()));
-  std::vector<ImageWithStep> inputs;
-  for (std::size_t i = 0; i < images.size(); ++i) inputs.push_back(with_step(images[i], steps[i], i));
-  return verify_images(scene, inputs, options);
+  check_step_count(steps.size(), images.size());
+  std::vector<ChannelImage> channels;
+  for (std::size_t i = 0; i < images.size(); ++i) channels.push_back(channels_of(images[i], image_label(i, steps[i])));
+  return verify(scene, channels, steps, options);
 }
 
 VerifyReport verify(const Scene& scene, const std::vector<double>& steps, const Renderer& render,

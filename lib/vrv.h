@@ -77,6 +77,10 @@ ValueImage render_discrete_image(const Scene& scene, const Camera& camera,
 // size, NaN pixels (unless options.allow_nan), a repeated or non-positive step.
 VerifyReport verify(const Scene& scene, const std::vector<ValueImage>& images,
                     const std::vector<double>& steps, const VerifyOptions& options = {});
+// The same for images of 1 to 4 channels as `vrv verify` reads them from files (grey, grey+alpha,
+// RGB, RGBA: lib/io/image_channels.h, e.g. channel_image() of an array).
+VerifyReport verify(const Scene& scene, const std::vector<ChannelImage>& images,
+                    const std::vector<double>& steps, const VerifyOptions& options = {});
 
 // The same with the renderer as a callback: render(camera, step) for every step, in the order
 // given; the camera is options.camera or scene_camera(scene).  Its images must have the

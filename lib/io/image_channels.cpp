@@ -40,12 +40,17 @@ double quantum_of(const fs::path& path, const std::string& type, double largest)
   fail(path, fmt::format("pixel type {} is not supported", type));
 }
 
-// A renderer's numpy array saved with numpy.save: (height, width) or (height, width, channels),
-// float32 or float64, row 0 = top as numpy shows it (lib/io/npy.h reads it: OpenImageIO does not).
+// A renderer's numpy array saved with numpy.save: read by lib/io/npy.h (OpenImageIO does not).
 ChannelImage read_npy_image(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) fail(path, "cannot read: no such file");
-  const NpyArray a = read_npy(path);  // its errors are "<path>: <reason>" already
+  return channel_image(read_npy(path), path.string());  // read_npy's errors are "<path>: <reason>" already
+}
+
+}  // namespace
+
+ChannelImage channel_image(const NpyArray& a, const std::string& name) {
+  const fs::path path(name);
   if (a.shape.size() != 2 && a.shape.size() != 3)
     fail(path, fmt::format("an array of {} dimensions (expected (height, width) or (height, width, channels))",
                            a.shape.size()));
@@ -71,8 +76,6 @@ ChannelImage read_npy_image(const fs::path& path) {
   img.quantum = quantum_of(path, img.pixel_type, largest);
   return img;
 }
-
-}  // namespace
 
 ChannelImage read_channel_image(const fs::path& path) {
   if (path.extension() == ".npy") return read_npy_image(path);

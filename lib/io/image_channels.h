@@ -30,6 +30,12 @@ struct ChannelImage {
 // be read, is deep, volumetric, empty, larger than 65536 on a side or has more than 4 channels.
 ChannelImage read_channel_image(const std::filesystem::path& path);
 
+struct NpyArray;
+// The same from a numpy array in memory (vrv.verify's arrays, as a .npy file would hold them):
+// the channel names, alpha and quantum a .npy file of that shape and dtype gets; the errors are
+// one line "<name>: <reason>".
+ChannelImage channel_image(const NpyArray& array, const std::string& name);
+
 // The quantum `image`'s values show: its stored quantum, unless every finite value (at least 16
 // distinct ones) sits on a multiple of 1/255 or 1/65535 to within float32 rounding, whatever the
 // stored type: an 8- or 16-bit framebuffer saved as float (or passed as an array) has the floor

@@ -3,18 +3,31 @@
 // item writes its own slot and any reduction runs afterwards in index order, so results are
 // bitwise identical for any number of threads.
 #include <memory>
+#include <stdexcept>
 
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 namespace vrv {
+
+// Work whose tbb::task_group was cancelled from another thread (the Python module's Ctrl-C,
+// studies/python/module.cpp): the loop stops and returns early, and this unwinds its caller
+// instead of letting it go on with the slots left unfilled.
+class WorkCancelled : public std::runtime_error {
+ public:
+  WorkCancelled() : std::runtime_error("cancelled") {}
+};
 
 template <class Body>
 void parallel_for_index(long count, Body&& body) {
   tbb::parallel_for(tbb::blocked_range<long>(0, count), [&](const tbb::blocked_range<long>& r) {
-    for (long i = r.begin(); i != r.end(); ++i) body(i);
+    // A block can be a large share of the items (TBB splits further only when a thread is idle):
+    // each item looks, so a cancellation stops the loop within an item or so.
+    for (long i = r.begin(); i != r.end() && !tbb::is_current_task_group_canceling(); ++i) body(i);
   });
+  if (tbb::is_current_task_group_canceling()) throw WorkCancelled();
 }
 
 // Caps TBB at n threads while alive (--threads); n <= 0 leaves TBB's default (all cores).

@@ -22,6 +22,7 @@
 
 #include "lib/gate.h"
 #include "lib/verify.h"
+#include "lib/verify_work.h"  // check_verification_work, kDefaultVerifyWorkLimit
 #include "studies/cli/cli_support.h"
 
 namespace vrv::cli {
@@ -51,17 +52,6 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
 // (a bad bounds file: BoundsFileError, "<file>: <key>: <reason>") are main's, "vrv: error: ...",
 // exit 2, as for every command.
 void run_exiting(const std::function<int()>& body);
-
-// Work limit of verify and gate, as of ray and render (--max-work, field evaluations).
-inline constexpr double kDefaultVerifyWorkLimit = 1e9;
-
-// Refuses, before any work, a verification above `max_work` field evaluations: the reference on
-// every pixel of images of width x height and the diagnosis (vrv's models cast at `steps`), as
-// verification_work (lib/verify.h) estimates them, plus `renders` (a gate render case's own
-// images).  std::invalid_argument "<who>: about ... above the work limit ..." naming `who`.
-void check_verification_work(const Scene& scene, const VerifyOptions& options, int width, int height,
-                             const std::vector<double>& steps, double renders, double max_work,
-                             const std::string& who);
 
 // The summary line on stderr: verdict, orders, nearest model, faults, failed bounds.
 std::string summary_text(const VerifyRun& run);

@@ -4,9 +4,17 @@
 // released, in parallel over rays (TBB), and every number is the one `vrv ray --json` prints.
 // Bad input raises with the command line's one-line message: ValueError for bad values,
 // FileNotFoundError / IsADirectoryError / PermissionError for scene files that cannot be read.
+// Work above max_work is refused up front with the command line's --max-work message, and
+// Ctrl-C stops a running call within a pixel or so (KeyboardInterrupt, nothing returned or written).
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
+#include <future>
+#include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,7 +25,10 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "lib/io/npy.h"
 #include "lib/io/verify_output.h"
+#include "lib/util/parallel.h"
+#include "lib/verify_work.h"
 #include "lib/vrv.h"
 #include "studies/cli/discrete_options.h"
 #include "lib/io/image_module.h"
@@ -29,6 +40,35 @@ namespace vrv::python {
 namespace {
 
 using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// Runs `work` (no Python inside) on a worker thread in a TBB task group while this thread, without
+// the GIL, runs Python's signal handlers every 50 ms: an exception from one (KeyboardInterrupt on
+// Ctrl-C) cancels the group, whose loops stop within an item or so (WorkCancelled,
+// lib/util/parallel.h), and is raised once the worker has stopped; the work's result is dropped.
+template <class Work>
+auto interruptible(Work&& work) -> decltype(work()) {
+  using Result = decltype(work());
+  tbb::task_group group;
+  std::optional<Result> result;
+  auto done = std::async(std::launch::async, [&] { group.run_and_wait([&] { result.emplace(work()); }); });
+  std::optional<py::error_already_set> interrupt;
+  {
+    py::gil_scoped_release release;
+    while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+      py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) {
+        interrupt.emplace();  // takes the handler's exception
+        group.cancel();
+        break;
+      }
+    }
+    done.wait();
+  }
+  if (interrupt) throw std::move(*interrupt);
+  done.get();  // the work's own exception, if any
+  if (!result) throw WorkCancelled();  // cancelled by TBB itself; not expected
+  return std::move(*result);
+}
 
 // The leading shape of an (..., 3) array; ValueError naming the argument otherwise.
 std::vector<py::ssize_t> leading_shape(const Points& a, const char* name) {
@@ -64,15 +104,73 @@ py::array_t<T> filled(const std::vector<py::ssize_t>& shape, std::size_t n, auto
   return a;
 }
 
-py::dict reference(const Scene& scene, const Points& origins, const Points& directions, double tol) {
+// The keywords the discrete options (and max_work) take, named as on the command line with '_'
+// for '-' (method=... is --method), and the Python type each is given as.
+enum class Kind { text, number, integer, flag };
+const std::map<std::string, Kind>& keyword_kinds() {
+  static const std::map<std::string, Kind> kinds = {
+      {"method", Kind::text},          {"strategy", Kind::text},       {"rate", Kind::number},
+      {"step", Kind::number},          {"oversample", Kind::integer},  {"centred_oversamples", Kind::flag},
+      {"correction", Kind::text},      {"termination", Kind::number},  {"skip", Kind::number},
+      {"compositing", Kind::text},     {"classification", Kind::text}, {"precision", Kind::text},
+      {"opacity_unit", Kind::text},    {"color", Kind::text},          {"table_size", Kind::integer},
+      {"table_lookup", Kind::text},    {"max_work", Kind::number}};
+  return kinds;
+}
+
+// The command-line argument a keyword stands for ("--step=0.01"); none for a false flag.
+std::optional<std::string> keyword_argument(const std::string& key, const py::handle& value) {
+  const auto kind = keyword_kinds().find(key);
+  if (kind == keyword_kinds().end()) throw py::type_error(fmt::format("unexpected keyword argument '{}'", key));
+  std::string option = "--" + key;
+  std::replace(option.begin(), option.end(), '_', '-');
+  switch (kind->second) {
+    case Kind::text: return option + "=" + py::cast<std::string>(value);
+    case Kind::number: return fmt::format("{}={}", option, py::cast<double>(value));
+    case Kind::integer: return fmt::format("{}={}", option, py::cast<long>(value));
+    case Kind::flag: return py::cast<bool>(value) ? std::optional<std::string>(option) : std::nullopt;
+  }
+  return std::nullopt;
+}
+
+// The keywords parsed by the command line's own parser (studies/cli/discrete_options.h), so the
+// checks, the defaults (max_work 1e9) and every message are `vrv ray`'s and `vrv render`'s.
+struct DiscreteKeywords {
+  CLI::App app;  // owns the options DiscreteOptions::given points at (the work refusal names them)
+  cli::DiscreteOptions options;
+  std::optional<DiscreteConfig> config;  // none: the reference
+};
+
+std::unique_ptr<DiscreteKeywords> discrete_keywords(const Scene& scene, const py::dict& kw) {
+  auto k = std::make_unique<DiscreteKeywords>();
+  cli::add_discrete_options(k->app, k->options);
+  std::vector<std::string> args;
+  for (const auto& [key, value] : kw)
+    if (!value.is_none())
+      if (auto arg = keyword_argument(py::str(key), value)) args.push_back(*arg);
+  std::reverse(args.begin(), args.end());  // CLI11 takes them last first
+  try {
+    k->app.parse(args);
+  } catch (const CLI::ParseError& e) {
+    throw std::invalid_argument(e.what());
+  }
+  k->config = cli::discrete_config(k->options, scene);
+  return k;
+}
+
+py::dict reference(const Scene& scene, const Points& origins, const Points& directions, double tol,
+                   double max_work) {
   const std::vector<Ray> rays = make_rays(origins, directions);
   const ReferenceOptions options{tol};
   validate(options);
-  std::vector<ReferenceResult> r(rays.size());
-  {
-    py::gil_scoped_release release;
-    reference_values(scene, rays, options, r);
-  }
+  const auto keywords = discrete_keywords(scene, py::dict(py::arg("max_work") = max_work));
+  cli::check_work(keywords->options, std::nullopt, tol, scene, static_cast<long>(rays.size()),
+                  [&](long i) { return rays[i]; });
+  const std::vector<ReferenceResult> r = interruptible([&] {
+    std::vector<ReferenceResult> values(rays.size());
+    reference_values(scene, rays, options, values);
+    return values;
+  });
   const auto shape = leading_shape(origins, "origins");
   const std::size_t n = r.size();
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -88,51 +186,14 @@ py::dict reference(const Scene& scene, const Points& origins, const Points& dire
   return out;
 }
 
-// The discrete options as keyword arguments named as on the command line (--method ->
-// method=...), turned into a DiscreteConfig by the command line's own parser.
-std::optional<DiscreteConfig> discrete_config(const Scene& scene, const py::kwargs& kw) {
-  cli::DiscreteOptions o;
-  for (const auto& [key, value] : kw) {
-    const std::string k = py::str(key);
-    if (value.is_none()) continue;
-    if (k == "method") o.method = py::cast<std::string>(value);
-    else if (k == "strategy") o.strategy = py::cast<std::string>(value);
-    else if (k == "rate") o.rate = py::cast<double>(value);
-    else if (k == "step") o.step = py::cast<double>(value);
-    else if (k == "oversample") o.oversample = py::cast<int>(value);
-    else if (k == "centred_oversamples") o.centred_oversamples = py::cast<bool>(value);
-    else if (k == "correction") o.correction = py::cast<std::string>(value);
-    else if (k == "termination") o.termination = py::cast<double>(value);
-    else if (k == "skip") o.skip = py::cast<double>(value);
-    else if (k == "compositing") o.compositing = py::cast<std::string>(value);
-    else if (k == "classification") o.classification = py::cast<std::string>(value);
-    else if (k == "precision") o.precision = py::cast<std::string>(value);
-    else if (k == "opacity_unit") o.opacity_unit = py::cast<std::string>(value);
-    else if (k == "color") o.color = py::cast<std::string>(value);
-    else if (k == "table_size") o.table_size = py::cast<int>(value);
-    else if (k == "table_lookup") o.table_lookup = py::cast<std::string>(value);
-    else throw py::type_error(fmt::format("unexpected keyword argument '{}'", k));
-  }
-  const bool method_given = !o.method.empty();
-  auto config = cli::discrete_config(o, scene);
-  if (!method_given && kw.size() > 0)
-    for (const auto& [key, value] : kw)
-      if (!value.is_none() && py::str(key).cast<std::string>() != "method")
-        throw std::invalid_argument(fmt::format(
-            "--{}: applies to a discrete raycast only (give method=...)", py::str(key).cast<std::string>()));
-  return config;
-}
-
 py::dict discrete(const Scene& scene, const Points& origins, const Points& directions,
                   const py::kwargs& kw) {
-  const auto config = discrete_config(scene, kw);
+  const auto keywords = discrete_keywords(scene, kw);
+  const auto& config = keywords->config;
   if (!config) throw std::invalid_argument("--method: required (riemann, alpha, trapezoid, exact_linear, moreland)");
   const std::vector<Ray> rays = make_rays(origins, directions);
-  std::vector<DiscreteResult> r;
-  {
-    py::gil_scoped_release release;
-    r = discrete_values(scene, rays, *config);
-  }
+  cli::check_work(keywords->options, config, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; });
+  const std::vector<DiscreteResult> r = interruptible([&] { return discrete_values(scene, rays, *config); });
   const auto shape = leading_shape(origins, "origins");
   py::dict out;
   out["value"] = filled<double>(shape, r.size(), [&](auto i) { return r[i].value; });
@@ -144,15 +205,16 @@ py::dict discrete(const Scene& scene, const Points& origins, const Points& direc
 // discrete raycast the keywords describe.
 py::array_t<double> render(const Scene& scene, double tol, std::optional<int> width,
                            std::optional<int> height, const py::kwargs& kw) {
-  const auto config = discrete_config(scene, kw);
+  const auto keywords = discrete_keywords(scene, kw);
+  const auto& config = keywords->config;
   const Camera camera = scene_camera(scene, width, height);
   const ReferenceOptions options{tol};
   if (!config) validate(options);
-  ValueImage image;
-  {
-    py::gil_scoped_release release;
-    image = config ? render_discrete_image(scene, camera, *config) : render_reference_image(scene, camera, options);
-  }
+  cli::check_work(keywords->options, config, tol, scene, static_cast<long>(camera.width) * camera.height,
+                  [&](long i) { return camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width)); });
+  const ValueImage image = interruptible([&] {
+    return config ? render_discrete_image(scene, camera, *config) : render_reference_image(scene, camera, options);
+  });
   py::array_t<double> a({image.height, image.width});
   std::copy(image.values.begin(), image.values.end(), a.mutable_data());
   return a;
@@ -201,13 +263,37 @@ py::dict box(const Scene& scene) {
   return d;
 }
 
-// A (height, width) array as a ValueImage; ValueError naming the image otherwise.
-ValueImage value_image(const py::handle& h, std::size_t index) {
-  const auto a = py::cast<Points>(h);
-  if (a.ndim() != 2 || a.shape(0) == 0 || a.shape(1) == 0)
-    throw std::invalid_argument(fmt::format("images[{}]: expected a (height, width) array", index));
-  return ValueImage{static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)),
-                    std::vector<double>(a.data(), a.data() + a.size())};
+// A (height, width) or (height, width, channels) array as `vrv verify` reads the same array from
+// a .npy file (lib/io/image_channels.h): grey, grey+alpha, RGB or RGBA; float32 keeps its type
+// (and its quantum), anything else is taken as float64.  ValueError "images[i]: <reason>".
+ChannelImage array_image(const py::handle& h, std::size_t index) {
+  NpyArray a;
+  const auto as_npy = [&](auto array, const char* dtype) {
+    a.dtype = dtype;
+    a.shape.assign(array.shape(), array.shape() + array.ndim());
+    a.values.assign(array.data(), array.data() + array.size());
+  };
+  if (py::isinstance<py::array_t<float>>(h))
+    as_npy(py::cast<py::array_t<float, py::array::c_style | py::array::forcecast>>(h), "<f4");
+  else
+    as_npy(py::cast<Points>(h), "<f8");
+  try {
+    return channel_image(a, fmt::format("images[{}]", index));
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(e.what());
+  }
+}
+
+// The first image's (width, height) when its shape is an image's, read before any array is
+// copied so that too much work is refused first; (0, 0) otherwise (array_image says why).
+std::pair<int, int> image_size(const py::sequence& images) {
+  if (images.size() == 0) return {0, 0};
+  const py::array a = py::array::ensure(images[0]);
+  constexpr py::ssize_t kMaxSide = 1 << 16;  // array_image's (lib/io/image_channels.h)
+  if (!a || (a.ndim() != 2 && a.ndim() != 3) || a.shape(0) < 1 || a.shape(1) < 1 || a.shape(0) > kMaxSide ||
+      a.shape(1) > kMaxSide)
+    return {0, 0};
+  return {static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0))};
 }
 
 // The bounds of a bounds file: its [defaults], or the case named `case_name`.
@@ -256,7 +342,7 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
                      const std::string& order_metric, double tol, std::optional<double> threshold,
                      bool diagnose, double unit_distance, std::optional<std::filesystem::path> bounds,
                      std::optional<std::string> case_name, std::optional<std::filesystem::path> out,
-                     bool plots) {
+                     bool plots, double max_work) {
   VerifyOptions options;
   apply(VerifySettings{tol, order_tolerance, order_metric, unit_distance}, options);
   options.expected_order = expected_order;
@@ -273,13 +359,14 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
     check_verify_out(*out);
     image_module::functions();  // a missing image module is refused before anything is computed
   }
-  std::vector<ValueImage> values;
-  for (std::size_t i = 0; i < images.size(); ++i) values.push_back(value_image(images[i], i));
-  VerifyReport report;
+  if (const auto [width, height] = image_size(images); width > 0)
+    check_verification_work(scene, options, width, height, steps, 0, max_work, "--max-work");
+  std::vector<ChannelImage> values;
+  for (std::size_t i = 0; i < images.size(); ++i) values.push_back(array_image(images[i], i));
+  const VerifyReport report = interruptible([&] { return verify(scene, values, steps, options); });
   std::vector<BoundRow> rows;
   {
     py::gil_scoped_release release;
-    report = verify(scene, values, steps, options);
     if (set) rows = evaluate_bounds(case_name.value_or("verify"), report, *set);
     if (out) {
       std::vector<std::pair<std::string, Table>> extra;
@@ -321,15 +408,17 @@ PYBIND11_MODULE(vrv, m) {
       .def_property_readonly("dims", [](const Scene& s) { return s.dims; })
       .def_property_readonly("background", [](const Scene& s) { return s.background; })
       .def("reference", &reference, py::arg("origins"), py::arg("directions"), py::arg("tol") = 1e-12,
+           py::kw_only(), py::arg("max_work") = 1e9,
            "Reference values along rays (arrays of shape (..., 3)): a dict of arrays value, "
            "error_estimate, evaluations, hit, t_entry, t_exit (NaN on a miss), optical_depth, tolerance_met")
       .def("discrete", &discrete, py::arg("origins"), py::arg("directions"),
            "A discrete raycast along rays: method=..., and the options of `vrv ray` "
-           "(strategy, rate, step, oversample, correction, ...); a dict of arrays value, samples")
+           "(strategy, rate, step, oversample, correction, ...) and max_work (default 1e9 samples, "
+           "as --max-work); a dict of arrays value, samples")
       .def("render", &render, py::arg("tol") = 1e-12, py::arg("width") = py::none(),
            py::arg("height") = py::none(),
            "The scene camera's image as a (height, width) float64 array: the reference, or with "
-           "method=... the discrete raycast (options as for `discrete`)")
+           "method=... the discrete raycast (options as for `discrete`); max_work=1e9 as --max-work")
       .def("rays", &rays, py::arg("width") = py::none(), py::arg("height") = py::none(),
            "The scene camera's rays: (origins, directions), each (height, width, 3)");
   m.def("verify", &verify_py, py::arg("scene"), py::arg("images"), py::arg("steps"), py::kw_only(),
@@ -337,8 +426,11 @@ PYBIND11_MODULE(vrv, m) {
         py::arg("order_metric") = "rms", py::arg("tol") = 1e-10, py::arg("threshold") = py::none(),
         py::arg("diagnose") = true, py::arg("unit_distance") = 0.0, py::arg("bounds") = py::none(),
         py::arg("case") = py::none(), py::arg("out") = py::none(), py::arg("plots") = true,
+        py::arg("max_work") = kDefaultVerifyWorkLimit,
         "`vrv verify` in-process: a renderer's images of the scene's camera ((height, width) arrays, "
-        "one per sample distance in `steps`) against the reference.  Returns the report `vrv verify` "
+        "or (height, width, 3 or 4) for RGB and RGBA as `vrv verify` reads them; one per sample "
+        "distance in `steps`) against the reference; above `max_work` field evaluations (as "
+        "--max-work) it is refused.  Returns the report `vrv verify` "
         "prints, as a dict (pass, verdict, images, orders, diagnosis, faults, ...); `bounds`: a bounds "
         "file (its [defaults], or `case`), whose rows are added and whose fail levels `pass` includes; "
         "`out`: a folder for its tables, error images, meta.json and the log-log plot "

@@ -1,7 +1,8 @@
 """A renderer written in numpy, knowing nothing of vrv: the default scene (Marschner-Lobb,
 fM = 6, alpha = 0.25, emission v, extinction v / 2, values clamped to [0, 1], box [-1, 1]^3,
 black background), each clipped ray cut into equal segments no longer than `step`, sampled at
-their midpoints (second order).  `offset=0.0` plants the classic off-by-half-step error."""
+their midpoints (second order).  `offset=0.0` plants the classic off-by-half-step error.
+`rgba=True` returns (..., 4) instead: the value in R, G and B and the opacity 1 - T in A."""
 import numpy as np
 
 
@@ -10,7 +11,7 @@ def marschner_lobb(p, fM=6.0, alpha=0.25):
     return (1 - np.sin(np.pi * p[..., 2] / 2) + alpha * (1 + rho)) / (2 * (1 + alpha))
 
 
-def render(origins, directions, step, offset=0.5):
+def render(origins, directions, step, offset=0.5, rgba=False):
     o, d = origins.reshape(-1, 3), directions.reshape(-1, 3)
     d = d / np.linalg.norm(d, axis=1, keepdims=True)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -28,4 +29,6 @@ def render(origins, directions, step, offset=0.5):
         alpha = np.where(i < n, -np.expm1(-tau * h), 0.0)
         color += transmittance * np.divide(g * alpha, tau, out=g * h * (i < n), where=tau > 0)
         transmittance *= 1 - alpha
+    if rgba:
+        return np.stack([color, color, color, 1 - transmittance], axis=-1).reshape(origins.shape[:-1] + (4,))
     return color.reshape(origins.shape[:-1])
