@@ -11,11 +11,12 @@
 
 namespace vrv {
 
-ChebyshevRule::ChebyshevRule(int n) : n_(n), nodes_(n), to_coefficients_(n, n), cumulative_(n, n) {
+ChebyshevRule::ChebyshevRule(int n)
+    : n_(n), nodes_(n), to_coefficients_(static_cast<std::size_t>(n) * n), cumulative_(static_cast<std::size_t>(n) * n) {
   if (n == 1) {
     nodes_[0] = 0;
-    to_coefficients_(0, 0) = 1;
-    cumulative_(0, 0) = 1;  // int_{-1}^{0} of a constant, as the midpoint rule sees it
+    entry(to_coefficients_, 0, 0) = 1;
+    entry(cumulative_, 0, 0) = 1;  // int_{-1}^{0} of a constant, as the midpoint rule sees it
     return;
   }
   const double pi = std::numbers::pi;
@@ -30,14 +31,14 @@ ChebyshevRule::ChebyshevRule(int n) : n_(n), nodes_(n), to_coefficients_(n, n), 
       double w = 2.0 / m * std::cos(pi * ((static_cast<long>(j) * k) % (2 * m)) / m);
       if (j == 0 || j == m) w *= 0.5;
       if (k == 0 || k == m) w *= 0.5;
-      to_coefficients_(k, j) = w;
+      entry(to_coefficients_, k, j) = w;
     }
   // Column j: the cumulative integral of the interpolant of the j-th unit vector.
   std::vector<double> c(n), anti(n + 1);
   for (int j = 0; j < n; ++j) {
-    for (int k = 0; k < n; ++k) c[k] = to_coefficients_(k, j);
+    for (int k = 0; k < n; ++k) c[k] = entry(to_coefficients_, k, j);
     chebyshev_antiderivative(c, anti);
-    for (int i = 0; i < n; ++i) cumulative_(i, j) = chebyshev_evaluate(anti, nodes_[i]);
+    for (int i = 0; i < n; ++i) entry(cumulative_, i, j) = chebyshev_evaluate(anti, nodes_[i]);
   }
 }
 
@@ -50,16 +51,22 @@ const ChebyshevRule& ChebyshevRule::get(int n) {
   return *cache[n];
 }
 
+void ChebyshevRule::apply(const std::vector<double>& m, std::span<const double> x, std::span<double> out) const {
+  const auto n = static_cast<std::size_t>(n_);
+  std::fill_n(out.begin(), n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    const double xj = x[j];
+    const double* column = m.data() + j * n;
+    for (std::size_t k = 0; k < n; ++k) out[k] += column[k] * xj;
+  }
+}
+
 void ChebyshevRule::coefficients(std::span<const double> values, std::span<double> c) const {
-  Eigen::Map<const Eigen::VectorXd> v(values.data(), n_);
-  Eigen::Map<Eigen::VectorXd> out(c.data(), n_);
-  out.noalias() = to_coefficients_ * v;
+  apply(to_coefficients_, values, c);
 }
 
 void ChebyshevRule::cumulative_integral(std::span<const double> values, std::span<double> out) const {
-  Eigen::Map<const Eigen::VectorXd> v(values.data(), n_);
-  Eigen::Map<Eigen::VectorXd> o(out.data(), n_);
-  o.noalias() = cumulative_ * v;
+  apply(cumulative_, values, out);
 }
 
 double chebyshev_evaluate(std::span<const double> c, double x) {
@@ -118,6 +125,22 @@ double chebyshev_integral(std::span<const double> c) {
   return sum;
 }
 
+namespace {
+
+// 2/pi ln(n - 1) + 1, the Lebesgue constant of n Chebyshev points: a table up to 129 points
+// (the same values, without a logarithm on every accuracy check of the hot path).
+double lebesgue_constant(int n) {
+  const auto formula = [](int m) { return m > 2 ? 2 / std::numbers::pi * std::log(m - 1.0) + 1 : 1.0; };
+  static const auto table = [&] {
+    std::array<double, 130> t{};
+    for (int m = 0; m < 130; ++m) t[m] = formula(m);
+    return t;
+  }();
+  return n >= 0 && n < 130 ? table[n] : formula(n);
+}
+
+}  // namespace
+
 ChebyshevAccuracy chebyshev_accuracy(std::span<const double> c, double noise) {
   const int n = static_cast<int>(c.size());
   const double eps = std::numeric_limits<double>::epsilon();
@@ -127,7 +150,7 @@ ChebyshevAccuracy chebyshev_accuracy(std::span<const double> c, double noise) {
   // Lebesgue constant of Chebyshev points, 2/pi ln(n - 1) + 1; Clenshaw's recurrence adds
   // about eps sqrt(n) sum |c_k| when the interpolant is evaluated.
   const double value_noise = std::max(noise, 2 * eps * scale);
-  const double lebesgue = n > 2 ? 2 / std::numbers::pi * std::log(n - 1.0) + 1 : 1.0;
+  const double lebesgue = lebesgue_constant(n);
   const double rounding_error =
       lebesgue * value_noise + 2 * eps * std::sqrt(static_cast<double>(n)) * sum;
   // Coefficients of noise of that size sit below this level.

@@ -6,7 +6,6 @@
 #include <span>
 #include <vector>
 
-#include <Eigen/Core>
 
 namespace vrv {
 
@@ -27,8 +26,14 @@ class ChebyshevRule {
   explicit ChebyshevRule(int n);
   int n_;
   std::vector<double> nodes_;
-  Eigen::MatrixXd to_coefficients_;  // c = M * values
-  Eigen::MatrixXd cumulative_;       // cumulative integral at the nodes = Q * values
+  // Column-major n x n; applied by a plain loop, column after column: for the small n the hot
+  // paths use (9 on a grid cell), a general dynamic-size product spent more in dispatch than in
+  // arithmetic (issue 23's profile).  The order of the sums is the one Eigen's column-major
+  // product uses without FMA, so the values are the same bit for bit.
+  std::vector<double> to_coefficients_;  // c = M * values
+  std::vector<double> cumulative_;       // cumulative integral at the nodes = Q * values
+  double& entry(std::vector<double>& m, int row, int col) { return m[static_cast<std::size_t>(col) * n_ + row]; }
+  void apply(const std::vector<double>& m, std::span<const double> x, std::span<double> out) const;
 };
 
 // p(x) by Clenshaw's recurrence.

@@ -22,6 +22,9 @@ constexpr double kQuadratureShare = 0.5;
 constexpr double kTerminationShare = 0.25;
 constexpr int kMaxLevel = 50;
 constexpr int kSpectralPoints = 33;
+// Panels of at most this many nodes are known-degree (exact) proxies: ramps, trilinear cells.
+constexpr int kKnownDegreeNodes = 8;
+constexpr int kFirstLadderPoints = 9;
 // Work cap per ray: past it pieces are accepted as they are and their (large) error
 // estimates reported, so a pathological input costs bounded time instead of hanging.
 constexpr long kMaxSpectralPieces = 20000;
@@ -275,10 +278,9 @@ bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, dou
   return true;
 }
 
-void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double d,
-                                        const TransferSegment& seg, bool depth_only, int level) {
-  // tau(f(t)) is a polynomial of the proxy's degree when tau is affine in v.
-  const int n = depth_only && tf_.affine() ? panel.size() : spectral_points(panel, c, d);
+RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, double c, double d,
+                                                         const TransferSegment& seg, bool depth_only,
+                                                         int n, double transmittance) const {
   const ChebyshevRule& rule = ChebyshevRule::get(n);
   const auto count = static_cast<std::size_t>(n);
   double tau[129], g[129], tau_c[129], phi[129], h[129], h_c[129];
@@ -297,9 +299,13 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   for (int j = 0; j < n; ++j) {
     const double v = values[j];
     v_max = std::max(v_max, std::abs(v));
-    tau[j] = seg.tau(v);
+    if (depth_only) {
+      tau[j] = seg.tau(v);
+    } else {
+      const auto optical = seg.optical(v);
+      tau[j] = optical.tau, g[j] = optical.g, g_max = std::max(g_max, g[j]);
+    }
     tau_max = std::max(tau_max, tau[j]);
-    if (!depth_only) g[j] = seg.g(v), g_max = std::max(g_max, g[j]);
   }
   // Rounding in v (size v_max) reaches tau and g through the branch's slopes: that, not the
   // size of tau, is the noise floor when a steep branch is evaluated near its zero.  Only this
@@ -310,11 +316,11 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   rule.coefficients({tau, count}, {tau_c, count});
   const ChebyshevAccuracy tau_acc =
       chebyshev_accuracy({tau_c, count}, 8 * eps * (slopes.extinction * v_max + tau_max));
-  const double dphi = half * chebyshev_integral({tau_c, count});
-  const double depth_error = 2 * half * tau_acc.error;
-  double error = 0;
-  bool converged = tau_acc.resolved, at_rounding = tau_acc.at_rounding;
-  double emission = 0;
+  SpectralTry out;
+  out.dphi = half * chebyshev_integral({tau_c, count});
+  out.depth_error = 2 * half * tau_acc.error;
+  out.converged = tau_acc.resolved;
+  out.at_rounding = tau_acc.at_rounding;
   if (!depth_only) {
     rule.cumulative_integral({tau, count}, {phi, count});
     // tau >= 0, so Phi rises from 0 at x = -1 (the last node): rounding in the spectral
@@ -326,19 +332,42 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
     for (int j = 0; j < n; ++j) h[j] = g[j] * std::exp(-(phi_ + half * phi[j]));
     rule.coefficients({h, count}, {h_c, count});
     const double h_noise =
-        8 * eps * (slopes.emission * v_max + g_max) * std::exp(-phi_) * (1 + phi_ + dphi);
+        8 * eps * (slopes.emission * v_max + g_max) * transmittance * (1 + phi_ + out.dphi);
     const ChebyshevAccuracy h_acc = chebyshev_accuracy({h_c, count}, h_noise);
-    error += 2 * half * h_acc.error;
-    emission = half * chebyshev_integral({h_c, count});
-    converged = converged && h_acc.resolved;
-    at_rounding = at_rounding && h_acc.at_rounding;
+    out.error = 2 * half * h_acc.error;
+    out.emission = half * chebyshev_integral({h_c, count});
+    out.converged = out.converged && h_acc.resolved;
+    out.at_rounding = out.at_rounding && h_acc.at_rounding;
   }
+  return out;
+}
+
+void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double d,
+                                        const TransferSegment& seg, bool depth_only, int level) {
+  // tau(f(t)) is a polynomial of the proxy's degree when tau is affine in v.
+  const bool exact = depth_only && tf_.affine();
+  const int most = exact ? panel.size() : spectral_points(panel, c, d);
+  // A known-degree panel (a grid cell's cubic) is smooth on its short piece: the nested rules
+  // 9, 17, 33 are tried in turn before the piece is split (33 points at once cost a grid ray 4x
+  // the work its pieces need).  Analytic panels keep one rule per piece.
+  const bool ladder = !exact && panel.size() <= kKnownDegreeNodes;
+  int n = ladder ? std::min(most, kFirstLadderPoints) : most;
   const double local_tol = kQuadratureShare * tol_ * (d - c) / iv_.length();
+  const double transmittance = std::exp(-phi_);
+  const auto accepted = [&](const SpectralTry& s) {
+    const double judged = s.error + s.depth_error * transmittance * sensitivity_after(c);
+    return s.converged && (judged <= local_tol || s.at_rounding);
+  };
+  SpectralTry s = spectral_try(panel, c, d, seg, depth_only, n, transmittance);
+  while (ladder && !accepted(s) && n < most) {
+    n = 2 * n - 1;
+    s = spectral_try(panel, c, d, seg, depth_only, n, transmittance);
+  }
   ++spectral_pieces_;
+  const double mid = 0.5 * (c + d);
   const bool splittable =
       level < kMaxLevel && mid > c && mid < d && spectral_pieces_ < kMaxSpectralPieces;
-  const double judged = error + depth_error * std::exp(-phi_) * sensitivity_after(c);
-  const bool good = converged && (judged <= local_tol || at_rounding);
+  const bool good = accepted(s);
   if (splittable && !good) {
     integrate_spectral(panel, c, mid, seg, depth_only, level + 1);
     integrate_spectral(panel, mid, d, seg, depth_only, level + 1);
@@ -348,11 +377,11 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   // The depth's own error reaches this piece's emission too; the rounding of the running sum
   // Phi (booked apart: splitting cannot reduce it) only what comes after (h_noise covers the
   // piece's own).
-  book_depth_error(depth_error);
-  value_ += emission;
-  book_depth_error(4 * eps * (phi_ + dphi));
-  phi_ += dphi;
-  error_ += error;
+  book_depth_error(s.depth_error);
+  value_ += s.emission;
+  book_depth_error(4 * eps * (phi_ + s.dphi));
+  phi_ += s.dphi;
+  error_ += s.error;
 }
 
 void RayAccumulator::check_termination(double t) {

@@ -86,6 +86,17 @@ class RayAccumulator {
   // Adaptive Clenshaw-Curtis on [c, d]; `depth_only` skips the emission.
   void integrate_spectral(const RayPanel& panel, double c, double d, const TransferSegment& seg,
                           bool depth_only, int level);
+  // One Clenshaw-Curtis rule of n points on [c, d]: the piece's depth, emission and their errors.
+  struct SpectralTry {
+    double dphi = 0;
+    double depth_error = 0;
+    double error = 0;
+    double emission = 0;
+    bool converged = false;
+    bool at_rounding = false;
+  };
+  SpectralTry spectral_try(const RayPanel& panel, double c, double d, const TransferSegment& seg,
+                           bool depth_only, int n, double transmittance) const;
   void add(const PieceIntegral& piece);
   // Where a field error of the panel's size could put a jump's crossings (JumpBand), from
   // crossings_ (found first); returns whether each band holds exactly one located crossing.

@@ -65,6 +65,12 @@ double TransferSegment::g(double v) const {
   return std::max(0.0, second(v)) * tau(v);
 }
 
+TransferSegment::Optical TransferSegment::optical(double v) const {
+  if (convention == Convention::emission_extinction) return {std::max(0.0, first(v)), std::max(0.0, second(v))};
+  const double t = tau(v);
+  return {std::max(0.0, second(v)) * t, t};
+}
+
 TransferFunction TransferFunction::emission_extinction(PiecewiseLinear emission,
                                                        PiecewiseLinear extinction) {
   if (emission.min_value() < 0) throw std::invalid_argument("emission must not be negative");

@@ -57,6 +57,12 @@ struct TransferSegment {
   // Clamped at 0 so that a rounding excursion past a zero-crossing never gives negative values.
   double tau(double v) const;
   double g(double v) const;
+  // Both at once: the opacity convention's -log1p(-a) once, not once for tau and again for g.
+  struct Optical {
+    double g = 0;
+    double tau = 0;
+  };
+  Optical optical(double v) const;
 };
 
 class TransferFunction {

@@ -3,8 +3,9 @@
 
     python3 studies/benchmarks/reference_image_cost.py BUILD_DIR [--before OTHER_BUILD_DIR]
                                                        [--rounds N] [--size N] [--step H]
+                                                       [--scene FILE]
 
-Renders the default scene (SIZE x SIZE pixels, one thread) with the reference integrator at
+Renders the default scene (or FILE, e.g. studies/benchmarks/grid64_opacity.toml) (SIZE x SIZE pixels, one thread) with the reference integrator at
 tol 1e-10 and with the trapezoid rule (inviwo placement, step H, default 0.0062: about 5e-6 off at
 most), each ROUNDS times, alternating the builds when --before is given so that both see the same
 load, and prints a Markdown table: the median render time each `vrv render` reports (the pixels
@@ -44,12 +45,17 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--step", type=float, default=0.0062)
+    ap.add_argument("--scene", help="a scene file (default: vrv's default scene)")
     args = ap.parse_args()
     builds = ([("before", args.before)] if args.before else []) + [("this build", args.build_dir)]
     for _, d in builds:
         if not (Path(d) / "vrv").is_file():
             sys.exit(f"reference_image_cost: {d}/vrv: not found")
     size = ["--width", str(args.size), "--height", str(args.size)]
+    if args.scene:
+        if not Path(args.scene).is_file():
+            sys.exit(f"reference_image_cost: --scene {args.scene}: not found")
+        size += ["--scene", args.scene]
     times = {name: {"reference": [], "trapezoid": []} for name, _ in builds}
     errors = {}
     with tempfile.TemporaryDirectory() as scratch:
@@ -71,7 +77,7 @@ def main():
         r = statistics.median(times[name]["reference"])
         t = statistics.median(times[name]["trapezoid"])
         print(f"| {name} (`{d}`) | {1e3 * r:.0f} ms | {1e3 * t:.0f} ms | {errors[name]:.2e} | {r / t:.2f} |")
-    print(f"\n{args.size}² pixels of the default scene, one thread, median of {args.rounds} rounds "
+    print(f"\n{args.size}² pixels of {args.scene or 'the default scene'}, one thread, median of {args.rounds} rounds "
           "(the time `vrv render` reports for the pixels).")
 
 
