@@ -358,15 +358,15 @@ RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, 
     // which scales h_j.  The largest decides when the tail is noise (splitting stops helping);
     // one bound for the whole piece, max g x e^-Phi at its start x (1 + its end's depth), was
     // 1e3 x too high where the piece absorbs much and accepted unresolved pieces as noise.
-    const auto h_node_noise = [&](int j) {
+    double noise[129], h_noise = 0;
+    for (int j = 0; j < n; ++j) {
       const double depth_rounding = phi_ + half * (phi[j] + tau_max * rule.cumulative_row_abs(j));
-      return 8 * eps * (slopes.emission * v_max + g[j]) * at[j] * (1 + depth_rounding);
-    };
-    double h_noise = 0;
-    for (int j = 0; j < n; ++j) h_noise = std::max(h_noise, h_node_noise(j));
+      noise[j] = 8 * eps * (slopes.emission * v_max + g[j]) * at[j] * (1 + depth_rounding);
+      h_noise = std::max(h_noise, noise[j]);
+    }
     const ChebyshevAccuracy h_acc = chebyshev_accuracy({h_c, count}, h_noise);
     const double h_floor = 2 * eps * max_abs({h_c, count});
-    const auto node_noise = [&](int j) { return std::max(h_node_noise(j), h_floor); };
+    const auto node_noise = [&](int j) { return std::max(noise[j], h_floor); };
     out.error = 2 * half * without_noise(h_acc) + half * weighted_sum(rule, node_noise);
     out.emission = half * chebyshev_integral({h_c, count});
     out.converged = out.converged && h_acc.resolved;
