@@ -12,11 +12,18 @@
 namespace vrv {
 
 ChebyshevRule::ChebyshevRule(int n)
-    : n_(n), nodes_(n), to_coefficients_(static_cast<std::size_t>(n) * n), cumulative_(static_cast<std::size_t>(n) * n) {
+    : n_(n),
+      nodes_(n),
+      to_coefficients_(static_cast<std::size_t>(n) * n),
+      cumulative_(static_cast<std::size_t>(n) * n),
+      weights_(n),
+      cumulative_row_abs_(n) {
   if (n == 1) {
     nodes_[0] = 0;
     entry(to_coefficients_, 0, 0) = 1;
     entry(cumulative_, 0, 0) = 1;  // int_{-1}^{0} of a constant, as the midpoint rule sees it
+    weights_[0] = 2;
+    cumulative_row_abs_[0] = 1;
     return;
   }
   const double pi = std::numbers::pi;
@@ -39,7 +46,10 @@ ChebyshevRule::ChebyshevRule(int n)
     for (int k = 0; k < n; ++k) c[k] = entry(to_coefficients_, k, j);
     chebyshev_antiderivative(c, anti);
     for (int i = 0; i < n; ++i) entry(cumulative_, i, j) = chebyshev_evaluate(anti, nodes_[i]);
+    weights_[j] = chebyshev_integral(c);
   }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) cumulative_row_abs_[i] += std::abs(entry(cumulative_, i, j));
 }
 
 const ChebyshevRule& ChebyshevRule::get(int n) {
@@ -155,20 +165,21 @@ ChebyshevAccuracy chebyshev_accuracy(std::span<const double> c, double noise) {
       lebesgue * value_noise + 2 * eps * std::sqrt(static_cast<double>(n)) * sum;
   // Coefficients of noise of that size sit below this level.
   const double floor = std::max(4 * eps * scale * std::sqrt(static_cast<double>(n)), noise);
+  const double noise_error = lebesgue * value_noise;
   if (n < 8) {
     // Too short to judge decay: only exact (polynomial) data, used for known-degree pieces.
-    return {rounding_error, true, true};
+    return {rounding_error, true, true, noise_error};
   }
   // Pairs, so that an odd or even function's zero coefficients do not fake convergence.
   const double tail = std::max(std::abs(c[n - 1]), std::abs(c[n - 2]));
   const double before = std::max(std::abs(c[n - 5]), std::abs(c[n - 6])) +
                         std::numeric_limits<double>::min();
-  if (tail <= floor) return {2 * tail + rounding_error, true, true};
+  if (tail <= floor) return {2 * tail + rounding_error, true, true, noise_error};
   // Geometric decay rate per degree from the last few coefficients; the neglected tail
   // sum_{k >= n} |a_k| plus aliasing is about 2 tail r / (1 - r).
   const double r = std::pow(tail / before, 0.25);
-  if (!(r < 0.8)) return {2 * tail / 0.2, false, false};
-  return {2 * tail * r / (1 - r) + rounding_error, true, false};
+  if (!(r < 0.8)) return {2 * tail / 0.2, false, false, 0};
+  return {2 * tail * r / (1 - r) + rounding_error, true, false, noise_error};
 }
 
 }  // namespace vrv

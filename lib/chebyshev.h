@@ -21,6 +21,11 @@ class ChebyshevRule {
   // int_{-1}^{x_j} p(x) dx at every node, from the values (one matrix product: the spectral
   // integration matrix, built once per rule).
   void cumulative_integral(std::span<const double> values, std::span<double> out) const;
+  // The Clenshaw-Curtis weight of node j (all positive, summing to 2): int_{-1}^{1} p =
+  // sum_j weight(j) values[j], so noise d_j in the values moves the integral by sum_j w_j d_j.
+  double weight(int j) const { return weights_[j]; }
+  // sum_k |Q_jk|: bounds the rounding of the cumulative integral at node j by the values' size.
+  double cumulative_row_abs(int j) const { return cumulative_row_abs_[j]; }
 
  private:
   explicit ChebyshevRule(int n);
@@ -32,6 +37,8 @@ class ChebyshevRule {
   // product uses without FMA, so the values are the same bit for bit.
   std::vector<double> to_coefficients_;  // c = M * values
   std::vector<double> cumulative_;       // cumulative integral at the nodes = Q * values
+  std::vector<double> weights_;
+  std::vector<double> cumulative_row_abs_;
   double& entry(std::vector<double>& m, int row, int col) { return m[static_cast<std::size_t>(col) * n_ + row]; }
   void apply(const std::vector<double>& m, std::span<const double> x, std::span<double> out) const;
 };
@@ -54,6 +61,9 @@ struct ChebyshevAccuracy {
   double error = 0;       // estimated max |f - p| on the interval
   bool resolved = false;  // the coefficients decay (or sit at round-off level)
   bool at_rounding = false;  // the tail is rounding noise: splitting the interval cannot help
+  // The part of `error` that is the values' noise amplified by the Lebesgue constant: a max-norm
+  // bound, which an integral can replace by the weighted sum of the nodes' own noise.
+  double noise_error = 0;
 };
 // `noise` is the absolute rounding level of the sampled values when it exceeds what their
 // size implies (values computed by subtracting larger numbers).

@@ -44,6 +44,23 @@ double charge(double a, double b, double c, double d = 1) {
   return a == 0 || b == 0 || c == 0 || d == 0 ? 0.0 : a * b * c * d;
 }
 
+double max_abs(std::span<const double> c) {
+  double m = 0;
+  for (double x : c) m = std::max(m, std::abs(x));
+  return m;
+}
+
+// The accuracy check's error less its max-norm share of the values' noise.
+double without_noise(const ChebyshevAccuracy& acc) { return std::max(0.0, acc.error - acc.noise_error); }
+
+// sum_j w_j noise(j): what noise at the nodes does to the rule's integral over [-1, 1].
+template <class Noise>
+double weighted_sum(const ChebyshevRule& rule, const Noise& noise) {
+  double sum = 0;
+  for (int j = 0; j < rule.size(); ++j) sum += rule.weight(j) * noise(j);
+  return sum;
+}
+
 }  // namespace
 
 RayAccumulator::RayAccumulator(const TransferFunction& tf, double background,
@@ -280,7 +297,7 @@ bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, dou
 
 RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, double c, double d,
                                                          const TransferSegment& seg, bool depth_only,
-                                                         int n, double transmittance) const {
+                                                         int n) const {
   const ChebyshevRule& rule = ChebyshevRule::get(n);
   const auto count = static_cast<std::size_t>(n);
   double tau[129], g[129], tau_c[129], phi[129], h[129], h_c[129];
@@ -318,7 +335,11 @@ RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, 
       chebyshev_accuracy({tau_c, count}, 8 * eps * (slopes.extinction * v_max + tau_max));
   SpectralTry out;
   out.dphi = half * chebyshev_integral({tau_c, count});
-  out.depth_error = 2 * half * tau_acc.error;
+  // The accuracy check bounds the values' noise in the max norm (Lebesgue constant x the
+  // largest node's noise); the integral sees sum_j w_j noise_j, each node's own.
+  const double tau_floor = 2 * eps * max_abs({tau_c, count});
+  const auto tau_noise = [&](int j) { return std::max(8 * eps * (slopes.extinction * v_max + tau[j]), tau_floor); };
+  out.depth_error = 2 * half * without_noise(tau_acc) + half * weighted_sum(rule, tau_noise);
   out.converged = tau_acc.resolved;
   out.at_rounding = tau_acc.at_rounding;
   if (!depth_only) {
@@ -329,12 +350,24 @@ RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, 
     // rounding, which h_noise below charges through (1 + phi_ + dphi).
     phi[n - 1] = std::max(phi[n - 1], 0.0);
     for (int j = n - 1; j-- > 0;) phi[j] = std::max(phi[j], phi[j + 1]);
-    for (int j = 0; j < n; ++j) h[j] = g[j] * std::exp(-(phi_ + half * phi[j]));
+    double at[129];  // e^-Phi at the nodes
+    for (int j = 0; j < n; ++j) at[j] = std::exp(-(phi_ + half * phi[j])), h[j] = g[j] * at[j];
     rule.coefficients({h, count}, {h_c, count});
-    const double h_noise =
-        8 * eps * (slopes.emission * v_max + g_max) * transmittance * (1 + phi_ + out.dphi);
+    // Each node's own noise: the rounding of g and of v through the slope, attenuated there,
+    // and of Phi there (the running depth, and the cumulative product's sum of |Q_jk| tau_k),
+    // which scales h_j.  The largest decides when the tail is noise (splitting stops helping);
+    // one bound for the whole piece, max g x e^-Phi at its start x (1 + its end's depth), was
+    // 1e3 x too high where the piece absorbs much and accepted unresolved pieces as noise.
+    double noise[129], h_noise = 0;
+    for (int j = 0; j < n; ++j) {
+      const double depth_rounding = phi_ + half * (phi[j] + tau_max * rule.cumulative_row_abs(j));
+      noise[j] = 8 * eps * (slopes.emission * v_max + g[j]) * at[j] * (1 + depth_rounding);
+      h_noise = std::max(h_noise, noise[j]);
+    }
     const ChebyshevAccuracy h_acc = chebyshev_accuracy({h_c, count}, h_noise);
-    out.error = 2 * half * h_acc.error;
+    const double h_floor = 2 * eps * max_abs({h_c, count});
+    const auto node_noise = [&](int j) { return std::max(noise[j], h_floor); };
+    out.error = 2 * half * without_noise(h_acc) + half * weighted_sum(rule, node_noise);
     out.emission = half * chebyshev_integral({h_c, count});
     out.converged = out.converged && h_acc.resolved;
     out.at_rounding = out.at_rounding && h_acc.at_rounding;
@@ -358,10 +391,10 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
     const double judged = s.error + s.depth_error * transmittance * sensitivity_after(c);
     return s.converged && (judged <= local_tol || s.at_rounding);
   };
-  SpectralTry s = spectral_try(panel, c, d, seg, depth_only, n, transmittance);
+  SpectralTry s = spectral_try(panel, c, d, seg, depth_only, n);
   while (ladder && !accepted(s) && n < most) {
     n = 2 * n - 1;
-    s = spectral_try(panel, c, d, seg, depth_only, n, transmittance);
+    s = spectral_try(panel, c, d, seg, depth_only, n);
   }
   ++spectral_pieces_;
   const double mid = 0.5 * (c + d);

@@ -96,7 +96,7 @@ class RayAccumulator {
     bool at_rounding = false;
   };
   SpectralTry spectral_try(const RayPanel& panel, double c, double d, const TransferSegment& seg,
-                           bool depth_only, int n, double transmittance) const;
+                           bool depth_only, int n) const;
   void add(const PieceIntegral& piece);
   // Where a field error of the panel's size could put a jump's crossings (JumpBand), from
   // crossings_ (found first); returns whether each band holds exactly one located crossing.

@@ -166,5 +166,22 @@ TEST(ReferenceHonesty, AWallBehindAJumpIsNotChargedAsIfTransparent) {
   EXPECT_TRUE(r.tolerance_met);
 }
 
+// An opaque 60-unit ray (emission 100, extinction 5 everywhere: a jump sits 9e-10 above the
+// field's maximum, never crossed), I = 20 (1 - e^-300) = 20.  Its first spectral piece absorbs
+// Phi = 25: charged one noise bound for all its nodes (max g x e^-Phi at its start x (1 + the
+// depth at its end)), it was taken as resolved at that inflated rounding level and estimated at
+// 9.5e-11 against an error of 4e-15, missing tol 1e-12.  Each node's own noise, weighted as the
+// rule weights it, is the bound.  (The tall_box class of the adversarial suite.)
+TEST(ReferenceHonesty, AnAbsorbingPieceIsChargedEachNodesOwnRounding) {
+  const Box box{Vec3(-1, -1, -30), Vec3(1, 1, 30)};
+  const MarschnerLobb ml{6.0, 0.25};
+  const double level = 1.0000000008918437;
+  const TransferFunction tf = one_jump(level, 100, 5, 0.01, 0.08, 0, 2);
+  const ReferenceResult r = integrate_reference(ml, box, tf, 0, make_ray(Vec3(0.001, 0, -31), Vec3(0, 0, 1)), {1e-12});
+  const LD truth = 20;  // e^-300 is far below double's resolution of 20
+  expect_promise(r, truth, {1e-12, 100});
+  EXPECT_TRUE(r.tolerance_met);
+}
+
 }  // namespace
 }  // namespace vrv
