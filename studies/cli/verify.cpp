@@ -14,6 +14,7 @@
 #include "lib/io/scene_file.h"
 #include "lib/io/verify_output.h"
 #include "studies/cli/verify_run.h"
+#include "studies/engine/interrupt.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 
@@ -56,6 +57,7 @@ std::vector<double> parse_steps(const std::string& text) {
 }
 
 int run_verify(const VerifyCliOptions& o) {
+  const InterruptGuard interrupts;  // before any thread: SIGINT leaves --out as it was (published_folder.h)
   const Scene scene = load_scene_or_default(o.scene);
   VerifyOptions opt;
   opt.scene_text = scene_text_or_default(o.scene);
@@ -84,8 +86,9 @@ int run_verify(const VerifyCliOptions& o) {
       read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
   check_verification_work(scene, opt, images.front().image.width, images.front().image.height, 0, o.max_work,
                           "--max-work");
-  // Where results go is checked before the reference is computed, not after.
-  if (!o.out.empty()) check_writable_dir(o.out, "--out");
+  // Where results go is checked (and locked) before the reference is computed, not after.
+  std::optional<PublishedFolder> out;
+  if (!o.out.empty()) out.emplace(o.out, kVerifyOutMarker, "--out");
   opt.cache_dir = reference_cache_dir(o.cache_dir, o.no_cache);
   const ThreadLimit threads(o.threads);
   const nlohmann::json parameters = {{"command", "verify"}, {"scene", o.scene}, {"images", o.images},
@@ -93,7 +96,7 @@ int run_verify(const VerifyCliOptions& o) {
                                      {"bounds", o.bounds}, {"case", o.case_name}, {"alpha", o.alpha},
                                      {"threshold", opt.threshold}, {"tol", o.tol}, {"order_metric", o.order_metric}};
   const VerifyRun run = run_verification(scene, images, opt, bounds, o.case_name.empty() ? "verify" : o.case_name,
-                                         o.out, parameters, o.no_plots);
+                                         out ? &*out : nullptr, parameters, o.no_plots);
   if (!o.quiet) std::cerr << "vrv verify: " << summary_text(run) << '\n';
   nlohmann::ordered_json j = to_json(run.report);
   j["pass"] = run.pass;

@@ -99,22 +99,34 @@ std::vector<double> provenance_steps(const std::vector<std::string>& files) {
 
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
-                           const std::string& case_name, const fs::path& out,
+                           const std::string& case_name, PublishedFolder* out,
                            const nlohmann::json& parameters, bool no_plots) {
   const auto start = std::chrono::steady_clock::now();
   VerifyRun run;
   run.report = verify_images(scene, images, options);
   if (bounds) run.rows = evaluate_bounds(case_name, run.report, *bounds);
   run.pass = run.report.pass && worst(run.rows) < BoundVerdict::fail;
-  if (!out.empty()) {
+  if (out) {
     std::vector<std::pair<std::string, Table>> extra;
     if (bounds) extra.emplace_back("bounds", bound_table(run.rows));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    write_verify_outputs(out, run.report, extra, parameters, seconds);
-    if (const std::string why = no_plots ? "" : draw_study_plots(out); !why.empty())
-      std::cerr << fmt::format("vrv verify: {}: the plot could not be drawn: {}\n", out.string(), why);
+    out->write_and_publish([&](const fs::path& dir) {
+      write_verify_outputs(dir, run.report, extra, parameters, seconds);
+      if (const std::string why = no_plots ? "" : draw_study_plots(dir); !why.empty())
+        std::cerr << fmt::format("vrv verify: {}: the plot could not be drawn: {}\n", out->target().string(), why);
+    });
   }
   return run;
+}
+
+VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
+                           const VerifyOptions& options, const std::optional<BoundSet>& bounds,
+                           const std::string& case_name, const fs::path& out,
+                           const nlohmann::json& parameters, bool no_plots) {
+  std::optional<PublishedFolder> folder;
+  if (!out.empty()) folder.emplace(out, kVerifyOutMarker, "--out");
+  return run_verification(scene, images, options, bounds, case_name, folder ? &*folder : nullptr, parameters,
+                          no_plots);
 }
 
 void check_verification_work(const Scene& scene, const VerifyOptions& options, int width, int height,

@@ -23,6 +23,7 @@
 #include "lib/gate.h"
 #include "lib/verify.h"
 #include "studies/cli/cli_support.h"
+#include "studies/cli/published_folder.h"
 
 namespace vrv::cli {
 
@@ -40,12 +41,20 @@ struct VerifyRun {
 };
 
 // Verifies, evaluates `bounds` (if any) for `case_name`, and writes the outputs into `out`
-// (if not empty) with the plot unless no_plots.  Throws VerifyInputError / std::invalid_argument
-// for bad input.
+// (if not null) with the plot unless no_plots, then publishes it whole (published_folder.h).
+// Throws VerifyInputError / std::invalid_argument for bad input.
+VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
+                           const VerifyOptions& options, const std::optional<BoundSet>& bounds,
+                           const std::string& case_name, PublishedFolder* out,
+                           const nlohmann::json& parameters, bool no_plots);
+// The same into the folder `out` (if not empty), its PublishedFolder made here (vrv gate's cases).
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
                            const std::string& case_name, const std::filesystem::path& out,
                            const nlohmann::json& parameters, bool no_plots);
+
+// What marks a folder as a verification's outputs (check_replaceable_dir, lib/io/output_paths.h).
+inline constexpr const char* kVerifyOutMarker = "meta.json";
 
 // A subcommand's callback around `body` (verify, gate): a non-zero result is the exit code.  Errors
 // (a bad bounds file: BoundsFileError, "<file>: <key>: <reason>") are main's, "vrv: error: ...",
