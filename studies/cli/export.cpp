@@ -27,9 +27,9 @@
 #include "lib/vrv.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
+#include "studies/cli/memory_limit.h"
 #include "studies/cli/published_folder.h"
 #include "studies/engine/interrupt.h"
-#include "studies/engine/memory_budget.h"
 
 namespace vrv::cli {
 namespace {
@@ -174,30 +174,20 @@ ExportMemory export_memory(const std::array<int, 3>& n, const Camera& camera, bo
   return m;
 }
 
-// GiB as vrv study says it, MiB below a tenth of one (a small --max-memory reads as such).
-std::string memory_text(double bytes) {
-  return bytes >= 0.1 * double(1 << 30) ? gibibytes(bytes) : fmt::format("{:.1f} MiB", bytes / (1 << 20));
-}
-
 // Refused before anything is allocated, in vrv study's words (--max-memory GIB), naming the input
 // responsible for most of it: --resolution (or the scene's grid or volume.dims) or the camera.
 void check_export_memory(const ExportOptions& opt, const Scene& scene, const Camera& camera,
                          const std::array<int, 3>& n) {
-  if (opt.max_memory_gib < 0 || !std::isfinite(opt.max_memory_gib))
-    throw std::invalid_argument(fmt::format("--max-memory: must be a positive number of GiB, got {}", opt.max_memory_gib));
-  const double limit = opt.max_memory_gib > 0 ? opt.max_memory_gib * double(1 << 30) : default_memory_limit();
+  const double limit = memory_limit_bytes(opt.max_memory_gib);
   const ExportMemory m = export_memory(n, camera, opt.vti == "ascii");
-  if (m.total() <= limit) return;
   const std::string scene_name = opt.scene.empty() ? "<default scene>" : opt.scene;
   const std::string who = m.ray_bytes > m.node_bytes ? scene_name + ": camera"
                           : !opt.resolution.empty()  ? std::string("--resolution")
                           : std::holds_alternative<GridField>(scene.field) ? scene_name + ": field.resolution"
                                                                            : scene_name + ": volume.dims";
-  throw std::invalid_argument(fmt::format(
-      "{}: the export needs about {} ({}x{}x{} nodes: {}; rays.npy for {} x {} pixels: {}), more than the limit "
-      "of {} (raise it with --max-memory GIB)",
-      who, memory_text(m.total()), n[0], n[1], n[2], memory_text(m.node_bytes), camera.width, camera.height,
-      memory_text(m.ray_bytes), memory_text(limit)));
+  check_memory(m.total(), limit, who, "export",
+               fmt::format("{}x{}x{} nodes: {}; rays.npy for {} x {} pixels: {}", n[0], n[1], n[2],
+                           memory_text(m.node_bytes), camera.width, camera.height, memory_text(m.ray_bytes)));
 }
 
 // The nodes the export samples (sample_volume's choice), known before sampling.

@@ -99,4 +99,11 @@ expect export_small_limit 2 "^vrv: error: --resolution: the export needs about [
   "$vrv" export --out "$out/huge" --resolution 64,64,64 --max-memory 0.001
 expect export_limit_raised 0 "" "$vrv" export --out "$out/huge" --resolution 64,64,64 --max-memory 0.1
 
+# vrv render holds the image several times over: refused from the camera's size the same way.
+expect render_camera_memory 2 "^vrv: error: $out/big_camera.toml: camera: the render needs about 7.2 GiB \(16384 x 16384 pixels, 29 bytes each\), more than the limit of 4.0 GiB \(raise it with --max-memory GIB\)$" \
+  "$vrv" render --scene "$out/big_camera.toml" --method alpha --strategy step --step 0.5 -o "$out/huge.exr" --max-memory 4
+expect render_size_memory 2 "^vrv: error: --width/--height: the render needs about 29.0 MiB \(1024 x 1024 pixels, 29 bytes each\), more than the limit of 10.2 MiB" \
+  "$vrv" render --method alpha --strategy step --step 0.5 --width 1024 --height 1024 -o "$out/huge.exr" --max-memory 0.01
+[ ! -e "$out/huge.exr" ] || fail "render_memory: wrote $out/huge.exr"
+
 echo "robustness_outputs: all passed"
