@@ -84,6 +84,7 @@ int run_verify(const VerifyCliOptions& o) {
   }
   const std::vector<ImageWithStep> images =
       read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
+  if (opt.diagnose) check_image_steps(scene, images, o.steps ? "--steps" : "vrv:step");
   check_verification_work(scene, opt, images.front().image.width, images.front().image.height, 0, o.max_work,
                           "--max-work");
   // Where results go is checked (and locked) before the reference is computed, not after.
@@ -102,9 +103,12 @@ int run_verify(const VerifyCliOptions& o) {
   j["pass"] = run.pass;
   if (bounds) j["bounds"] = nlohmann::ordered_json::parse(bound_table(run.rows).to_json());
   if (!o.out.empty()) j["out"] = o.out;
-  j["exit"] = run.pass ? kExitPass : kExitCheckFailed;
+  // A plot that could not be drawn fails the run, as it fails a study: the tables are published.
+  if (!run.plot_failure.empty()) j["plots"] = "failed: " + run.plot_failure;
+  const int rc = run.pass && run.plot_failure.empty() ? kExitPass : kExitCheckFailed;
+  j["exit"] = rc;
   std::cout << j.dump() << '\n';
-  return run.pass ? kExitPass : kExitCheckFailed;
+  return rc;
 }
 
 }  // namespace
@@ -118,7 +122,7 @@ void add_verify_command(CLI::App& app) {
       "Images: anything OpenImageIO reads (EXR, TIFF, PFM, PNG), grey or RGB(A), all of one size, "
       "rendered with the scene's camera (or the default camera) at the sizes they have.\n"
       "Exit: 0 pass, 1 failure (expected order missed, reference tolerance missed, a bound's fail "
-      "level crossed), 2 bad input. stdout: one JSON line. See docs/verify.md.");
+      "level crossed, the plot not drawn), 2 bad input or --out not written. stdout: one JSON line. See docs/verify.md.");
   cmd->add_option("--scene", o->scene, "Scene file (TOML); the embedded default when omitted");
   cmd->add_option("images", o->images, "The renderer's images, one per step")->required();
   cmd->add_option("--steps", o->steps, "Sample distances (world units), one per image: H1,H2,...; "

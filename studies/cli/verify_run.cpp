@@ -10,6 +10,7 @@
 #include "lib/io/image_channels.h"
 #include "lib/io/image_io.h"
 #include "lib/io/output_paths.h"
+#include "lib/io/stderr_capture.h"
 #include "lib/work_estimate.h"
 #include "lib/io/verify_output.h"
 #include "studies/cli/commands.h"
@@ -38,6 +39,20 @@ void check_image_file(const std::string& file) {
                      : fs::is_fifo(s)           ? "a FIFO"
                                                 : "a special file";
   throw VerifyInputError(fmt::format("{}: is {}, not an image file", file, kind));
+}
+
+// The plot script's output is caught: a failure (a full disk: a 40-line Python traceback before)
+// is said in one line, its last line quoted; what a drawn plot printed (warnings) is passed on.
+std::string draw_plot(const fs::path& dir) {
+  StderrCapture capture;
+  const std::string why = draw_study_plots(dir);
+  const std::string said = capture.release();
+  if (why.empty()) {
+    std::cerr << said;
+    return {};
+  }
+  const std::string last = last_line(said);
+  return last.empty() ? why : why + ": " + last;
 }
 
 }  // namespace
@@ -73,6 +88,17 @@ std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, co
     }
   }
   return out;
+}
+
+void check_image_steps(const Scene& scene, const std::vector<ImageWithStep>& images, const std::string& option) {
+  constexpr double kMaxSamples = 1e12;  // a sample plan's own bound (lib/sampling.cpp)
+  const double diagonal = (scene.box.max - scene.box.min).norm();
+  for (const ImageWithStep& im : images)
+    if (!(diagonal / im.step <= kMaxSamples))
+      throw VerifyInputError(fmt::format(
+          "{}: {}: step {:g} would take more than {:g} samples along the box's diagonal ({:.3g}), so vrv's models "
+          "cannot be cast at it; give the step the image was rendered at (or --no-diagnosis)",
+          im.name, option, im.step, kMaxSamples, diagonal));
 }
 
 std::optional<double> provenance_step(const std::string& file) {
@@ -112,9 +138,11 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out->write_and_publish([&](const fs::path& dir) {
       write_verify_outputs(dir, run.report, extra, parameters, seconds);
-      if (const std::string why = no_plots ? "" : draw_study_plots(dir); !why.empty())
-        std::cerr << fmt::format("vrv verify: {}: the plot could not be drawn: {}\n", out->target().string(), why);
+      if (!no_plots) run.plot_failure = draw_plot(dir);
     });
+    if (!run.plot_failure.empty())
+      std::cerr << fmt::format("vrv verify: {}: the plot could not be drawn: {}; or pass --no-plots\n",
+                               out->target().string(), run.plot_failure);
   }
   return run;
 }

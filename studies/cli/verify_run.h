@@ -38,6 +38,7 @@ struct VerifyRun {
   VerifyReport report;
   std::vector<BoundRow> rows;
   bool pass = true;  // report.pass and no row beyond fail
+  std::string plot_failure;  // why the plot was not drawn (said on stderr; vrv verify exits 1)
 };
 
 // Verifies, evaluates `bounds` (if any) for `case_name`, and writes the outputs into `out`
@@ -82,6 +83,11 @@ std::optional<double> provenance_step(const std::string& file);
 // for images written by vrv render or a renderer that writes "vrv:step"; VerifyInputError naming
 // the first file without one.
 std::vector<double> provenance_steps(const std::vector<std::string>& files);
+
+// The diagnosis casts vrv's models at each image's step: a step giving more than 1e12 samples on
+// the box's diagonal (--steps ...,1e-320) is refused naming the image and where its step came from
+// (`option`: "--steps" or "vrv:step"), before the reference; VerifyInputError.
+void check_image_steps(const Scene& scene, const std::vector<ImageWithStep>& images, const std::string& option);
 
 // Reads IMAGE files and pairs them with steps (same count); VerifyInputError naming the file.
 std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, const std::vector<double>& steps);

@@ -106,4 +106,22 @@ expect render_size_memory 2 "^vrv: error: --width/--height: the render needs abo
   "$vrv" render --method alpha --strategy step --step 0.5 --width 1024 --height 1024 -o "$out/huge.exr" --max-memory 0.01
 [ ! -e "$out/huge.exr" ] || fail "render_memory: wrote $out/huge.exr"
 
+# Smaller: a full disk while plotting printed a 40-line Python traceback and exited 0; the plot
+# script's output is caught, its last line quoted in one line, exit 1 (as a study's failed plot).
+printf '#!/bin/sh\nfor i in $(seq 40); do echo "  File \\"plot_study.py\\", line $i" >&2; done\necho "OSError: [Errno 28] No space left on device" >&2\nexit 1\n' > "$out/python"
+chmod +x "$out/python"
+VRV_PYTHON="$out/python" expect plot_failed 1 "^vrv verify: .*/plotted: the plot could not be drawn: .*: OSError: \[Errno 28\] No space left on device; or pass --no-plots$" \
+  "$vrv" verify "${images[@]}" --no-cache --quiet --out "$out/plotted"
+grep -q '"plots":"failed: ' "$out/plot_failed.out" || fail "plot_failed: $(cat "$out/plot_failed.out")"
+
+# A truncated PNG printed libpng's own line before vrv's (and leaked inside OpenImageIO: the
+# sanitizer build's leak check, see tests/sanitizer/lsan.supp): one line now.
+head -c 200 "$out/0.01.png" > "$out/truncated.png"
+expect truncated_png 2 "^vrv: error: $out/truncated.png: cannot read: .*hit end of file" \
+  "$vrv" verify "$out/truncated.png" "$out/0.01.exr" --steps 0.02,0.01 --no-cache --quiet
+
+# --steps ...,1e-320 was refused as "--step gives more than 1e12 samples on one ray", naming no image.
+expect tiny_step 2 "^vrv: error: $out/0.01.exr: --steps: step .* would take more than 1e\+12 samples along the box's diagonal" \
+  "$vrv" verify "${images[@]}" --steps 0.02,1e-320 --no-cache --quiet
+
 echo "robustness_outputs: all passed"
