@@ -16,13 +16,15 @@
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/reference_audit.h"
 
+#include "tests/fuzz/fuzz_limits.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
 const fs::path& checkpoint_dir() {
   static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / ("vrv-fuzz-checkpoint-" + std::to_string(::getpid()));
+    const fs::path d = vrv::fuzz::scratch_root() / ("vrv-fuzz-checkpoint-" + std::to_string(::getpid()));
     fs::create_directories(d);
     return d;
   }();
@@ -39,7 +41,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);
   const fs::path file = checkpoint_dir() / "ray_0.txt";
   std::ofstream(file, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(size));
-  vrv::Checkpoints checkpoints(checkpoint_dir(), "fuzz", true);
+  static vrv::Checkpoints checkpoints(checkpoint_dir(), "fuzz", true);  // reads the file on each get()
   const auto never = []() -> std::vector<double> { std::abort(); };  // the file is there: read, or refused
   for (const std::optional<std::size_t> expected : {std::optional<std::size_t>(), std::optional<std::size_t>(3)}) {
     try {

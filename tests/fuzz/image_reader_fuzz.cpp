@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +19,8 @@
 #include "lib/io/image_channels.h"
 #include "lib/io/image_io.h"
 
+#include "tests/fuzz/fuzz_limits.h"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -25,7 +28,9 @@ namespace {
 constexpr std::array<const char*, 6> kExtensions = {".png", ".exr", ".pfm", ".npy", ".tif", ".png"};
 
 void check_one_line(const std::string& msg, const std::string& file) {
-  if (msg.rfind(file, 0) != 0 || msg.find('\n') != std::string::npos || msg.size() > 2000) std::abort();
+  if (msg.rfind(file, 0) == 0 && msg.find('\n') == std::string::npos && msg.size() <= 2000) return;
+  std::fprintf(stderr, "not one line naming the file: %s\n", msg.c_str());
+  std::abort();
 }
 
 void check_image(const vrv::ChannelImage& im) {
@@ -43,7 +48,7 @@ void check_image(const vrv::ChannelImage& im) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
   static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / ("vrv-fuzz-image-" + std::to_string(::getpid()));
+    const fs::path d = vrv::fuzz::scratch_root() / ("vrv-fuzz-image-" + std::to_string(::getpid()));
     fs::create_directories(d);
     return d;
   }();

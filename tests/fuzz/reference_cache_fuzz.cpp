@@ -15,6 +15,8 @@
 #include "lib/io/scene_file.h"
 #include "lib/verify.h"
 
+#include "tests/fuzz/fuzz_limits.h"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -30,7 +32,7 @@ struct Setup {
     options.reference_tol = 1e-8;
     camera = vrv::verify_camera(scene, options, 3, 2);
     truth = vrv::reference_image(scene, camera, options);  // no cache: computed
-    options.cache_dir = fs::temp_directory_path() / ("vrv-fuzz-cache-" + std::to_string(::getpid()));
+    options.cache_dir = vrv::fuzz::scratch_root() / ("vrv-fuzz-cache-" + std::to_string(::getpid()));
     options.scene_text = std::string(vrv::default_scene_toml());
     fs::remove_all(options.cache_dir);
     vrv::reference_image(scene, camera, options);  // writes the entry
