@@ -3,7 +3,12 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <thread>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -41,6 +46,28 @@ void sync_directory(const std::filesystem::path& dir) {
   ::close(fd);
 }
 
+// A test hook, so that "interrupted mid-write" is deterministic (tests/studies/cli): with
+// VRV_TEST_SIGNAL_AT_WRITE=N[:SIGNAL], the N-th file written sends this process SIGNAL (SIGINT by
+// default) while its temporary exists, and the next write waits for the signal to stop the process.
+std::atomic<bool> g_test_signal_sent{false};
+
+void test_signal_at_write() {
+  static std::atomic<long> writes{0};
+  const char* hook = std::getenv("VRV_TEST_SIGNAL_AT_WRITE");
+  if (!hook) return;
+  char* rest = nullptr;
+  const long n = std::strtol(hook, &rest, 10);
+  const int sig = *rest == ':' ? std::atoi(rest + 1) : SIGINT;
+  if (++writes == n) {
+    g_test_signal_sent = true;
+    ::kill(::getpid(), sig);  // to the process: a thread that waits for signals takes it
+  }
+}
+
+void test_wait_for_signal() {
+  if (g_test_signal_sent) std::this_thread::sleep_for(std::chrono::seconds(30));
+}
+
 }  // namespace
 
 std::shared_mutex& temporary_files_mutex() {
@@ -50,6 +77,7 @@ std::shared_mutex& temporary_files_mutex() {
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view contents) {
   if (path.empty() || !path.has_filename()) fail(path, "not a file name");
+  test_wait_for_signal();
   const std::shared_lock temporaries(temporary_files_mutex());
   std::filesystem::path tmp = path;
   tmp += fmt::format(".tmp.{}", ::getpid());
@@ -72,6 +100,7 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
     ::unlink(tmp.c_str());
     fail(path, errno_reason(err));
   }
+  test_signal_at_write();
 
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);

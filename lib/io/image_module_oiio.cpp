@@ -1,6 +1,7 @@
 // The image module: the only code that includes OpenImageIO.  Built as a shared module
 // (libvrv_image.so) and loaded by lib/io/image_module.cpp on the first image read or write.
 #include <algorithm>
+#include <cstdio>
 #include <exception>
 #include <string>
 
@@ -8,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "lib/io/image_module.h"
+#include "lib/io/stderr_capture.h"
 
 namespace vrv::image_module {
 namespace {
@@ -43,7 +45,22 @@ std::string write(const std::string& path, const WriteRequest& request) try {
   return one_line(e.what());
 }
 
-std::string read(const std::string& path, const ReadRequest& request, ReadResult& result) try {
+// libpng reports a damaged file twice: to OpenImageIO's error handler, which vrv's one line quotes,
+// and then (that handler returns where libpng expects it to jump) through libpng's default handler
+// straight to stderr, "libpng error: ...", a second line before vrv's.  OpenImageIO has no option
+// to silence it, so a read runs with stderr captured: what it caught is dropped when the read
+// failed (the error names it) and passed on when it succeeded.
+std::string read_captured(const std::string& path, const ReadRequest& request, ReadResult& result);
+
+std::string read(const std::string& path, const ReadRequest& request, ReadResult& result) {
+  StderrCapture capture;
+  const std::string why = read_captured(path, request, result);
+  const std::string said = capture.release();
+  if (why.empty() && !said.empty()) std::fputs(said.c_str(), stderr);
+  return why;
+}
+
+std::string read_captured(const std::string& path, const ReadRequest& request, ReadResult& result) try {
   auto in = OIIO::ImageInput::open(path);
   if (!in) return one_line(fmt::format("cannot read: {}", OIIO::geterror()));
   const OIIO::ImageSpec& spec = in->spec();

@@ -11,6 +11,8 @@
 
 #include <fmt/format.h>
 
+#include "lib/io/error_line.h"
+
 namespace vrv {
 namespace {
 
@@ -53,7 +55,8 @@ std::string bytes_of(std::span<const T> values, const std::vector<std::size_t>& 
 }
 
 [[noreturn]] void bad(const std::string& name, const std::string& reason) {
-  throw std::runtime_error(fmt::format("{}: not a float .npy this reader takes: {}", name, reason));
+  // The reason may quote the file's header: one bounded line whatever it holds (error_line.h).
+  throw std::runtime_error(error_line(name, "not a float .npy this reader takes", reason));
 }
 
 }  // namespace

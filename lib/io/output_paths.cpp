@@ -43,4 +43,16 @@ void check_writable_dir(const fs::path& dir, std::string_view option) {
   fs::remove(probe, ec);
 }
 
+void check_replaceable_dir(const fs::path& dir, std::string_view marker, std::string_view option) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(dir, ec))) return;
+  if (!fs::is_directory(dir, ec))
+    throw std::invalid_argument(fmt::format("{}: {}: exists and is not a directory", option, dir.string()));
+  if (fs::is_empty(dir, ec) || fs::exists(dir / marker, ec)) return;
+  throw std::invalid_argument(fmt::format(
+      "{}: {}: holds files vrv did not write (no {}), and a run replaces the whole folder; give a new or "
+      "empty folder, or one an earlier run wrote",
+      option, dir.string(), marker));
+}
+
 }  // namespace vrv

@@ -21,4 +21,9 @@ void check_inputs_outside(const std::filesystem::path& dir, const std::vector<st
 // "<option>: <dir>: <reason>" otherwise.
 void check_writable_dir(const std::filesystem::path& dir, std::string_view option);
 
+// An output folder that a run replaces whole (vrv verify --out, vrv export --out) must be one vrv
+// wrote: missing, empty, or holding `marker` (meta.json, export.json), since publishing the new
+// run removes everything the folder held.  std::invalid_argument "<option>: <dir>: ..." otherwise.
+void check_replaceable_dir(const std::filesystem::path& dir, std::string_view marker, std::string_view option);
+
 }  // namespace vrv

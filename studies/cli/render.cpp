@@ -31,6 +31,7 @@
 #include "lib/io/study_file.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
+#include "studies/cli/memory_limit.h"
 #include "studies/cli/discrete_options.h"
 
 namespace vrv::cli {
@@ -48,6 +49,7 @@ struct RenderOptions {
   std::optional<int> width, height;
   int threads = 0;
   bool quiet = false;
+  double max_memory_gib = 0;  // 0: default_memory_limit(), as vrv study
   CLI::Option* tol_option = nullptr;
 };
 
@@ -122,6 +124,20 @@ void check_outputs(const OutputPaths& out, const std::string& error_against) {
               f.string(), input.string()));
     check_writable(f);
   }
+}
+
+// The render's memory before anything is allocated: per pixel, the float image, the same in double,
+// each pixel's work, estimate and verdict (29 bytes; 1024^2 -> 2048^2 pixels took 157 -> 246 MB
+// resident, 29 bytes a pixel), and with --error-against the reference in double and the error
+// image (12 more).  Refused above --max-memory naming the input that sets the size.
+void check_render_memory(const RenderOptions& opt, const Camera& camera) {
+  const double pixels = double(camera.width) * camera.height;
+  const double per_pixel = 29 + (opt.error_against.empty() ? 0 : 12);
+  const std::string who = opt.width || opt.height ? std::string("--width/--height")
+                          : opt.scene.empty()     ? std::string("<default scene>: camera")
+                                                  : opt.scene + ": camera";
+  check_memory(pixels * per_pixel, memory_limit_bytes(opt.max_memory_gib), who, "render",
+               fmt::format("{} x {} pixels, {:g} bytes each", camera.width, camera.height, per_pixel));
 }
 
 struct Rendered {
@@ -298,6 +314,7 @@ void run_render(const RenderOptions& opt) {
   const Scene scene = load_scene_or_default(opt.scene);
   const auto discrete = discrete_config(opt.discrete, scene);
   const Camera camera = scene_camera(scene, opt.width, opt.height);  // --width/--height errors named
+  check_render_memory(opt, camera);
   const ImageProvenance provenance = render_provenance(scene, camera, discrete, opt.tol);
   check_outputs(out, opt.error_against);
   image_module::functions();  // a missing image module fails now, not after the render
@@ -406,6 +423,9 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--height", opt->height, "Override the camera's height (pixels; 1 for a fan)");
   cmd->add_option("--threads", opt->threads, "Threads (default: all cores); results do not depend on it");
   cmd->add_flag("--quiet", opt->quiet, "No progress bar on stderr");
+  cmd->add_option("--max-memory", opt->max_memory_gib,
+                  "GiB the render may take, estimated from the camera before anything is allocated "
+                  "(default: 3/4 of physical memory)");
   cmd->callback([opt] { run_render(*opt); });
 }
 

@@ -14,6 +14,7 @@
 #include "lib/io/scene_file.h"
 #include "lib/io/verify_output.h"
 #include "studies/cli/verify_run.h"
+#include "studies/engine/interrupt.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 
@@ -56,6 +57,7 @@ std::vector<double> parse_steps(const std::string& text) {
 }
 
 int run_verify(const VerifyCliOptions& o) {
+  const InterruptGuard interrupts;  // before any thread: SIGINT leaves --out as it was (published_folder.h)
   const Scene scene = load_scene_or_default(o.scene);
   VerifyOptions opt;
   opt.scene_text = scene_text_or_default(o.scene);
@@ -84,10 +86,12 @@ int run_verify(const VerifyCliOptions& o) {
       read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
   std::vector<double> steps;
   for (const ImageWithStep& im : images) steps.push_back(im.step);
+  if (opt.diagnose) check_image_steps(scene, images, o.steps ? "--steps" : "vrv:step");
   check_verification_work(scene, opt, images.front().image.width, images.front().image.height, steps, 0,
                           o.max_work, "--max-work");
-  // Where results go is checked before the reference is computed, not after.
-  if (!o.out.empty()) check_writable_dir(o.out, "--out");
+  // Where results go is checked (and locked) before the reference is computed, not after.
+  std::optional<PublishedFolder> out;
+  if (!o.out.empty()) out.emplace(o.out, kVerifyOutMarker, "--out");
   opt.cache_dir = reference_cache_dir(o.cache_dir, o.no_cache);
   const ThreadLimit threads(o.threads);
   const nlohmann::json parameters = {{"command", "verify"}, {"scene", o.scene}, {"images", o.images},
@@ -95,15 +99,18 @@ int run_verify(const VerifyCliOptions& o) {
                                      {"bounds", o.bounds}, {"case", o.case_name}, {"alpha", o.alpha},
                                      {"threshold", opt.threshold}, {"tol", o.tol}, {"order_metric", o.order_metric}};
   const VerifyRun run = run_verification(scene, images, opt, bounds, o.case_name.empty() ? "verify" : o.case_name,
-                                         o.out, parameters, o.no_plots);
+                                         out ? &*out : nullptr, parameters, o.no_plots);
   if (!o.quiet) std::cerr << "vrv verify: " << summary_text(run) << '\n';
   nlohmann::ordered_json j = to_json(run.report);
   j["pass"] = run.pass;
   if (bounds) j["bounds"] = nlohmann::ordered_json::parse(bound_table(run.rows).to_json());
   if (!o.out.empty()) j["out"] = o.out;
-  j["exit"] = run.pass ? kExitPass : kExitCheckFailed;
+  // A plot that could not be drawn fails the run, as it fails a study: the tables are published.
+  if (!run.plot_failure.empty()) j["plots"] = "failed: " + run.plot_failure;
+  const int rc = run.pass && run.plot_failure.empty() ? kExitPass : kExitCheckFailed;
+  j["exit"] = rc;
   std::cout << j.dump() << '\n';
-  return run.pass ? kExitPass : kExitCheckFailed;
+  return rc;
 }
 
 }  // namespace
@@ -117,7 +124,7 @@ void add_verify_command(CLI::App& app) {
       "Images: anything OpenImageIO reads (EXR, TIFF, PFM, PNG), grey or RGB(A), all of one size, "
       "rendered with the scene's camera (or the default camera) at the sizes they have.\n"
       "Exit: 0 pass, 1 failure (expected order missed, reference tolerance missed, a bound's fail "
-      "level crossed), 2 bad input. stdout: one JSON line. See docs/verify.md.");
+      "level crossed, the plot not drawn), 2 bad input or --out not written. stdout: one JSON line. See docs/verify.md.");
   cmd->add_option("--scene", o->scene, "Scene file (TOML); the embedded default when omitted");
   cmd->add_option("images", o->images, "The renderer's images, one per step")->required();
   cmd->add_option("--steps", o->steps, "Sample distances (world units), one per image: H1,H2,...; "

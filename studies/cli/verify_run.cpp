@@ -10,6 +10,7 @@
 #include "lib/io/image_channels.h"
 #include "lib/io/image_io.h"
 #include "lib/io/output_paths.h"
+#include "lib/io/stderr_capture.h"
 #include "lib/work_estimate.h"
 #include "lib/io/verify_output.h"
 #include "studies/cli/commands.h"
@@ -38,6 +39,20 @@ void check_image_file(const std::string& file) {
                      : fs::is_fifo(s)           ? "a FIFO"
                                                 : "a special file";
   throw VerifyInputError(fmt::format("{}: is {}, not an image file", file, kind));
+}
+
+// The plot script's output is caught: a failure (a full disk: a 40-line Python traceback before)
+// is said in one line, its last line quoted; what a drawn plot printed (warnings) is passed on.
+std::string draw_plot(const fs::path& dir) {
+  StderrCapture capture;
+  const std::string why = draw_study_plots(dir);
+  const std::string said = capture.release();
+  if (why.empty()) {
+    std::cerr << said;
+    return {};
+  }
+  const std::string last = last_line(said);
+  return last.empty() ? why : why + ": " + last;
 }
 
 }  // namespace
@@ -75,6 +90,17 @@ std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, co
   return out;
 }
 
+void check_image_steps(const Scene& scene, const std::vector<ImageWithStep>& images, const std::string& option) {
+  constexpr double kMaxSamples = 1e12;  // a sample plan's own bound (lib/sampling.cpp)
+  const double diagonal = (scene.box.max - scene.box.min).norm();
+  for (const ImageWithStep& im : images)
+    if (!(diagonal / im.step <= kMaxSamples))
+      throw VerifyInputError(fmt::format(
+          "{}: {}: step {:g} would take more than {:g} samples along the box's diagonal ({:.3g}), so vrv's models "
+          "cannot be cast at it; give the step the image was rendered at (or --no-diagnosis)",
+          im.name, option, im.step, kMaxSamples, diagonal));
+}
+
 std::optional<double> provenance_step(const std::string& file) {
   check_image_file(file);
   try {
@@ -99,22 +125,36 @@ std::vector<double> provenance_steps(const std::vector<std::string>& files) {
 
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
-                           const std::string& case_name, const fs::path& out,
+                           const std::string& case_name, PublishedFolder* out,
                            const nlohmann::json& parameters, bool no_plots) {
   const auto start = std::chrono::steady_clock::now();
   VerifyRun run;
   run.report = verify_images(scene, images, options);
   if (bounds) run.rows = evaluate_bounds(case_name, run.report, *bounds);
   run.pass = run.report.pass && worst(run.rows) < BoundVerdict::fail;
-  if (!out.empty()) {
+  if (out) {
     std::vector<std::pair<std::string, Table>> extra;
     if (bounds) extra.emplace_back("bounds", bound_table(run.rows));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    write_verify_outputs(out, run.report, extra, parameters, seconds);
-    if (const std::string why = no_plots ? "" : draw_study_plots(out); !why.empty())
-      std::cerr << fmt::format("vrv verify: {}: the plot could not be drawn: {}\n", out.string(), why);
+    out->write_and_publish([&](const fs::path& dir) {
+      write_verify_outputs(dir, run.report, extra, parameters, seconds);
+      if (!no_plots) run.plot_failure = draw_plot(dir);
+    });
+    if (!run.plot_failure.empty())
+      std::cerr << fmt::format("vrv verify: {}: the plot could not be drawn: {}; or pass --no-plots\n",
+                               out->target().string(), run.plot_failure);
   }
   return run;
+}
+
+VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
+                           const VerifyOptions& options, const std::optional<BoundSet>& bounds,
+                           const std::string& case_name, const fs::path& out,
+                           const nlohmann::json& parameters, bool no_plots) {
+  std::optional<PublishedFolder> folder;
+  if (!out.empty()) folder.emplace(out, kVerifyOutMarker, "--out");
+  return run_verification(scene, images, options, bounds, case_name, folder ? &*folder : nullptr, parameters,
+                          no_plots);
 }
 
 void run_exiting(const std::function<int()>& body) {

@@ -24,6 +24,7 @@
 #include "lib/verify.h"
 #include "lib/verify_work.h"  // check_verification_work, kDefaultVerifyWorkLimit
 #include "studies/cli/cli_support.h"
+#include "studies/cli/published_folder.h"
 
 namespace vrv::cli {
 
@@ -38,15 +39,24 @@ struct VerifyRun {
   VerifyReport report;
   std::vector<BoundRow> rows;
   bool pass = true;  // report.pass and no row beyond fail
+  std::string plot_failure;  // why the plot was not drawn (said on stderr; vrv verify exits 1)
 };
 
 // Verifies, evaluates `bounds` (if any) for `case_name`, and writes the outputs into `out`
-// (if not empty) with the plot unless no_plots.  Throws VerifyInputError / std::invalid_argument
-// for bad input.
+// (if not null) with the plot unless no_plots, then publishes it whole (published_folder.h).
+// Throws VerifyInputError / std::invalid_argument for bad input.
+VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
+                           const VerifyOptions& options, const std::optional<BoundSet>& bounds,
+                           const std::string& case_name, PublishedFolder* out,
+                           const nlohmann::json& parameters, bool no_plots);
+// The same into the folder `out` (if not empty), its PublishedFolder made here (vrv gate's cases).
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
                            const std::string& case_name, const std::filesystem::path& out,
                            const nlohmann::json& parameters, bool no_plots);
+
+// What marks a folder as a verification's outputs (check_replaceable_dir, lib/io/output_paths.h).
+inline constexpr const char* kVerifyOutMarker = "meta.json";
 
 // A subcommand's callback around `body` (verify, gate): a non-zero result is the exit code.  Errors
 // (a bad bounds file: BoundsFileError, "<file>: <key>: <reason>") are main's, "vrv: error: ...",
@@ -64,6 +74,11 @@ std::optional<double> provenance_step(const std::string& file);
 // for images written by vrv render or a renderer that writes "vrv:step"; VerifyInputError naming
 // the first file without one.
 std::vector<double> provenance_steps(const std::vector<std::string>& files);
+
+// The diagnosis casts vrv's models at each image's step: a step giving more than 1e12 samples on
+// the box's diagonal (--steps ...,1e-320) is refused naming the image and where its step came from
+// (`option`: "--steps" or "vrv:step"), before the reference; VerifyInputError.
+void check_image_steps(const Scene& scene, const std::vector<ImageWithStep>& images, const std::string& option);
 
 // Reads IMAGE files and pairs them with steps (same count); VerifyInputError naming the file.
 std::vector<ImageWithStep> read_images(const std::vector<std::string>& files, const std::vector<double>& steps);

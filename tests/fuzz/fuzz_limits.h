@@ -5,6 +5,7 @@
 // is given must parse or be refused with the reader's own error, never crash, hang or leak.
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <string_view>
 
 #include <toml++/toml.h>
@@ -48,6 +49,15 @@ inline bool worth_running(std::string_view text) {
   } catch (const toml::parse_error&) {
     return true;  // the readers report it
   }
+}
+
+// Where harnesses that go through files put them: /dev/shm when there is one, since vrv writes
+// files atomically with fsync (a checkpoint, a cache entry), which on a disk made 20,000 inputs
+// take minutes of waiting.
+inline std::filesystem::path scratch_root() {
+  std::error_code ec;
+  return std::filesystem::is_directory("/dev/shm", ec) ? std::filesystem::path("/dev/shm")
+                                                         : std::filesystem::temp_directory_path();
 }
 
 }  // namespace vrv::fuzz

@@ -6,23 +6,7 @@
 set -u
 vrv=$1 src=$2 out=$3
 rm -rf "$out" && mkdir -p "$out" || exit 1
-fail() { echo "FAIL: $*" >&2; exit 1; }
-
-# expect NAME CODE PATTERN CMD...: exits CODE (not a signal), stderr is one line matching PATTERN
-# (empty: no line).
-expect() {
-  local name=$1 code=$2 pattern=$3
-  shift 3
-  timeout 120 "$@" > "$out/$name.out" 2> "$out/$name.err"
-  local rc=$?
-  [ $rc -eq "$code" ] || fail "$name: exit $rc, expected $code: $(head -c 600 "$out/$name.err")"
-  [ "$(wc -l < "$out/$name.err")" -le 1 ] || fail "$name: stderr is more than one line: $(head -c 600 "$out/$name.err")"
-  if [ -z "$pattern" ]; then
-    [ ! -s "$out/$name.err" ] || fail "$name: stderr is not empty: $(head -c 600 "$out/$name.err")"
-  else
-    grep -Eq -- "$pattern" "$out/$name.err" || fail "$name: stderr does not match '$pattern': $(cat "$out/$name.err")"
-  fi
-}
+source "$(dirname "$0")/robustness_lib.sh"
 
 ray='{"origin": [-3, 0.5, 0], "direction": [1, 0, 0]'
 
@@ -161,5 +145,8 @@ printf '[[case]]\nname = "big"\nrender = { method = "alpha", strategy = "step" }
 expect gate_work 2 "^vrv: error: $out/gate/big.toml: case\[0\]: about .* field evaluations \(the reference on 4096 x 4096 pixels .*; the renders: .*\), above the work limit of 1e\+09" \
   "$vrv" gate --bounds "$out/gate/big.toml" --out "$out/gate/big" --no-cache --quiet
 [ ! -e "$out/gate/big" ] || fail "gate_work: wrote $out/gate/big"
+
+# (8), (9), (13): outputs published whole, a lock on an output folder, memory limits.
+bash "$src/tests/studies/cli/robustness_outputs_test.sh" "$vrv" "$src" "$out/outputs" || fail "robustness_outputs_test.sh"
 
 echo "robustness: all passed"
