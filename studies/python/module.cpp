@@ -26,12 +26,15 @@
 #include <pybind11/stl/filesystem.h>
 
 #include "lib/io/npy.h"
+#include "lib/io/output_paths.h"
 #include "lib/io/verify_output.h"
 #include "lib/util/parallel.h"
 #include "lib/verify_work.h"
 #include "lib/vrv.h"
 #include "studies/cli/discrete_options.h"
 #include "lib/io/image_module.h"
+#include "studies/cli/published_folder.h"
+#include "studies/cli/verify_run.h"  // kVerifyOutMarker
 #include "studies/engine/plot_script.h"
 
 namespace py = pybind11;
@@ -318,7 +321,8 @@ PlotScript plot_script() {
 // The log-log plot of `out`/plots.json, drawn as `vrv verify --out` draws it: the plot script run
 // by $VRV_PYTHON, else Debian's /usr/bin/python3 (python3-matplotlib), else python3.  A plot that
 // cannot be drawn is, as there, one line (a RuntimeWarning here) and not an error: the tables stand.
-void draw_plot(const std::filesystem::path& out) {
+// `shown`: the folder as the user named it (the plot is drawn in its staging folder).
+void draw_plot(const std::filesystem::path& out, const std::filesystem::path& shown) {
   const std::string python = plot_python();
   const PlotScript script = plot_script();
   int status = 127;  // could not be started, as draw_study_plots counts it
@@ -330,7 +334,7 @@ void draw_plot(const std::filesystem::path& out) {
     if (!e.matches(PyExc_OSError)) throw;
   }
   const std::string line =
-      fmt::format("vrv.verify: {}: the plot could not be drawn: {}", out.string(), plot_failure(script, status));
+      fmt::format("vrv.verify: {}: the plot could not be drawn: {}", shown.string(), plot_failure(script, status));
   if (status != 0 && PyErr_WarnEx(PyExc_RuntimeWarning, line.c_str(), 1) < 0) throw py::error_already_set();
 }
 
@@ -355,9 +359,14 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
     throw std::invalid_argument("--case: needs --bounds");
   }
   if (threshold) options.threshold = *threshold;
+  // Written as `vrv verify --out` writes: staged beside `out` and published whole, with a lock.
+  // Refused before anything is computed: a folder vrv did not write, a missing image module.  The
+  // staging folder (and so `out`) is made only once the report exists: a refused or interrupted
+  // call leaves nothing behind.
   if (out) {
     check_verify_out(*out);
-    image_module::functions();  // a missing image module is refused before anything is computed
+    check_replaceable_dir(*out, cli::kVerifyOutMarker, "--out");
+    image_module::functions();
   }
   if (const auto [width, height] = image_size(images); width > 0)
     check_verification_work(scene, options, width, height, steps, 0, max_work, "--max-work");
@@ -365,20 +374,23 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
   for (std::size_t i = 0; i < images.size(); ++i) values.push_back(array_image(images[i], i));
   const VerifyReport report = interruptible([&] { return verify(scene, values, steps, options); });
   std::vector<BoundRow> rows;
-  {
-    py::gil_scoped_release release;
-    if (set) rows = evaluate_bounds(case_name.value_or("verify"), report, *set);
-    if (out) {
-      std::vector<std::pair<std::string, Table>> extra;
-      if (set) extra.emplace_back("bounds", bound_table(rows));
-      const nlohmann::json parameters = {{"command", "python vrv.verify"}, {"steps", steps},
-                                         {"bounds", bounds ? bounds->string() : ""},
-                                         {"case", case_name.value_or("")}, {"threshold", options.threshold},
-                                         {"tol", tol}, {"order_metric", order_metric}};
-      write_verify_outputs(*out, report, extra, parameters, 0);
-    }
+  if (set) rows = evaluate_bounds(case_name.value_or("verify"), report, *set);
+  if (out) {
+    cli::PublishedFolder folder(*out, cli::kVerifyOutMarker, "--out");
+    std::vector<std::pair<std::string, Table>> extra;
+    if (set) extra.emplace_back("bounds", bound_table(rows));
+    const nlohmann::json parameters = {{"command", "python vrv.verify"}, {"steps", steps},
+                                       {"bounds", bounds ? bounds->string() : ""},
+                                       {"case", case_name.value_or("")}, {"threshold", options.threshold},
+                                       {"tol", tol}, {"order_metric", order_metric}};
+    folder.write_and_publish([&](const std::filesystem::path& staging) {
+      {
+        py::gil_scoped_release release;
+        write_verify_outputs(staging, report, extra, parameters, 0);
+      }
+      if (plots) draw_plot(staging, *out);
+    });
   }
-  if (out && plots) draw_plot(*out);
   nlohmann::ordered_json j = to_json(report);
   j["pass"] = report.pass && worst(rows) < BoundVerdict::fail;
   if (set) j["bounds"] = nlohmann::ordered_json::parse(bound_table(rows).to_json());

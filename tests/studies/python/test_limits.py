@@ -101,5 +101,7 @@ def test_ctrl_c_interrupts_a_long_call(call, tmp_path):
     stdout, stderr = child.communicate(timeout=30)
     elapsed = time.monotonic() - sent
     assert child.returncode == 3 and stdout.strip() == "KeyboardInterrupt", (child.returncode, stdout, stderr)
-    assert elapsed < 2.0, elapsed
+    # Interrupted between chunks (0.2-0.3 s on an idle machine), not when the minutes of work end;
+    # the margin is for a CI machine shared with other jobs.
+    assert elapsed < 10.0, elapsed
     assert not out.exists()  # nothing written

@@ -128,3 +128,23 @@ def test_bad_input_raises_the_command_lines_message(scene_and_rays, tmp_path):
         vrv.verify(scene, zeros, STEPS, out=str(tmp_path / "file"))
     with pytest.raises(TypeError):
         vrv.verify(scene, zeros, STEPS, expected_ordre=2)
+
+
+def test_out_is_published_whole(scene_and_rays, tmp_path):
+    """As `vrv verify --out` (issue 22): a second run replaces the folder whole, so an earlier
+    run's bounds.csv does not stay beside the new tables; a folder vrv did not write is refused
+    before any work, its files untouched; no staging folder is left behind."""
+    scene, origins, directions = scene_and_rays
+    images = [numpy_raycaster.render(origins, directions, h) for h in STEPS]
+    out = tmp_path / "out"
+    vrv.verify(scene, images, STEPS, diagnose=False, out=str(out), plots=False)
+    (out / "bounds.csv").write_text("an earlier run's table\n")
+    vrv.verify(scene, images, STEPS, diagnose=False, out=str(out), plots=False)
+    assert (out / "errors.csv").is_file() and not (out / "bounds.csv").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"], list(tmp_path.iterdir())
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("keep")
+    with pytest.raises(ValueError, match=r"^--out: "):
+        vrv.verify(scene, images, STEPS, diagnose=False, out=str(mine), plots=False)
+    assert [p.name for p in mine.iterdir()] == ["notes.txt"]
