@@ -110,8 +110,8 @@ std::vector<RayLine> read_rays_input(const std::string& path) {
 }
 
 // A rays file counted before it is read, each ray at the box diagonal's work (an upper estimate):
-// one far above --max-work is refused after reading only the lines the limit allows, the rest
-// estimated from the file's size.  Standard input and devices are checked once read (they cannot
+// one far above --max-work is refused after reading only the lines the limit allows (at least
+// 100,000, which are then estimated exactly), the rest estimated from the file's size.  Standard input and devices are checked once read (they cannot
 // be read twice).
 void refuse_long_rays_file(const Scene& scene, const RayOptions& opt, const std::optional<DiscreteConfig>& discrete) {
   const double per_ray = diagonal_work(discrete, opt.tol, scene);
@@ -119,11 +119,12 @@ void refuse_long_rays_file(const Scene& scene, const RayOptions& opt, const std:
   if (!std::filesystem::is_regular_file(opt.rays, ec) || !(per_ray > 0)) return;  // /dev/zero never ends
   std::ifstream in(opt.rays, std::ios::binary);
   if (!in) return;  // read_rays_input names the file
-  const double allowed = std::floor(opt.discrete.max_work / per_ray);
+  // Up to 100,000 rays are read (under a second) and estimated ray by ray, exactly.
+  const double allowed = std::max(std::floor(opt.discrete.max_work / per_ray), 1e5);
   const RayLineCount count = count_ray_lines(in, static_cast<long>(std::min(allowed, 1e18)));
   if (count.lines <= allowed) return;
   const auto size = std::filesystem::file_size(opt.rays, ec);
-  const double rays = ec || count.bytes == 0 ? count.lines : static_cast<double>(size) * count.lines / count.bytes;
+  const double rays = ec ? count.lines : std::max<double>(count.lines, std::round(static_cast<double>(size) * count.lines / count.bytes));
   refuse_rays_file(opt, discrete.has_value(), rays, rays * per_ray,
                    " (counted before reading them, each at the box diagonal's work)");
 }
