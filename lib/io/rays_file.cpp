@@ -162,4 +162,21 @@ std::vector<RayLine> read_rays(std::istream& in, const std::string& name) {
   return rays;
 }
 
+RayLineCount count_ray_lines(std::istream& in, long stop_after) {
+  RayLineCount count;
+  bool line_has_text = false;
+  std::streambuf* buffer = in.rdbuf();
+  for (int c = buffer->sbumpc(); c != std::char_traits<char>::eof(); c = buffer->sbumpc()) {
+    ++count.bytes;
+    if (c == '\n') {
+      if (line_has_text && ++count.lines > stop_after) return count;
+      line_has_text = false;
+    } else if (c != ' ' && c != '\t' && c != '\r') {
+      line_has_text = true;
+    }
+  }
+  if (line_has_text) ++count.lines;  // a last line without its line break
+  return count;
+}
+
 }  // namespace vrv

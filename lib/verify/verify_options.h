@@ -57,6 +57,7 @@ struct VerifySettings {
   double order_tolerance = 0.25;  // --order-tolerance: positive
   std::string order_metric = "rms";  // --order-metric: max, mean, rms or p99
   double unit_distance = 0;      // --unit-distance: not negative
+  std::string alpha = "premultiplied";  // --alpha: premultiplied or straight
 };
 void apply(const VerifySettings& settings, VerifyOptions& options);
 

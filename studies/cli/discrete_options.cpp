@@ -121,6 +121,10 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
   return c;
 }
 
+double diagonal_work(const std::optional<DiscreteConfig>& config, double tol, const Scene& scene) {
+  return config ? discrete_samples(*config, scene) : reference_evaluations(scene, tol);
+}
+
 void refuse_work(const DiscreteOptions& opt, bool discrete, double work, long rays) {
   std::string asked;
   for (const CLI::Option* o : opt.given) {

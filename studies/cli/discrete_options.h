@@ -46,6 +46,20 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
 // Throws the refusal: `discrete` says whether the work is samples or the reference's evaluations.
 [[noreturn]] void refuse_work(const DiscreteOptions& opt, bool discrete, double work, long rays);
 
+// The work of casting these rays, without a limit (check_work below compares it with one).
+template <class RayAt>
+double estimate_work(const std::optional<DiscreteConfig>& config, double tol, const Scene& scene, long rays,
+                     RayAt&& ray_at) {
+  double work = 0;
+  for (long i = 0; i < rays; ++i)
+    work += config ? discrete_samples(*config, scene, ray_at(i)) : reference_evaluations(scene, ray_at(i), tol);
+  return work;
+}
+
+// The work of one ray along the box's diagonal, an upper estimate for any ray (what a rays file
+// is counted against before it is read).
+double diagonal_work(const std::optional<DiscreteConfig>& config, double tol, const Scene& scene);
+
 // The work of casting these rays, in field evaluations (lib/work_estimate.h): the discrete
 // raycast's samples (its sample plans, before early termination), or with no configuration the
 // reference's evaluations at `tol`.  Throws std::invalid_argument when it exceeds opt.max_work,
@@ -53,9 +67,7 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
 template <class RayAt>
 double check_work(const DiscreteOptions& opt, const std::optional<DiscreteConfig>& config, double tol,
                   const Scene& scene, long rays, RayAt&& ray_at) {
-  double work = 0;
-  for (long i = 0; i < rays; ++i)
-    work += config ? discrete_samples(*config, scene, ray_at(i)) : reference_evaluations(scene, ray_at(i), tol);
+  const double work = estimate_work(config, tol, scene, rays, ray_at);
   if (work > opt.max_work) refuse_work(opt, config.has_value(), work, rays);
   return work;
 }

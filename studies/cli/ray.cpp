@@ -2,6 +2,7 @@
 // JSON-lines file or standard input, cast in parallel and printed in input order.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -97,12 +98,45 @@ std::vector<RayLine> read_rays_input(const std::string& path) {
   return read_rays(in, path);
 }
 
+// The refusal of a rays file above --max-work: its remedy is the file's, not an image's.
+[[noreturn]] void refuse_rays_file(const RayOptions& opt, bool discrete, double rays, double work,
+                                   const char* how) {
+  throw std::invalid_argument(fmt::format(
+      "--rays {}: about {:.3g} rays{}, {:.3g} {}, above the work limit of {:.3g}; split the file or "
+      "allow it with --max-work {}",
+      opt.rays == "-" ? "<stdin>" : opt.rays, rays, how, work,
+      discrete ? "samples" : "field evaluations of the reference", opt.discrete.max_work,
+      work_limit_allowing(work)));
+}
+
+// A rays file counted before it is read, each ray at the box diagonal's work (an upper estimate):
+// one far above --max-work is refused after reading only the lines the limit allows (at least
+// 100,000, which are then estimated exactly), the rest estimated from the file's size.  Standard input and devices are checked once read (they cannot
+// be read twice).
+void refuse_long_rays_file(const Scene& scene, const RayOptions& opt, const std::optional<DiscreteConfig>& discrete) {
+  const double per_ray = diagonal_work(discrete, opt.tol, scene);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(opt.rays, ec) || !(per_ray > 0)) return;  // /dev/zero never ends
+  std::ifstream in(opt.rays, std::ios::binary);
+  if (!in) return;  // read_rays_input names the file
+  // Up to 100,000 rays are read (under a second) and estimated ray by ray, exactly.
+  const double allowed = std::max(std::floor(opt.discrete.max_work / per_ray), 1e5);
+  const RayLineCount count = count_ray_lines(in, static_cast<long>(std::min(allowed, 1e18)));
+  if (count.lines <= allowed) return;
+  const auto size = std::filesystem::file_size(opt.rays, ec);
+  const double rays = ec ? count.lines : std::max<double>(count.lines, std::round(static_cast<double>(size) * count.lines / count.bytes));
+  refuse_rays_file(opt, discrete.has_value(), rays, rays * per_ray,
+                   " (counted before reading them, each at the box diagonal's work)");
+}
+
 // Every ray, validated first, cast in parallel (each into its own slot) and printed in input
 // order, so the output is the same for any thread count.
 void run_rays(const Scene& scene, const RayOptions& opt, const std::optional<DiscreteConfig>& discrete) {
+  refuse_long_rays_file(scene, opt, discrete);
   const std::vector<RayLine> rays = read_rays_input(opt.rays);
   const long n = static_cast<long>(rays.size());
-  check_work(opt.discrete, discrete, opt.tol, scene, n, [&](long i) { return rays[i].ray; });
+  const double work = estimate_work(discrete, opt.tol, scene, n, [&](long i) { return rays[i].ray; });
+  if (work > opt.discrete.max_work) refuse_rays_file(opt, discrete.has_value(), n, work, "");
   std::vector<Answer> answers(rays.size());
   {
     const ThreadLimit threads(opt.threads);

@@ -61,11 +61,8 @@ int run_verify(const VerifyCliOptions& o) {
   const Scene scene = load_scene_or_default(o.scene);
   VerifyOptions opt;
   opt.scene_text = scene_text_or_default(o.scene);
-  apply(VerifySettings{o.tol, o.order_tolerance, o.order_metric, o.unit_distance}, opt);
+  apply(VerifySettings{o.tol, o.order_tolerance, o.order_metric, o.unit_distance, o.alpha}, opt);
   opt.expected_order = o.expected_order;
-  if (o.alpha != "premultiplied" && o.alpha != "straight")
-    throw std::invalid_argument(fmt::format("--alpha: '{}' is not premultiplied or straight", o.alpha));
-  opt.alpha = o.alpha == "straight" ? AlphaMode::straight : AlphaMode::premultiplied;
   opt.diagnose = !o.no_diagnosis;
   opt.progress = !o.quiet;
   std::optional<BoundSet> bounds;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -98,6 +99,19 @@ void Checkpoints::store(const std::string& key, const std::vector<double>& value
   write_file_atomically(file(key), text);
 }
 
+void Checkpoints::note_non_finite(const std::string& key, const std::vector<double>& values) {
+  const auto bad = std::find_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); });
+  if (bad == values.end()) return;
+  const std::lock_guard lock(reused_non_finite_mutex_);
+  if (reused_non_finite_.empty())
+    reused_non_finite_ = fmt::format("{}: value {} is {}", file(key).string(), bad - values.begin() + 1, *bad);
+}
+
+std::string Checkpoints::reused_non_finite() const {
+  const std::lock_guard lock(reused_non_finite_mutex_);
+  return reused_non_finite_;
+}
+
 std::vector<double> Checkpoints::get(const std::string& key, const std::function<std::vector<double>()>& compute,
                                      std::optional<std::size_t> expected) {
   for (const char c : key)
@@ -109,6 +123,7 @@ std::vector<double> Checkpoints::get(const std::string& key, const std::function
                                          "computation; run without --resume",
                                          file(key).string(), stored->size(), *expected));
     ++reused_;
+    note_non_finite(key, *stored);
     return *stored;
   }
   std::vector<double> values = compute();

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <filesystem>
 #include <functional>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -48,15 +49,22 @@ class Checkpoints {
   const std::filesystem::path& dir() const { return dir_; }
   // The resumed run's folder held at least one checkpoint when this run began.
   bool found_stored() const { return found_stored_; }
+  // The first value reused from the interrupted run that is not finite, as "FILE: value N is nan"
+  // (empty if none): NaN is stored as computed, so when the study then refuses a NaN (a table
+  // column without allow_missing) the refusal can name the checkpoint it came from.
+  std::string reused_non_finite() const;
 
  private:
   std::filesystem::path file(const std::string& key) const;
   std::optional<std::vector<double>> find(const std::string& key) const;
   void store(const std::string& key, const std::vector<double>& values);
+  void note_non_finite(const std::string& key, const std::vector<double>& values);
 
   std::filesystem::path dir_;
   std::function<void(const std::filesystem::path&)> before_store_;
   bool found_stored_ = false;
+  mutable std::mutex reused_non_finite_mutex_;
+  std::string reused_non_finite_;
   std::atomic<long> reused_{0}, computed_{0};
   long kill_after_ = 0;  // test hook: VRV_TEST_KILL_AFTER_CHECKPOINTS=N[:SIGNAL]
   int kill_signal_ = 9;

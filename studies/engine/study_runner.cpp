@@ -151,6 +151,23 @@ fs::path resolve_study(const std::string& arg) {
                   arg, arg, where));
 }
 
+namespace {
+
+// The study's job; a refusal of a non-finite value (a table's column) after --resume reused one
+// names the checkpoint that held it, the value to look at, rather than the column.
+StudyOutcome job_naming_reused_non_finite(const LoadedStudy& study, StudyRun& run, const Checkpoints& checkpoints) {
+  try {
+    return study.job(run);
+  } catch (const std::invalid_argument& e) {
+    const std::string reused = checkpoints.reused_non_finite();
+    if (reused.empty()) throw;
+    throw StudyResumeError(fmt::format("{}, reused by --resume, and the study refused it ({}); run without --resume",
+                                       reused, e.what()));
+  }
+}
+
+}  // namespace
+
 int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
   StudyStaging staging(fs::path(opt.out), study.name, opt.resume);
   set_interrupt_cleanup_dir(staging.dir());
@@ -167,7 +184,7 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
     StudyRun run{staging.dir(), opt.quick, !opt.quiet};
     run.checkpoints = &checkpoints;
     start_reference_audit(checkpoints, staging.resumed());  // a resumed run: from the stored counts
-    outcome = study.job(run);
+    outcome = job_naming_reused_non_finite(study, run, checkpoints);
     const ReferenceAuditCounts audit = reference_audit_counts();
     outcome.checks.push_back(reference_audit_check(audit));
     outcome.parameters["reference_audit"] = {{"truths_computed", audit.rays}, {"missed", audit.missed},

@@ -346,9 +346,9 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
                      const std::string& order_metric, double tol, std::optional<double> threshold,
                      bool diagnose, double unit_distance, std::optional<std::filesystem::path> bounds,
                      std::optional<std::string> case_name, std::optional<std::filesystem::path> out,
-                     bool plots, double max_work) {
+                     bool plots, double max_work, const std::string& alpha) {
   VerifyOptions options;
-  apply(VerifySettings{tol, order_tolerance, order_metric, unit_distance}, options);
+  apply(VerifySettings{tol, order_tolerance, order_metric, unit_distance, alpha}, options);
   options.expected_order = expected_order;
   options.diagnose = diagnose;
   std::optional<BoundSet> set;
@@ -382,7 +382,7 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
     const nlohmann::json parameters = {{"command", "python vrv.verify"}, {"steps", steps},
                                        {"bounds", bounds ? bounds->string() : ""},
                                        {"case", case_name.value_or("")}, {"threshold", options.threshold},
-                                       {"tol", tol}, {"order_metric", order_metric}};
+                                       {"tol", tol}, {"order_metric", order_metric}, {"alpha", alpha}};
     folder.write_and_publish([&](const std::filesystem::path& staging) {
       {
         py::gil_scoped_release release;
@@ -438,7 +438,7 @@ PYBIND11_MODULE(vrv, m) {
         py::arg("order_metric") = "rms", py::arg("tol") = 1e-10, py::arg("threshold") = py::none(),
         py::arg("diagnose") = true, py::arg("unit_distance") = 0.0, py::arg("bounds") = py::none(),
         py::arg("case") = py::none(), py::arg("out") = py::none(), py::arg("plots") = true,
-        py::arg("max_work") = kDefaultVerifyWorkLimit,
+        py::arg("max_work") = kDefaultVerifyWorkLimit, py::arg("alpha") = "premultiplied",
         "`vrv verify` in-process: a renderer's images of the scene's camera ((height, width) arrays, "
         "or (height, width, 3 or 4) for RGB and RGBA as `vrv verify` reads them; one per sample "
         "distance in `steps`) against the reference; above `max_work` field evaluations (as "
@@ -446,5 +446,6 @@ PYBIND11_MODULE(vrv, m) {
         "prints, as a dict (pass, verdict, images, orders, diagnosis, faults, ...); `bounds`: a bounds "
         "file (its [defaults], or `case`), whose rows are added and whose fail levels `pass` includes; "
         "`out`: a folder for its tables, error images, meta.json and the log-log plot "
-        "error_vs_step.{png,pdf} (`plots=False`: `vrv verify --no-plots`)");
+        "error_vs_step.{png,pdf} (`plots=False`: `vrv verify --no-plots`); `alpha`: colour with an alpha "
+        "channel is 'premultiplied' (the default) or 'straight', as --alpha");
 }

@@ -452,7 +452,7 @@ endif()
 file(WRITE ${OUT}/fast.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\nfM = 1e6\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n")
 expect_exit(work_reference_render 2 "^vrv: error: --max-work: about 8.46e\\+09 field evaluations of the reference on 65536 rays, above the work limit of 1e\\+09; loosen --tol, make the image smaller, simplify the field or allow it with --max-work 8.5e\\+09$" ""
   render --scene ${OUT}/fast.toml --reference -o ${OUT}/render_never.exr)
-expect_exit(work_reference_rays 2 "^vrv: error: --max-work: about 1e\\+06 field evaluations of the reference on 2 rays.*--max-work 1e\\+06$" ""
+expect_exit(work_reference_rays 2 "^vrv: error: --rays ${OUT}/rays_ramp.jsonl: about 2 rays, 1e\\+06 field evaluations of the reference, above the work limit of 5e\\+05; split the file or allow it with --max-work 1e\\+06$" ""
   ray --scene ${OUT}/fast.toml --rays ${OUT}/rays_ramp.jsonl --max-work 5e5)
 # --max-work applies to the reference as well, so it is not refused without --method.
 expect_success(work_reference_allowed ray --origin -3,0,0 --direction 1,0,0 --max-work 1e12 --json)

@@ -21,18 +21,40 @@ expect deep_id 2 "^vrv: error: $out/deep.jsonl:1: nested more than 100 arrays or
 study="$src/studies/convergence/convergence.toml"
 { VRV_TEST_KILL_AFTER_CHECKPOINTS=5 "$vrv" study "$study" --quick --no-plots --quiet --out "$out/ck"; } > /dev/null 2>&1
 [ -f "$out/ck/.convergence.partial/checkpoints/ray_0.txt" ] || fail "the killed study stored no ray_0 checkpoint"
-for damage in only_end five_removed huge_count; do
+# A checkpoint holding NaN (sealed with a valid checksum, as a computation that gave NaN stores it)
+# was refused naming a table column, not the file.
+reseal_with_nan() {
+  python3 - "$1" <<'EOF'
+import pathlib, sys
+p = pathlib.Path(sys.argv[1])
+lines = p.read_text().splitlines(True)
+lines[0] = 'nan\n'
+body = ''.join(lines[:-1])
+def crc64(data):  # CRC-64/ECMA-182, not reflected, as lib/util/checksum.h
+    c = 0
+    for byte in data:
+        c ^= byte << 56
+        for _ in range(8):
+            c = ((c << 1) ^ (0x42F0E1EBA9EA3693 if c >> 63 else 0)) & (2**64 - 1)
+    return c
+p.write_text(body + 'end %d %016x\n' % (len(lines) - 1, crc64((p.stem + '\n' + body).encode())))
+EOF
+}
+for damage in only_end five_removed huge_count nan_sealed; do
   cp -r "$out/ck" "$out/ck_$damage"
   ck="$out/ck_$damage/.convergence.partial/checkpoints/ray_0.txt"
   case $damage in
     only_end) echo end > "$ck" ;;
     five_removed) sed -i '1,5d' "$ck" ;;
     huge_count) sed -i '21s/.*/0x1p+1000/' "$ck" ;;
+    nan_sealed) reseal_with_nan "$ck" ;;
   esac
   expect "resume_$damage" 2 "^vrv: error: $ck: .*run without --resume$" \
     "$vrv" study "$study" --quick --no-plots --quiet --resume --out "$out/ck_$damage"
   [ ! -d "$out/ck_$damage/convergence" ] || fail "resume_$damage: results were published"
 done
+grep -q "ray_0.txt: value 1 is nan, reused by --resume" "$out/resume_nan_sealed.err" ||
+  fail "resume_nan_sealed: the checkpoint's entry is not named: $(cat "$out/resume_nan_sealed.err")"
 
 # (3) verify --out replaced an input image named like one of its outputs (o/reference.exr); an
 # input anywhere inside --out is refused before anything is computed, under any spelling.
@@ -105,6 +127,21 @@ expect fifo_image 2 "^vrv: error: $out/fifo.exr: is a FIFO, not an image file$" 
 # A repeated key in a --rays line silently took the second value.
 printf '%s, "origin": [-3, 0, 0]}\n' "$ray" > "$out/dup.jsonl"
 expect duplicate_key 2 "^vrv: error: $out/dup.jsonl:1: key 'origin' given twice$" "$vrv" ray --rays "$out/dup.jsonl"
+
+# 10 M rays above --max-work were refused only after 219 s and 1.2 GB of parsing, and told to
+# "make the image smaller".  A file is counted (unparsed) before it is read: refused before the
+# malformed last line is reached, naming the file, its estimate and a rays file's remedy.
+line='{"origin":[-3,0.5,0],"direction":[1,0,0]}'
+{ yes "$line" | head -n 10000000; echo '{"origin": oops'; } > "$out/many.jsonl"
+expect many_rays 2 "^vrv: error: --rays $out/many.jsonl: about 1(\.0[0-9]*)?e\+07 rays .*, above the work limit of 1e\+09; split the file or allow it with --max-work [0-9.]+e\+[0-9]+$" \
+  "$vrv" ray --rays "$out/many.jsonl" --quiet
+rm -f "$out/many.jsonl"
+# ... and a file within the limit is still read whole: its malformed last line is reported.
+{ yes "$line" | head -n 1000; echo '{"origin": oops'; } > "$out/few.jsonl"
+expect few_rays_bad_end 2 "^vrv: error: $out/few.jsonl:1001: " "$vrv" ray --rays "$out/few.jsonl" --quiet
+# ... and standard input (read whole: it cannot be counted first) gets a rays file's remedy too.
+expect stdin_rays_over 2 "^vrv: error: --rays <stdin>: about 1e\+03 rays.*split the file or allow it with --max-work" \
+  "$vrv" ray --rays - --quiet --max-work 1e3 < <(head -n 1000 "$out/few.jsonl")
 
 # gate's and verify's errors began "vrv gate:" / "vrv verify:" where every other command says
 # "vrv: error:".

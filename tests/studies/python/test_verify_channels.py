@@ -92,3 +92,35 @@ def test_bad_shapes_name_the_argument_and_the_image(rgba_images):
         vrv.verify(scene, [images[0], np.zeros((0, 16, 4))], two)
     with pytest.raises(ValueError, match=r"^image 1 \(step 0.04\): .*channel"):
         vrv.verify(scene, [images[0], images[1][..., :3]], two)
+
+
+def straight(image):
+    """The RGBA image with its colour divided by alpha (straight, not premultiplied); 0 where A = 0."""
+    rgb, a = image[..., :3], image[..., 3:]
+    return np.concatenate([np.divide(rgb, a, out=np.zeros_like(rgb), where=a > 0), a], axis=-1)
+
+
+def test_alpha_straight_as_the_cli(rgba_images):
+    """alpha= is `vrv verify --alpha`: straight colour passes as straight, fails as premultiplied."""
+    scene, images = rgba_images
+    unmultiplied = [straight(im) for im in images]
+    report = vrv.verify(scene, unmultiplied, STEPS, expected_order=2, diagnose=False, alpha="straight")
+    assert report["pass"], report["verdict_reason"]
+    assert not vrv.verify(scene, unmultiplied, STEPS, expected_order=2, diagnose=False)["pass"]
+    assert not vrv.verify(scene, unmultiplied, STEPS, expected_order=2, diagnose=False,
+                          alpha="premultiplied")["pass"]
+
+
+def test_bad_alpha_gives_the_cli_message(rgba_images, tmp_path):
+    scene, images = rgba_images
+    files = []
+    for h, im in zip(STEPS, images):
+        files.append(str(tmp_path / f"rgba_{h}.npy"))
+        np.save(files[-1], im)
+    p = subprocess.run([VRV, "verify", *files, "--steps", ",".join(map(str, STEPS)), "--no-cache", "--quiet",
+                        "--alpha", "linear"], capture_output=True, text=True)
+    assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
+    with pytest.raises(ValueError) as e:
+        vrv.verify(scene, images, STEPS, alpha="linear")
+    assert str(e.value) == "--alpha: 'linear' is not premultiplied or straight"
+    assert p.stderr == f"vrv: error: {e.value}\n"
