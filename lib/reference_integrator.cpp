@@ -312,7 +312,7 @@ RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, 
     for (int j = 0; j < n; ++j) xs[j] = panel.x_of(mid + half * rule.node(j));
     chebyshev_evaluate_many(panel.coefficients, {xs, count}, {values, count});
   }
-  double v_max = 1, tau_max = 0, g_max = 0;
+  double v_max = 1, tau_max = 0;
   for (int j = 0; j < n; ++j) {
     const double v = values[j];
     v_max = std::max(v_max, std::abs(v));
@@ -320,7 +320,7 @@ RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, 
       tau[j] = seg.tau(v);
     } else {
       const auto optical = seg.optical(v);
-      tau[j] = optical.tau, g[j] = optical.g, g_max = std::max(g_max, g[j]);
+      tau[j] = optical.tau, g[j] = optical.g;
     }
     tau_max = std::max(tau_max, tau[j]);
   }
