@@ -32,7 +32,7 @@ for set in fixed:png fixed15:tiff gpu:png; do
   # The renderer's images, as vrv verify reads them; first order expected (VTK places its first
   # sample one step in and drops the last partial step: vrv's `vtk` placement).
   (cd "$TMP/out/$name" && "$VERIFY" verify --scene ../scene.toml $(for h in $STEPS; do printf '%s ' "${name}_H$h.$ext"; done) \
-      --steps $LIST --expected-order 1 --out verify --no-cache --threads 2 --quiet > verify.json) \
+      --steps $LIST --expected-order 1 --out verify --plots --no-cache --threads 2 --quiet > verify.json) \
       && rc=0 || rc=$?
   echo "$rc" > "$TMP/out/$name/verify.exit"
   [ "$rc" -le 1 ] || status=$rc

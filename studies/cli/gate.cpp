@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 
 struct GateOptions {
   std::string bounds, out, case_name, cache_dir;
-  bool no_cache = false, no_plots = false, no_diagnosis = false, quiet = false;
+  bool no_cache = false, plots = false, no_diagnosis = false, quiet = false;
   int threads = 0;
   double max_work = kDefaultVerifyWorkLimit;
 };
@@ -239,7 +239,7 @@ int run_gate(const GateOptions& o) {
                               o.max_work,
                               fmt::format("{}: case[{}]", o.bounds, &c - file.cases.data()));
     const nlohmann::json parameters = {{"command", "gate"}, {"bounds", o.bounds}, {"case", c.name}};
-    const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, out / c.name, parameters, o.no_plots);
+    const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, out / c.name, parameters, o.plots && !o.out.empty());
     if (!run.report.pass)
       for (const std::string& f : run.report.failures) {
         BoundRow r = study_row(c.name, false, 1);
@@ -281,7 +281,7 @@ void add_gate_command(CLI::App& app) {
   cmd->add_option("--cache-dir", o->cache_dir, "Reference cache (default $XDG_CACHE_HOME/vrv or ~/.cache/vrv)");
   cmd->add_flag("--no-cache", o->no_cache, "Do not read or write the reference cache");
   cmd->add_flag("--no-diagnosis", o->no_diagnosis, "Skip casting vrv's own models");
-  cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plots");
+  add_plot_flags(cmd, o->plots, "With --out: draw each case's log-log plot (~1 CPU s a case)");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
   cmd->add_option("--max-work", o->max_work,
                   "Field evaluations a render case may take (its renders and the reference), estimated "

@@ -36,7 +36,7 @@ struct VerifyCliOptions {
   double order_tolerance = 0.25;
   std::string order_metric = "rms";
   std::string cache_dir;
-  bool no_cache = false, no_diagnosis = false, no_plots = false, quiet = false;
+  bool no_cache = false, no_diagnosis = false, plots = false, quiet = false;
   double unit_distance = 0;
   double max_work = kDefaultVerifyWorkLimit;
   int threads = 0;
@@ -96,7 +96,7 @@ int run_verify(const VerifyCliOptions& o) {
                                      {"bounds", o.bounds}, {"case", o.case_name}, {"alpha", o.alpha},
                                      {"threshold", opt.threshold}, {"tol", o.tol}, {"order_metric", o.order_metric}};
   const VerifyRun run = run_verification(scene, images, opt, bounds, o.case_name.empty() ? "verify" : o.case_name,
-                                         out ? &*out : nullptr, parameters, o.no_plots);
+                                         out ? &*out : nullptr, parameters, o.plots);
   if (!o.quiet) std::cerr << "vrv verify: " << summary_text(run) << '\n';
   nlohmann::ordered_json j = to_json(run.report);
   j["pass"] = run.pass;
@@ -131,7 +131,7 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--order-metric", o->order_metric, "Statistic the orders fit: rms, max, mean, p99")->capture_default_str();
   cmd->add_option("--bounds", o->bounds, "Bounds file (TOML): gate on its [defaults] (or --case)");
   cmd->add_option("--case", o->case_name, "With --bounds: the case whose bounds apply");
-  cmd->add_option("--out", o->out, "Write tables, error images, plot and meta.json into this directory");
+  cmd->add_option("--out", o->out, "Write tables, error images, plots.json and meta.json (and with --plots the plot) into this directory");
   cmd->add_option("--alpha", o->alpha, "Colour channels with an alpha channel: premultiplied or straight")->capture_default_str();
   cmd->add_option("--threshold", o->threshold, "Count pixels with |error| above this (default 1e-3)");
   cmd->add_option("--tol", o->tol, "Absolute tolerance of the reference per pixel")->capture_default_str();
@@ -139,7 +139,7 @@ void add_verify_command(CLI::App& app) {
   cmd->add_flag("--no-cache", o->no_cache, "Do not read or write the reference cache");
   cmd->add_flag("--no-diagnosis", o->no_diagnosis, "Skip casting vrv's own models");
   cmd->add_option("--unit-distance", o->unit_distance, "Unit distance of the uncorrected-opacity models (default: the largest step)");
-  cmd->add_flag("--no-plots", o->no_plots, "Do not draw the plot");
+  add_plot_flags(cmd, o->plots, "With --out: draw the log-log plot error_vs_step.{png,pdf} (~1 CPU s)");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
   cmd->add_option("--max-work", o->max_work,
                   "Field evaluations the reference may take, estimated before it is computed")

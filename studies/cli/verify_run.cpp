@@ -126,7 +126,7 @@ std::vector<double> provenance_steps(const std::vector<std::string>& files) {
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
                            const std::string& case_name, PublishedFolder* out,
-                           const nlohmann::json& parameters, bool no_plots) {
+                           const nlohmann::json& parameters, bool plots) {
   const auto start = std::chrono::steady_clock::now();
   VerifyRun run;
   run.report = verify_images(scene, images, options);
@@ -138,10 +138,10 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out->write_and_publish([&](const fs::path& dir) {
       write_verify_outputs(dir, run.report, extra, parameters, seconds);
-      if (!no_plots) run.plot_failure = draw_plot(dir);
+      if (plots) run.plot_failure = draw_plot(dir);
     });
     if (!run.plot_failure.empty())
-      std::cerr << fmt::format("vrv verify: {}: the plot could not be drawn: {}; or pass --no-plots\n",
+      std::cerr << fmt::format("vrv verify: {}: the plot could not be drawn: {}; or leave out --plots\n",
                                out->target().string(), run.plot_failure);
   }
   return run;
@@ -150,11 +150,18 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
                            const std::string& case_name, const fs::path& out,
-                           const nlohmann::json& parameters, bool no_plots) {
+                           const nlohmann::json& parameters, bool plots) {
   std::optional<PublishedFolder> folder;
   if (!out.empty()) folder.emplace(out, kVerifyOutMarker, "--out");
   return run_verification(scene, images, options, bounds, case_name, folder ? &*folder : nullptr, parameters,
-                          no_plots);
+                          plots);
+}
+
+void add_plot_flags(CLI::App* cmd, bool& plots, const std::string& what) {
+  // Drawing costs a Python process and matplotlib's import (~1 CPU s, more than the rest of a
+  // cached verify): only where asked.  --no-plots, the default, stays accepted for scripts.
+  auto* on = cmd->add_flag("--plots", plots, what);
+  cmd->add_flag("--no-plots")->description("Do not draw the plots (the default)")->excludes(on);
 }
 
 void run_exiting(const std::function<int()>& body) {

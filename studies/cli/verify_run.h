@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "lib/gate.h"
@@ -43,17 +44,17 @@ struct VerifyRun {
 };
 
 // Verifies, evaluates `bounds` (if any) for `case_name`, and writes the outputs into `out`
-// (if not null) with the plot unless no_plots, then publishes it whole (published_folder.h).
+// (if not null) with the plot if `plots`, then publishes it whole (published_folder.h).
 // Throws VerifyInputError / std::invalid_argument for bad input.
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
                            const std::string& case_name, PublishedFolder* out,
-                           const nlohmann::json& parameters, bool no_plots);
+                           const nlohmann::json& parameters, bool plots);
 // The same into the folder `out` (if not empty), its PublishedFolder made here (vrv gate's cases).
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
                            const std::string& case_name, const std::filesystem::path& out,
-                           const nlohmann::json& parameters, bool no_plots);
+                           const nlohmann::json& parameters, bool plots);
 
 // What marks a folder as a verification's outputs (check_replaceable_dir, lib/io/output_paths.h).
 inline constexpr const char* kVerifyOutMarker = "meta.json";
@@ -61,6 +62,9 @@ inline constexpr const char* kVerifyOutMarker = "meta.json";
 // A subcommand's callback around `body` (verify, gate): a non-zero result is the exit code.  Errors
 // (a bad bounds file: BoundsFileError, "<file>: <key>: <reason>") are main's, "vrv: error: ...",
 // exit 2, as for every command.
+// --plots (draw the log-log plot into --out) and --no-plots (the default), for verify and gate.
+void add_plot_flags(CLI::App* cmd, bool& plots, const std::string& what);
+
 void run_exiting(const std::function<int()>& body);
 
 // The summary line on stderr: verdict, orders, nearest model, faults, failed bounds.

@@ -437,7 +437,7 @@ PYBIND11_MODULE(vrv, m) {
         py::arg("expected_order") = py::none(), py::arg("order_tolerance") = 0.25,
         py::arg("order_metric") = "rms", py::arg("tol") = 1e-10, py::arg("threshold") = py::none(),
         py::arg("diagnose") = true, py::arg("unit_distance") = 0.0, py::arg("bounds") = py::none(),
-        py::arg("case") = py::none(), py::arg("out") = py::none(), py::arg("plots") = true,
+        py::arg("case") = py::none(), py::arg("out") = py::none(), py::arg("plots") = false,
         py::arg("max_work") = kDefaultVerifyWorkLimit, py::arg("alpha") = "premultiplied",
         "`vrv verify` in-process: a renderer's images of the scene's camera ((height, width) arrays, "
         "or (height, width, 3 or 4) for RGB and RGBA as `vrv verify` reads them; one per sample "
@@ -445,7 +445,7 @@ PYBIND11_MODULE(vrv, m) {
         "--max-work) it is refused.  Returns the report `vrv verify` "
         "prints, as a dict (pass, verdict, images, orders, diagnosis, faults, ...); `bounds`: a bounds "
         "file (its [defaults], or `case`), whose rows are added and whose fail levels `pass` includes; "
-        "`out`: a folder for its tables, error images, meta.json and the log-log plot "
-        "error_vs_step.{png,pdf} (`plots=False`: `vrv verify --no-plots`); `alpha`: colour with an alpha "
+        "`out`: a folder for its tables, error images and meta.json, with the log-log plot "
+        "error_vs_step.{png,pdf} if `plots=True` (`vrv verify --plots`); `alpha`: colour with an alpha "
         "channel is 'premultiplied' (the default) or 'straight', as --alpha");
 }

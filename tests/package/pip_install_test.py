@@ -67,7 +67,7 @@ images = [scene.render(method="alpha", strategy="inviwo", step=h, width=16, heig
 for h, image in zip(steps, images):
     import numpy as np
     np.save(f"alpha_{{h}}.npy", image)
-r = vrv.verify(scene, images, steps, expected_order=2, diagnose=False, out="pv")
+r = vrv.verify(scene, images, steps, expected_order=2, diagnose=False, out="pv", plots=True)
 assert r["pass"], r["verdict_reason"]
 print(r["verdict"])
 """
@@ -83,7 +83,7 @@ if not (scratch / "pv" / "error_vs_step.png").is_file():
 # The command pip wrote runs the package's program (PYTHONPATH: a --target is not on sys.path).
 files = [f"alpha_{h}.npy" for h in steps]
 p = run("vrv verify", [target / "bin" / "vrv", "verify", *files, "--steps", ",".join(map(str, steps)),
-                       "--expected-order", "2", "--no-cache", "--no-diagnosis", "--out", "cv", "--quiet"],
+                       "--expected-order", "2", "--no-cache", "--no-diagnosis", "--out", "cv", "--plots", "--quiet"],
         env={**clean, "LD_DEBUG": "files", "PYTHONPATH": str(target)})
 if f"file={package}/libvrv_image.so" not in p.stderr or f"file={build}/" in p.stderr:
     sys.exit(f"vrv verify: the image module was not loaded from {package}:\n{p.stderr[-3000:]}")

@@ -48,7 +48,7 @@ foreach(h 0.1 0.05 0.025 0.0125)
   list(APPEND images ${OUT}/alpha_${h}.exr)
 endforeach()
 run(0 verify ${env} LD_DEBUG=files ${P}/bin/vrv verify --scene ${SCENE} ${images} --steps 0.1,0.05,0.025,0.0125
-    --out ${OUT}/v --cache-dir ${OUT}/cache --quiet)
+    --out ${OUT}/v --cache-dir ${OUT}/cache --plots --quiet)
 if(NOT LAST_ERR MATCHES "file=${P}/lib/vrv/libvrv_image.so" OR LAST_ERR MATCHES "file=${BIN}/libvrv_image")
   message(FATAL_ERROR "verify: the image module was not loaded from ${P}/lib/vrv:\n${LAST_ERR}")
 endif()

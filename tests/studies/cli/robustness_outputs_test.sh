@@ -110,8 +110,8 @@ expect render_size_memory 2 "^vrv: error: --width/--height: the render needs abo
 # script's output is caught, its last line quoted in one line, exit 1 (as a study's failed plot).
 printf '#!/bin/sh\nfor i in $(seq 40); do echo "  File \\"plot_study.py\\", line $i" >&2; done\necho "OSError: [Errno 28] No space left on device" >&2\nexit 1\n' > "$out/python"
 chmod +x "$out/python"
-VRV_PYTHON="$out/python" expect plot_failed 1 "^vrv verify: .*/plotted: the plot could not be drawn: .*: OSError: \[Errno 28\] No space left on device; or pass --no-plots$" \
-  "$vrv" verify "${images[@]}" --no-cache --quiet --out "$out/plotted"
+VRV_PYTHON="$out/python" expect plot_failed 1 "^vrv verify: .*/plotted: the plot could not be drawn: .*: OSError: \[Errno 28\] No space left on device; or leave out --plots$" \
+  "$vrv" verify "${images[@]}" --no-cache --quiet --out "$out/plotted" --plots
 grep -q '"plots":"failed: ' "$out/plot_failed.out" || fail "plot_failed: $(cat "$out/plot_failed.out")"
 
 # A truncated PNG printed libpng's own line before vrv's (and leaked inside OpenImageIO: the

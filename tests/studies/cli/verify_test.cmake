@@ -40,7 +40,7 @@ endif()
 
 # Converges at order 2: exit 0, the JSON names the verdict and the nearest model; the files exist.
 run_vrv(0 verify_pass verify --scene ${SCENE} ${images} --steps ${steps} --expected-order 2
-        --out ${OUT}/v --cache-dir ${OUT}/cache --no-plots --quiet)
+        --out ${OUT}/v --cache-dir ${OUT}/cache --quiet)
 string(JSON verdict GET "${LAST_OUT}" verdict)
 string(JSON placement GET "${LAST_OUT}" diagnosis 0 placement)
 string(JSON rule GET "${LAST_OUT}" diagnosis 0 rule)
@@ -54,11 +54,19 @@ foreach(f errors.csv errors.md errors.tex errors.json orders.csv diagnosis.json 
     message(FATAL_ERROR "verify_pass: ${f} was not written")
   endif()
 endforeach()
+# The plot is drawn only with --plots (a Python process, ~1 CPU s); the two flags exclude each other.
+if(EXISTS ${OUT}/v/error_vs_step.png OR EXISTS ${OUT}/v/error_vs_step.pdf)
+  message(FATAL_ERROR "verify_pass: the plot was drawn without --plots")
+endif()
 # No fault named: faults.md says so instead of a header over no rows.
 string(JSON fault_count LENGTH "${LAST_OUT}" faults)
 file(READ ${OUT}/v/faults.md faults_md)
 if(NOT fault_count EQUAL 0 OR NOT faults_md STREQUAL "none: no fault named\n")
   message(FATAL_ERROR "verify_pass: faults.md with no fault:\n${faults_md}")
+endif()
+run_vrv(2 verify_plots_conflict verify --scene ${SCENE} ${images} --steps ${steps} --plots --no-plots --quiet)
+if(NOT LAST_ERR MATCHES "--plots|--no-plots")
+  message(FATAL_ERROR "verify_plots_conflict: the message does not name the flags:\n${LAST_ERR}")
 endif()
 # The second run reads the reference from the cache.
 run_vrv(0 verify_cached verify --scene ${SCENE} ${images} --steps ${steps} --cache-dir ${OUT}/cache --no-diagnosis --quiet)

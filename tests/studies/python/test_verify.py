@@ -27,7 +27,7 @@ def scene_and_rays():
 def test_numpy_raycaster_passes_and_its_files_are_written(scene_and_rays, tmp_path):
     scene, origins, directions = scene_and_rays
     images = [numpy_raycaster.render(origins, directions, h) for h in STEPS]
-    report = vrv.verify(scene, images, STEPS, expected_order=2, out=str(tmp_path / "out"))
+    report = vrv.verify(scene, images, STEPS, expected_order=2, out=str(tmp_path / "out"), plots=True)
     assert report["pass"], report["verdict_reason"]
     assert report["verdict"] == "converges"
     reference = [o for o in report["orders"] if o["kind"] == "reference"][0]
@@ -44,18 +44,18 @@ def test_numpy_raycaster_passes_and_its_files_are_written(scene_and_rays, tmp_pa
 
 def test_plot_failure_warns_and_keeps_the_tables(scene_and_rays, tmp_path, monkeypatch):
     """As `vrv verify --out`: a plot that cannot be drawn is one line (a RuntimeWarning), not an
-    error; the tables are written.  plots=False draws nothing (`--no-plots`)."""
+    error; the tables are written.  Without plots=True (`--plots`) nothing is drawn."""
     scene, origins, directions = scene_and_rays
     images = [numpy_raycaster.render(origins, directions, h) for h in STEPS]
     monkeypatch.setenv("VRV_PYTHON", str(tmp_path / "no-such-python"))
     out = tmp_path / "failed"
     with pytest.warns(RuntimeWarning, match=r"^vrv.verify: .*failed: the plot could not be drawn"):
-        report = vrv.verify(scene, images, STEPS, diagnose=False, out=str(out))
+        report = vrv.verify(scene, images, STEPS, diagnose=False, out=str(out), plots=True)
     assert report["pass"] and (out / "errors.csv").is_file() and (out / "plots.json").is_file()
     assert not (out / "error_vs_step.png").exists()
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # not drawn, so nothing to warn about
-        vrv.verify(scene, images, STEPS, diagnose=False, out=str(tmp_path / "none"), plots=False)
+        vrv.verify(scene, images, STEPS, diagnose=False, out=str(tmp_path / "none"))
     assert (tmp_path / "none" / "plots.json").is_file()
     assert not (tmp_path / "none" / "error_vs_step.png").exists()
 
