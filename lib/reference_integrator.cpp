@@ -61,6 +61,19 @@ double weighted_sum(const ChebyshevRule& rule, const Noise& noise) {
   return sum;
 }
 
+// dg/dv and dtau/dv, signed, on an affine branch whose lines stay >= 0 over its values [lo, hi]
+// (a line clamped at 0 has slope 0 on one side); none otherwise.  A field error that takes a
+// value past lo or hi moves a crossing: the bands' and kinks' business, not the slopes'.
+struct SignedSlopes {
+  double emission = 0, extinction = 0;
+};
+std::optional<SignedSlopes> signed_slopes(const TransferSegment& seg, double lo, double hi) {
+  if (seg.convention != Convention::emission_extinction) return std::nullopt;
+  for (const Line& line : {seg.first, seg.second})
+    if (line.slope != 0 && !(line(lo) >= 0 && line(hi) >= 0)) return std::nullopt;
+  return SignedSlopes{seg.first.slope, seg.second.slope};
+}
+
 }  // namespace
 
 RayAccumulator::RayAccumulator(const TransferFunction& tf, double background,
@@ -117,11 +130,23 @@ void RayAccumulator::consume(const RayPanel& panel) {
     const double v = panel(0.5 * (c + t));
     // ... and changes g and tau through the slopes of the branch each piece is on.
     const auto slopes = tf_.slope_bounds(v, v);
-    error_ += charge(field_error, t - c, std::exp(-phi_), emission_done_ ? 0.0 : slopes.emission);
-    piece_depth_error_ = charge(field_error, t - c, slopes.extinction);
-    book_depth_error(piece_depth_error_);
+    double lo = 0, hi = 0;
+    const TransferSegment seg = tf_.segment(v, lo, hi);
     branch_slopes_ = slopes;
-    integrate_piece(panel, c, t, tf_.segment(v));
+    const auto joint = emission_done_ || !(field_error > 0) ? std::nullopt : signed_slopes(seg, lo, hi);
+    if (joint) {
+      joint_.push_back({field_error * (t - c), joint->emission, joint->extinction, 0, std::exp(-phi_), value_, 0});
+      piece_depth_error_ = 0;
+      piece_joint_ = &joint_.back();
+      integrate_piece(panel, c, t, seg);
+      piece_joint_->t_lo = std::exp(-phi_), piece_joint_->before_hi = value_;
+      piece_joint_ = nullptr;
+    } else {
+      error_ += charge(field_error, t - c, std::exp(-phi_), emission_done_ ? 0.0 : slopes.emission);
+      piece_depth_error_ = charge(field_error, t - c, slopes.extinction);
+      book_depth_error(piece_depth_error_);
+      integrate_piece(panel, c, t, seg);
+    }
     c = t;
   }
   charge_bands(next_band, panel.b, transmittance);
@@ -176,11 +201,18 @@ std::size_t RayAccumulator::charge_bands(std::size_t first, double c, double pan
         std::min(panel_transmittance, std::exp(-(phi_ - max_extinction_ * (c - band.u))));
     // The depth error scales what comes after the band: from here on (booked), and the at most
     // max g (c - u) already added since its start.
-    const double dphi = jump.extinction * band.dt;
-    book_depth_error(dphi);
-    if (emission_done_) continue;  // after termination its bound covers all emission
-    error_ += transmittance * jump.emission * band.dt +
-              charge(dphi, tf_.max_emission(), c - band.u, transmittance);
+    if (emission_done_) {  // after termination its bound covers all emission
+      book_depth_error(jump.extinction * band.dt);
+      continue;
+    }
+    // The crossing x lies in [u, u + 2 dt]: e^-Phi there is at least this, and the emission
+    // added before x differs from what is added now by at most max g e^-Phi per unit length.
+    const double beyond = std::max(0.0, band.u + 2 * band.dt - c), behind = std::max(0.0, c - band.u);
+    const double t_lo = std::exp(-(phi_ + max_extinction_ * beyond));
+    const double reach = tf_.max_emission() * transmittance;
+    const auto signed_jump = tf_.signed_jump_at(band.level);
+    joint_.push_back({band.dt, signed_jump.emission, signed_jump.extinction, t_lo, transmittance,
+                      value_ - reach * behind, value_ + reach * beyond});
   }
   return k;
 }
@@ -287,6 +319,7 @@ bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, dou
   // do not reach the layer's own emission, which the bracket covers (v's range is widened by
   // the field error): charge them only to what comes after, as if booked after this emission.
   depth_error_weighted_ += (piece_depth_error_ + depth_error_ - booked0) * emission;
+  if (piece_joint_) piece_joint_->before_lo = value_;  // likewise for the piece's joint charge
   if (e < d) {
     // Behind the layer: at most max g e^-Phi per unit length; only Phi is carried on.
     error_ += std::max(seg.g(whole.min), seg.g(whole.max)) * std::exp(-phi_) * (d - e);
@@ -417,6 +450,23 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   error_ += s.error;
 }
 
+double RayAccumulator::joint_error(double value, double other_error) const {
+  double sum = 0;
+  for (const JointCharge& j : joint_) {
+    // R = value - before, widened by what value and before may be off (other_error; the
+    // joint charges themselves are of second order there); R >= 0.
+    const double r_lo = std::max(0.0, value - j.before_hi - other_error);
+    const double r_hi = std::max(0.0, value - j.before_lo + other_error);
+    double worst = 0;  // |dg T - dtau R| is largest at a corner of the box of T and R
+    for (double t : {j.t_lo, j.t_hi})
+      for (double r : {r_lo, r_hi}) worst = std::max(worst, std::abs(j.dg * t - j.dtau * r));
+    // Second order: e^-x against 1 - x (x = |dtau| size), and the product of both changes.
+    const double second = 0.5 * j.size * j.size * std::abs(j.dtau) * (std::abs(j.dtau) * r_hi + std::abs(j.dg) * j.t_hi);
+    sum += charge(j.size, worst, 1) + (second > 0 ? second : 0.0);
+  }
+  return sum;
+}
+
 void RayAccumulator::check_termination(double t) {
   if (stopped_) return;
   // Everything still to come emits at most max g per unit length, attenuated by e^-Phi.
@@ -458,7 +508,8 @@ ReferenceResult RayAccumulator::finish() const {
   r.value = value_ + background_ * std::exp(-phi_);
   // First order in dPhi; 10 % covers the second-order terms.
   const double after = std::max(0.0, r.value * depth_error_ - depth_error_weighted_);
-  r.error_estimate = error_ + 1.1 * after + 16 * eps * (std::abs(value_) + background_);
+  const double separate = error_ + 1.1 * after + 16 * eps * (std::abs(value_) + background_);
+  r.error_estimate = separate + joint_error(r.value, separate);
   r.tolerance_met = !capped_ && r.error_estimate <= tol_ && std::isfinite(r.value) &&
                     std::isfinite(r.error_estimate);
   return r;

@@ -142,6 +142,21 @@ class RayAccumulator {
   double depth_error_ = 0;           // sum of dPhi_i
   double depth_error_weighted_ = 0;  // sum of dPhi_i * (value before i)
   std::vector<Crossing> crossings_;
+  // A field error at a point changes g there and tau for everything after it: per unit of error
+  // I moves by dg T - dtau R (T the transmittance there, R the light still to come, background
+  // included).  The two terms cancel where g and tau rise together (a thick medium of constant
+  // g / tau does not care where it starts; charged apart, they made estimates 10^3 x the
+  // error), so pieces of affine branches and jumps' bands are charged jointly, in finish(), once
+  // R is known: over the ranges T and R can take there.
+  struct JointCharge {
+    double size = 0;                      // field error x length (a piece), the band's width (a jump)
+    double dg = 0, dtau = 0;              // signed slopes (a piece), signed jumps (a band)
+    double t_lo = 0, t_hi = 0;            // transmittance where it applies
+    double before_lo = 0, before_hi = 0;  // the emission accumulated before that point
+  };
+  std::vector<JointCharge> joint_;
+  JointCharge* piece_joint_ = nullptr;  // the current piece's, while it is integrated
+  double joint_error(double value, double other_error) const;
 };
 
 // Work cap per ray: past it the rest of the ray is bounded (RayAccumulator::give_up).

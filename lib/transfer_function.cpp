@@ -117,10 +117,15 @@ TransferFunction::Slopes TransferFunction::slope_bounds(double v_lo, double v_hi
   return out;
 }
 
-TransferFunction::Slopes TransferFunction::jump_at(double v) const {
+TransferFunction::Jump TransferFunction::signed_jump_at(double v) const {
   const auto it = std::lower_bound(breakpoints_.begin(), breakpoints_.end(), v);
   if (it == breakpoints_.end() || *it != v) return {};
   return jumps_[it - breakpoints_.begin()];
+}
+
+TransferFunction::Slopes TransferFunction::jump_at(double v) const {
+  const Jump j = signed_jump_at(v);
+  return {std::abs(j.emission), std::abs(j.extinction)};
 }
 
 TransferSegment TransferFunction::segment(double v, double& lo, double& hi) const {
@@ -184,7 +189,7 @@ void TransferFunction::finish() {
     const double below = i == 0 ? b[0] - 1 : 0.5 * (b[i - 1] + b[i]);
     const double above = i + 1 == b.size() ? b[i] + 1 : 0.5 * (b[i] + b[i + 1]);
     const TransferSegment l = segment(below), r = segment(above);
-    jumps_.push_back({std::abs(r.g(b[i]) - l.g(b[i])), std::abs(r.tau(b[i]) - l.tau(b[i]))});
+    jumps_.push_back({r.g(b[i]) - l.g(b[i]), r.tau(b[i]) - l.tau(b[i])});
   }
 
   max_g_ = max_dg_ = max_dtau_ = 0;

@@ -101,6 +101,12 @@ class TransferFunction {
   Slopes slope_bounds(double v_lo, double v_hi) const;
   // |g(v+) - g(v-)| and |tau(v+) - tau(v-)|: nonzero only at the jumps of a step function.
   Slopes jump_at(double v) const;
+  // g(v+) - g(v-) and tau(v+) - tau(v-), signed (zero but at a jump).
+  struct Jump {
+    double emission = 0;
+    double extinction = 0;
+  };
+  Jump signed_jump_at(double v) const;
   double max_emission() const { return max_g_; }
   // sup g / tau where tau > 0, infinite when g > 0 somewhere tau = 0: the emission of any stretch
   // is at most this times its absorbed fraction 1 - e^-Phi, so at most this, however long.
@@ -118,7 +124,7 @@ class TransferFunction {
   std::vector<double> breakpoints_;
   std::optional<double> kappa_;
   std::vector<Slopes> segment_slopes_;  // below b_0, between b_{i-1} and b_i, above the last
-  std::vector<Slopes> jumps_;           // at each breakpoint
+  std::vector<Jump> jumps_;           // at each breakpoint
   double max_g_ = 0;
   double max_ratio_ = 0;
   double max_dg_ = 0;

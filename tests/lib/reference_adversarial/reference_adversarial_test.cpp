@@ -131,16 +131,14 @@ long evaluation_limit(const AdversarialRay& r, const Scene& scene) {
 
 // Rays whose estimate is still more than 100x max(error, floor) (issue 20 stays open for them;
 // docs/reference-integrator.md, "The adversarial suite"): each must still be honest and bounded,
-// and its estimate within 50x the not-absurd bound (the worst measured, tall_box, is 27x), so
-// that they cannot drift further unseen.
+// and its estimate within 20x the not-absurd bound (the worst measured, opacity_color_jump_0, is
+// 13x; near_constant_0 1.2x, tf200_ml12_0 2.8x), so that they cannot drift further unseen.
 const std::set<std::string> kStillLoose{
     "issue20_tf200_ml12_0", "tf200_ml12_1", "tf200_ml12_2",                              // many_points
-    "tall_fM12_ray4_jump_1e-09_above_max",                                               // tall_box
-    "tall_fM24_ray4_jump_1e-09_above_max", "tall_fM24_ray5_jump_1e-12_above_max",
     "near_constant_0", "near_constant_1", "near_constant_3",                             // flat
     "opacity_color_jump_0", "opacity_color_jump_1",                                       // steep
-    "opacity_color_jump_3", "opacity_color_jump_4", "opacity_color_jump_5"};
-constexpr double kStillLooseFactor = 50;
+    "opacity_color_jump_3", "opacity_color_jump_4"};
+constexpr double kStillLooseFactor = 20;
 
 struct Outcome {
   const AdversarialRay* ray = nullptr;
@@ -245,8 +243,10 @@ std::string summary(const std::vector<Outcome>& outcomes, double tol) {
 
 void check(const std::function<bool(const AdversarialRay&)>& pick, double tol, const std::string& name) {
   std::vector<Outcome> outcomes;
+  const char* only = std::getenv("VRV_ADVERSARIAL_ONLY");  // one ray by its tag, for a closer look
   for (const auto& r : data().rays)
-    if (pick(r)) outcomes.push_back(run(r, tol));
+    if (pick(r) && (!only || r.tag == only)) outcomes.push_back(run(r, tol));
+  if (only && outcomes.empty()) GTEST_SKIP() << "VRV_ADVERSARIAL_ONLY=" << only << ": not in this set";
   ASSERT_FALSE(outcomes.empty());
   const bool verbose = std::getenv("VRV_ADVERSARIAL_VERBOSE") != nullptr;  // every ray, not only failures
   for (const auto& o : outcomes) {
