@@ -134,7 +134,7 @@ void run_demo(const DemoOptions& opt) {
   const Scene scene = load_scene_or_default(opt.scene);
   const DemoRun r = run(scene, opt);
   fmt::print("vrv demo: {} rays (fixed seed) through {}.\n\n", opt.rays,
-             opt.scene.empty() ? "the embedded default scene (default_scene_toml, lib/io/scene_file.cpp)" : opt.scene);
+             opt.scene.empty() ? "the embedded default scene (default_scene_toml, lib/scene_file.cpp)" : opt.scene);
   fmt::print("Mean |discrete - reference| per segment rule and step h (inviwo sampling), and the\n"
              "observed order (least-squares slope of log error against log h) against the expected:\n\n");
   fmt::print("{}\n", error_table(r, opt).to_markdown());

@@ -15,7 +15,7 @@
 #include "lib/reference_integrator.h"
 #include "lib/order_estimate.h"
 #include "studies/engine/study_rays.h"
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 #include "studies/opacity-correction/opacity_correction.h"
 
 namespace vrv {

@@ -1,4 +1,4 @@
-#include "lib/io/verify_output.h"
+#include "lib/verify/verify_output.h"
 
 #include <algorithm>
 #include <cmath>
