@@ -1,11 +1,11 @@
 #pragma once
-// Gating a verification on a bounds file (lib/io/bounds_file.h): one row per bound with the
+// Gating a verification on a bounds file (lib/bounds_file.h): one row per bound with the
 // measured value, the limit that decided it, the margin and the verdict.
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "lib/io/bounds_file.h"
+#include "lib/bounds_file.h"
 #include "lib/io/table.h"
 #include "lib/verify.h"
 

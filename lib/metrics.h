@@ -3,18 +3,22 @@
 //
 //  - error_stats: max, mean, RMS and 99th percentile of |e|, the fraction of values with
 //    |e| > threshold, and the signed mean, over one set of per-pixel errors;
-//  - fit_order: the observed order p of error ~ C h^p, the least-squares slope of log(error)
-//    against log(h), with the slope's standard error from the residuals;
+//  - fit_order: the observed order p of error ~ C h^p, lib/order_estimate.h's fit (the
+//    least-squares slope of log(error) against log(h), its standard error and bias factor) of the
+//    points that have a logarithm;
 //  - self_convergence_order: the same order from differences between successive images alone
 //    (Etiene et al., "Verifying volume rendering using discretization error analysis", TVCG
 //    2014): no reference is needed;
-//  - judge: a verdict (converges, converges at a lower order, stalls at a floor, diverges).
+//  - judge: a verdict (converges, converges at a lower order, stalls at a floor, diverges; lower
+//    only outside order_estimate's band around the expected order).
 #include <cstddef>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "lib/order_estimate.h"
 
 namespace vrv {
 
@@ -38,17 +42,9 @@ std::string_view metric_name(Metric m);                   // "max", "mean", "rms
 std::optional<Metric> parse_metric(std::string_view name);
 double metric_value(const ErrorStats& s, Metric m);
 
-// log(error) = log(C) + order * log(step), fitted by least squares (Eigen).
-struct OrderFit {
-  double order = 0;      // NaN when fewer than two usable points
-  double std_error = 0;  // standard error of the slope: sqrt(SSR / (n - 2) / Sxx); NaN when n < 3
-  double log_constant = 0;
-  int points = 0;
-};
-
-// Points with a non-positive or non-finite error or step are left out (an error of exactly 0
-// has no logarithm); the fit uses the rest.
-OrderFit fit_order(std::span<const double> steps, std::span<const double> errors);
+// estimate_order of the points with a positive, finite error and step: the others are left out (an
+// error of exactly 0 has no logarithm).  NaN order with fewer than two such points.
+OrderEstimate fit_order(std::span<const double> steps, std::span<const double> errors);
 
 // Self-convergence: images at steps h_0 > h_1 > ... (sorted here, with their differences given
 // in the same order as the steps they start from: differences[k] = ||I(h_k) - I(h_{k+1})|| for
@@ -57,7 +53,7 @@ OrderFit fit_order(std::span<const double> steps, std::span<const double> errors
 // out until p settles (for a constant ratio the first fit is already exact).  Needs two
 // differences (three images) for an order, three for its standard error.
 // `steps` has one more entry than `differences`.
-OrderFit self_convergence_order(std::span<const double> steps, std::span<const double> differences);
+OrderEstimate self_convergence_order(std::span<const double> steps, std::span<const double> differences);
 
 enum class Verdict { converges, converges_lower, stalls, diverges, undetermined };
 std::string_view verdict_name(Verdict v);  // "converges", "converges at a lower order", ...
@@ -65,9 +61,11 @@ std::string_view verdict_name(Verdict v);  // "converges", "converges at a lower
 struct JudgeOptions {
   std::optional<double> expected_order;  // K; without it any positive order converges
   double tolerance = 0.25;  // observed >= K - tolerance converges at K; |order| < tolerance is no order
-  // A floor: the last local slope (between the two finest steps) falls below this fraction of
-  // the steepest earlier local slope (so a sequence that never converged faster is "lower", not
-  // "stalls"); or the overall order is within +-tolerance of 0.
+  // "Lower" is claimed only below K - max(margin * c_1 * SE, tolerance), order_estimate's band
+  // (lib/order_estimate.h; two points have no spread: the tolerance alone): points that bend away
+  // from one power law cannot place the order closer than that, so between the two it is
+  // undetermined (the same band the studies check their orders in).
+  double margin = 2;
   double stall_fraction = 0.5;
 };
 
@@ -78,15 +76,10 @@ struct Judgement {
 };
 
 // steps and errors in any order (sorted here by decreasing step); fit = fit_order of them.
-Judgement judge(std::span<const double> steps, std::span<const double> errors, const OrderFit& fit,
+Judgement judge(std::span<const double> steps, std::span<const double> errors, const OrderEstimate& fit,
                 const JudgeOptions& options);
 
 // Severity for combining verdicts (diverges > stalls > converges_lower > undetermined > converges).
 int severity(Verdict v);
-
-// Least-squares slope of log(error) against log(step) (Eigen QR), as the studies' order tables
-// have always been computed (kept so that their outputs stay byte-identical).  NaN if fewer than
-// two points or an error is not positive.  fit_order gives the same slope with its spread.
-double observed_order(const std::vector<double>& steps, const std::vector<double>& errors);
 
 }  // namespace vrv

@@ -36,6 +36,14 @@ LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y) {
   return f;
 }
 
+// x = log(step), y = log(error), h = step / largest step (the bias factor is scale-free, and
+// this keeps the numbers near 1).
+OrderEstimate fit(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& h) {
+  const LineFit f = fit_line(x, y);
+  const LineFit g = fit_line(x, h);  // the model's D h term, D = 1
+  return {f.slope, f.standard_error, std::abs(g.slope) / g.standard_error, static_cast<long>(x.size())};
+}
+
 }  // namespace
 
 OrderEstimate estimate_order(const std::vector<double>& steps, const std::vector<double>& errors) {
@@ -47,15 +55,18 @@ OrderEstimate estimate_order(const std::vector<double>& steps, const std::vector
     if (!ok) return out;
     x.push_back(std::log(steps[i]));
     y.push_back(std::log(errors[i]));
-    // h / h_max: the bias factor is scale-free, and this keeps the numbers near 1.
     h.push_back(steps[i] / *std::max_element(steps.begin(), steps.end()));
   }
-  const LineFit f = fit_line(x, y);
-  out.order = f.slope;
-  out.standard_error = f.standard_error;
-  const LineFit g = fit_line(x, h);  // the model's D h term, D = 1
-  out.bias_factor = std::abs(g.slope) / g.standard_error;
-  return out;
+  return fit(x, y, h);
+}
+
+OrderEstimate estimate_log_order(const std::vector<double>& log_steps, const std::vector<double>& log_errors) {
+  if (log_steps.size() < 2 || log_steps.size() != log_errors.size())
+    return {kNaN, kNaN, kNaN, static_cast<long>(log_steps.size())};
+  const double largest = *std::max_element(log_steps.begin(), log_steps.end());
+  std::vector<double> h;
+  for (double x : log_steps) h.push_back(std::exp(x - largest));
+  return fit(log_steps, log_errors, h);
 }
 
 double order_tolerance(const OrderEstimate& fit, const OrderTolerance& tolerance) {

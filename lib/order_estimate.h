@@ -32,6 +32,10 @@ struct OrderEstimate {
 // finite and > 0.
 OrderEstimate estimate_order(const std::vector<double>& steps, const std::vector<double>& errors);
 
+// The same fit through points already taken to logarithms, x = log(step) and y = log(error), all
+// finite and of equal number (the self-convergence order refits corrected y's, lib/metrics.h).
+OrderEstimate estimate_log_order(const std::vector<double>& log_steps, const std::vector<double>& log_errors);
+
 struct OrderTolerance {
   double margin = 2;     // times the bias bound c_1 * SE
   double floor = 0.05;   // the tolerance is never below this

@@ -24,8 +24,8 @@
 #include "lib/geometry.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
-#include "lib/io/bounds_file.h"
-#include "lib/io/scene_file.h"
+#include "lib/bounds_file.h"
+#include "lib/scene_file.h"
 #include "lib/verify.h"
 
 namespace vrv {
@@ -93,7 +93,7 @@ VerifyReport verify(const Scene& scene, const std::vector<double>& steps, const 
 // images converge at it) and no bound of `bounds` reaches its fail level: `vrv verify --bounds`'s
 // exit 0.  The rows are evaluate_bounds() of lib/gate.h; use_bounds() sets the options a bounds
 // set needs (its threshold; NaN pixels counted when it bounds them) before verifying.  Bounds
-// come from a file with load_bounds(path).defaults (or a case's .bounds), lib/io/bounds_file.h.
+// come from a file with load_bounds(path).defaults (or a case's .bounds), lib/bounds_file.h.
 bool passes(const VerifyReport& report, const BoundSet& bounds);
 
 }  // namespace vrv

@@ -136,7 +136,7 @@ std::optional<Fault> border_band(const Evidence& e) {
     steps.push_back(r.step);
     errs.push_back(r.region(Region::silhouette)->stats.rms);
   }
-  const OrderFit f = fit_order(steps, errs);
+  const OrderEstimate f = fit_order(steps, errs);
   if (!(f.order < 1.5)) return std::nullopt;
   return Fault{FaultKind::first_order_border_band,
                fmt::format("{} ({}): RMS {:.3g} in the {}-pixel silhouette band against {:.3g} "

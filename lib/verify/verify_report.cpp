@@ -31,8 +31,8 @@ nlohmann::ordered_json to_json(const ErrorStats& s) {
           {"mean_signed", number(s.mean_signed)}};
 }
 
-nlohmann::ordered_json to_json(const OrderFit& f) {
-  return {{"order", number(f.order)}, {"std_error", number(f.std_error)}, {"points", f.points}};
+nlohmann::ordered_json to_json(const OrderEstimate& f) {
+  return {{"order", number(f.order)}, {"std_error", number(f.standard_error)}, {"points", f.points}};
 }
 
 nlohmann::ordered_json to_json(const ReferenceInfo& r) {

@@ -48,7 +48,7 @@ std::string_view order_kind_name(OrderKind kind);  // "reference", "self"
 struct OrderReport {
   std::string channel;
   OrderKind kind = OrderKind::reference;
-  OrderFit fit;
+  OrderEstimate fit;
   Judgement judgement;       // reference only; self: the verdict of the self-convergence sequence
   std::vector<double> steps, errors;  // the points fitted (self: differences, one fewer)
 };

@@ -46,7 +46,7 @@
 #include "lib/util/parallel.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 
 namespace {
 

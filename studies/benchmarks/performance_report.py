@@ -722,7 +722,7 @@ def section_largest(p, fits, machine):
             b_pixel = res.get(builds[-1][1], "image_bytes_per_pixel")
             p_source = f"{b_pixel:.0f} B (`image_bytes_per_pixel`: float value + long work + double error estimate, as `vrv render` keeps)"
     max_side = read_constant(REPO / "lib" / "camera.h", "kMaxImageSide")
-    max_file_nodes = read_constant(REPO / "lib" / "io" / "scene_file.cpp", "kMaxGridNodes")
+    max_file_nodes = read_constant(REPO / "lib" / "scene_file.cpp", "kMaxGridNodes")
 
     def largest(memory_bytes):
         usable = (1 - HEADROOM) * memory_bytes
@@ -772,7 +772,7 @@ def section_largest(p, fits, machine):
     if max_file_nodes:
         c = round(max_file_nodes ** (1 / 3))
         out += ["", f"A grid read from a scene file is further capped at kMaxGridNodes = {max_file_nodes} nodes "
-                f"(lib/io/scene_file.cpp; {c}³ for a cube, {fmt_bytes(8 * max_file_nodes)} of doubles), so the "
+                f"(lib/scene_file.cpp; {c}³ for a cube, {fmt_bytes(8 * max_file_nodes)} of doubles), so the "
                 f"{n}³ figure applies to grids built in code (`make_grid`)."]
     # Rough times at the limits, from the tail exponents.
     rows = []

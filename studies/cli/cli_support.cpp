@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 #include "lib/reference_integrator.h"
 
 namespace vrv::cli {

@@ -2,7 +2,8 @@
 // set of rays: the reference integral per ray with its cost and error estimate, and every segment
 // rule's mean error against it at a few halvings of the step, with its observed order of
 // convergence against the expected one.  The pieces are the studies' own: study_rays (the ray
-// set), observed_order (the least-squares slope) and the table writer.
+// set), estimate_order and order_matches (the least-squares slope and the band the studies check
+// it in, lib/order_estimate.h) and the table writer.
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -13,7 +14,7 @@
 
 #include "lib/discrete_raycast.h"
 #include "lib/io/table.h"
-#include "lib/metrics.h"
+#include "lib/order_estimate.h"
 #include "lib/reference_integrator.h"
 #include "lib/util/parallel.h"
 #include "studies/cli/cli_support.h"
@@ -29,7 +30,8 @@ struct DemoOptions {
   double tol = 1e-12;    // the reference's absolute tolerance on I
   double step = 0.01;    // the coarsest step (world units); each next one is half of it
   int halvings = 3;      // steps: step, step/2, ..., step/2^halvings
-  double order_tolerance = 0.25;  // |observed - expected| the verdict allows (the convergence study's)
+  // |observed - expected| <= max(margin * c_1 * SE, floor): the convergence study's band.
+  OrderTolerance order_tolerance{.margin = 2, .floor = 0.05};
 };
 
 // The expected orders (theory; studies/convergence/convergence.toml states the same): Riemann's
@@ -52,8 +54,9 @@ void check(const DemoOptions& opt) {
     throw std::invalid_argument(fmt::format("--rays: must be in [1, 100000], got {}", opt.rays));
   if (!(opt.step > 0) || !std::isfinite(opt.step))
     throw std::invalid_argument(fmt::format("--step: must be positive, got {}", opt.step));
-  if (opt.halvings < 1 || opt.halvings > 8)
-    throw std::invalid_argument(fmt::format("--halvings: must be in [1, 8], got {}", opt.halvings));
+  // Three steps at least: the order's band is derived from the fit's spread.
+  if (opt.halvings < 2 || opt.halvings > 8)
+    throw std::invalid_argument(fmt::format("--halvings: must be in [2, 8], got {}", opt.halvings));
 }
 
 struct DemoRun {
@@ -114,12 +117,12 @@ Table error_table(const DemoRun& r, const DemoOptions& opt) {
   const std::size_t S = r.steps.size();
   for (std::size_t m = 0; m < kRuleCount; ++m) {
     const std::vector<double> means(r.mean_error.begin() + m * S, r.mean_error.begin() + (m + 1) * S);
-    const double observed = observed_order(r.steps, means);
-    const bool ok = std::abs(observed - kRules[m].expected) <= opt.order_tolerance;  // false for NaN
+    const OrderEstimate fit = estimate_order(r.steps, means);
+    const bool ok = order_matches(fit, kRules[m].expected, opt.order_tolerance);  // false for NaN
     std::vector<Table::Cell> row{std::string(segment_rule_name(kRules[m].rule))};
     for (double e : means) row.emplace_back(e);
     row.emplace_back(kRules[m].expected);
-    row.emplace_back(observed);
+    row.emplace_back(fit.order);
     row.emplace_back(std::string(ok ? "yes" : "NO"));
     t.add_row(std::move(row));
   }
@@ -131,7 +134,7 @@ void run_demo(const DemoOptions& opt) {
   const Scene scene = load_scene_or_default(opt.scene);
   const DemoRun r = run(scene, opt);
   fmt::print("vrv demo: {} rays (fixed seed) through {}.\n\n", opt.rays,
-             opt.scene.empty() ? "the embedded default scene (default_scene_toml, lib/io/scene_file.cpp)" : opt.scene);
+             opt.scene.empty() ? "the embedded default scene (default_scene_toml, lib/scene_file.cpp)" : opt.scene);
   fmt::print("Mean |discrete - reference| per segment rule and step h (inviwo sampling), and the\n"
              "observed order (least-squares slope of log error against log h) against the expected:\n\n");
   fmt::print("{}\n", error_table(r, opt).to_markdown());

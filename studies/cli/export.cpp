@@ -19,10 +19,10 @@
 #include <fmt/format.h>
 
 #include "lib/io/atomic_file.h"
-#include "lib/io/camera_export.h"
-#include "lib/io/scene_file.h"
-#include "lib/io/transfer_export.h"
-#include "lib/io/volume_export.h"
+#include "lib/camera_export.h"
+#include "lib/scene_file.h"
+#include "lib/transfer_export.h"
+#include "lib/volume_export.h"
 #include "lib/scene_hash.h"
 #include "lib/vrv.h"
 #include "studies/cli/cli_support.h"

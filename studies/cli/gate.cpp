@@ -12,12 +12,12 @@
 
 #include <fmt/format.h>
 
-#include "lib/io/bounds_file.h"
+#include "lib/bounds_file.h"
 #include "lib/io/error_line.h"
 #include "lib/io/output_paths.h"
-#include "lib/io/verify_output.h"
+#include "lib/verify/verify_output.h"
 #include "lib/util/parallel.h"
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 #include "lib/work_estimate.h"
 #include "studies/cli/verify_run.h"
 #include "studies/cli/cli_support.h"

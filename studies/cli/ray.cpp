@@ -13,7 +13,7 @@
 
 #include <fmt/format.h>
 
-#include "lib/io/rays_file.h"
+#include "lib/rays_file.h"
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "studies/cli/cli_support.h"

@@ -28,7 +28,7 @@
 #include "lib/reference_integrator.h"
 #include "lib/scene_hash.h"
 #include "lib/vrv.h"
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 #include "studies/cli/memory_limit.h"

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 #include "studies/cli/commands.h"
 
 namespace vrv::cli {

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "lib/io/error_line.h"
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 #include "studies/engine/checkpoint.h"

@@ -6,13 +6,13 @@
 
 #include <fmt/format.h>
 
-#include "lib/io/bounds_file.h"
+#include "lib/bounds_file.h"
 #include "lib/io/image_channels.h"
 #include "lib/io/image_io.h"
 #include "lib/io/output_paths.h"
 #include "lib/io/stderr_capture.h"
 #include "lib/work_estimate.h"
-#include "lib/io/verify_output.h"
+#include "lib/verify/verify_output.h"
 #include "studies/cli/commands.h"
 
 namespace vrv::cli {

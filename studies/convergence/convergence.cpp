@@ -12,7 +12,7 @@
 #include <toml++/toml.h>
 
 #include "lib/io/atomic_file.h"
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 #include "lib/io/table.h"
 #include "lib/metrics.h"
 #include "lib/reference_integrator.h"

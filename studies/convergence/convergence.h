@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "lib/discrete_raycast.h"
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 #include "lib/order_estimate.h"
 #include "lib/scene.h"
 #include "studies/engine/checkpoint.h"

@@ -18,7 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 #include "lib/order_estimate.h"
 #include "studies/engine/study_work.h"
 

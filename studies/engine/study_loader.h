@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <string>
 
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 #include "studies/engine/study_driver.h"
 
 namespace vrv {

@@ -21,7 +21,7 @@
 
 #include "lib/io/atomic_file.h"
 #include "lib/io/run_metadata.h"
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 #include "lib/util/parallel.h"
 
 #include "studies/engine/checkpoint.h"

@@ -10,14 +10,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 #include "lib/scene.h"
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
 
 namespace vrv {
 
-// One method run on a hard case: see StudyMethodSpec (lib/io/study_file.h).
+// One method run on a hard case: see StudyMethodSpec (lib/study_file.h).
 using HardCaseMethod = StudyMethodSpec;
 
 struct HardCase {

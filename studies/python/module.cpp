@@ -27,7 +27,7 @@
 
 #include "lib/io/npy.h"
 #include "lib/io/output_paths.h"
-#include "lib/io/verify_output.h"
+#include "lib/verify/verify_output.h"
 #include "lib/util/parallel.h"
 #include "lib/verify_work.h"
 #include "lib/vrv.h"

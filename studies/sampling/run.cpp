@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "lib/metrics.h"
+#include "lib/order_estimate.h"
 #include "lib/util/progress.h"
 #include "lib/work_estimate.h"
 #include "studies/engine/checkpoint.h"
@@ -24,7 +24,7 @@ Scene ramp_scene(const Study& st) {
 double order_over_rates(const std::vector<double>& rates, const std::vector<double>& errors) {
   std::vector<double> steps;
   for (double r : rates) steps.push_back(1 / r);
-  return observed_order(steps, errors);
+  return estimate_order(steps, errors).order;
 }
 
 std::vector<StrategyOrder> observed_orders(const Study& st, const std::vector<StrategyRun>& runs) {

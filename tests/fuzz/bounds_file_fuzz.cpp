@@ -1,11 +1,11 @@
-// Fuzz target: the bounds file of `vrv verify --bounds` and `vrv gate` (lib/io/bounds_file).  Any
+// Fuzz target: the bounds file of `vrv verify --bounds` and `vrv gate` (lib/bounds_file).  Any
 // input gives its cases, each named and with at least one step or image, or one short
 // BoundsFileError line naming the file.
 #include <cstdint>
 #include <cstdlib>
 #include <string>
 
-#include "lib/io/bounds_file.h"
+#include "lib/bounds_file.h"
 #include "tests/fuzz/fuzz_limits.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

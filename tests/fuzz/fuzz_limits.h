@@ -10,7 +10,7 @@
 
 #include <toml++/toml.h>
 
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 
 namespace vrv::fuzz {
 

@@ -1,4 +1,4 @@
-// Fuzz target: the rays file of `vrv ray --rays` (lib/io/rays_file).  Any input gives its rays,
+// Fuzz target: the rays file of `vrv ray --rays` (lib/rays_file).  Any input gives its rays,
 // each with a finite origin and a unit direction, or one std::invalid_argument line naming the
 // input and the line.  No size cut-off: the reader bounds its lines and their nesting itself, and
 // a cut-off hid the 70,000-deep id that overflowed the stack (issue 22).
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "lib/io/rays_file.h"
+#include "lib/rays_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));

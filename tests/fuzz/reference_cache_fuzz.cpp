@@ -12,7 +12,7 @@
 #include <fstream>
 #include <string>
 
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 #include "lib/verify.h"
 
 #include "tests/fuzz/fuzz_limits.h"

@@ -3,7 +3,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 #include "tests/fuzz/fuzz_limits.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

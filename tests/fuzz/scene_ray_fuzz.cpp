@@ -15,7 +15,7 @@
 
 #include "lib/discrete_raycast.h"
 #include "lib/reference_integrator.h"
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 #include "tests/fuzz/fuzz_limits.h"
 
 namespace {

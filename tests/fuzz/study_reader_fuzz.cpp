@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 #include "studies/engine/study_loader.h"
 #include "tests/fuzz/fuzz_limits.h"
 

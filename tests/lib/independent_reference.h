@@ -20,7 +20,7 @@
 //     nested (12-point) Gauss-Legendre from the panel start plus the running depth; once the
 //     emission still to come is below 1e-30 only the depth is integrated.
 // Checked against closed forms and for convergence (finer scan, shorter panels, more points)
-// in reference_integrator_test.cpp; on Marschner-Lobb rays it agrees with itself to ~1e-18.
+// in independent_reference_test.cpp; on Marschner-Lobb rays it agrees with itself to ~1e-18.
 // It is slow (hundreds of thousands of long-double field evaluations per ray) and meant only
 // for tests.
 #include <algorithm>

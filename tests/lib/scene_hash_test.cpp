@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 
 namespace vrv {
 namespace {

@@ -29,7 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "lib/geometry.h"
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
 

@@ -7,7 +7,7 @@
 
 #include "lib/discrete_raycast.h"
 #include "lib/reference_integrator.h"
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 
 namespace vrv {
 namespace {

@@ -11,7 +11,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 #include "lib/util/parallel.h"
 #include "lib/verify.h"
 #include "lib/verify/model_catalogue.h"

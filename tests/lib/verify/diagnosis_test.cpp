@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 #include "lib/verify.h"
 #include "tests/lib/toy_renderer_conventions.h"
 

@@ -11,7 +11,7 @@
 
 #include "lib/io/image_channels.h"
 #include "lib/io/image_io.h"
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 #include "lib/verify.h"
 #include "tests/lib/toy_raycaster.h"
 

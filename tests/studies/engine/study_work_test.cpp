@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 #include "studies/engine/study_loader.h"
 
 namespace vrv {

@@ -12,8 +12,8 @@
 #include <gtest/gtest.h>
 
 #include "lib/util/parallel.h"
-#include "lib/io/scene_file.h"
-#include "lib/io/study_file.h"
+#include "lib/scene_file.h"
+#include "lib/study_file.h"
 #include "studies/engine/study_driver.h"
 
 namespace vrv {

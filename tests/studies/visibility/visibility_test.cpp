@@ -12,7 +12,7 @@
 #include "lib/discrete_raycast.h"
 #include "lib/util/parallel.h"
 #include "lib/scene.h"
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 #include "studies/engine/study_driver.h"
 #include "studies/visibility/identities.h"
 #include "studies/visibility/culling.h"

@@ -1,4 +1,4 @@
-#include "lib/io/rays_file.h"
+#include "lib/rays_file.h"
 
 #include <algorithm>
 #include <cctype>

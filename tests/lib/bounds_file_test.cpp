@@ -1,4 +1,4 @@
-#include "lib/io/bounds_file.h"
+#include "lib/bounds_file.h"
 
 #include <string>
 

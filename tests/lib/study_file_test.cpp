@@ -1,4 +1,4 @@
-// The study-file reader (lib/io/study_file): hostile inputs give one-line StudyFileErrors.
+// The study-file reader (lib/study_file): hostile inputs give one-line StudyFileErrors.
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "lib/io/scene_file.h"
-#include "lib/io/study_file.h"
+#include "lib/scene_file.h"
+#include "lib/study_file.h"
 
 namespace vrv {
 namespace {

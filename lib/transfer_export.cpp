@@ -1,4 +1,4 @@
-#include "lib/io/transfer_export.h"
+#include "lib/transfer_export.h"
 
 #include <algorithm>
 #include <cmath>

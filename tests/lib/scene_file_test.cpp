@@ -1,4 +1,4 @@
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "lib/io/bounds_file.h"
+#include "lib/bounds_file.h"
 
 #include <cmath>
 #include <set>
@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 
 namespace vrv {
 namespace {

@@ -1,4 +1,4 @@
-#include "lib/io/study_file.h"
+#include "lib/study_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <fmt/ranges.h>
 
 #include "lib/io/error_line.h"
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 
 namespace vrv {
 namespace {

@@ -1,4 +1,4 @@
-#include "lib/io/verify_output.h"
+#include "lib/verify/verify_output.h"
 
 #include <algorithm>
 #include <cmath>
@@ -58,7 +58,7 @@ VerifyTables verify_tables(const VerifyReport& rep) {
   t.orders.set_format("std_error", "{:.3f}");
   t.points.allow_missing("error");
   for (const OrderReport& o : rep.orders) {
-    t.orders.add_row({o.channel, std::string(order_kind_name(o.kind)), o.fit.order, o.fit.std_error, static_cast<long>(o.fit.points),
+    t.orders.add_row({o.channel, std::string(order_kind_name(o.kind)), o.fit.order, o.fit.standard_error, static_cast<long>(o.fit.points),
                       std::string(verdict_name(o.judgement.verdict)), o.judgement.reason});
     const std::string series = fmt::format("{} {}", o.channel, o.kind == OrderKind::self ? "successive differences" : "against the reference");
     for (std::size_t k = 0; k < o.steps.size(); ++k)

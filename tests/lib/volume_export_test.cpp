@@ -1,4 +1,4 @@
-#include "lib/io/volume_export.h"
+#include "lib/volume_export.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 
 namespace vrv {
 namespace {

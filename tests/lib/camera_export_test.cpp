@@ -1,4 +1,4 @@
-#include "lib/io/camera_export.h"
+#include "lib/camera_export.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "lib/io/volume_export.h"
+#include "lib/volume_export.h"
 
 #include <cstdint>
 #include <cstring>
