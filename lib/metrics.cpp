@@ -37,29 +37,38 @@ double order_band(const OrderEstimate& fit, const JudgeOptions& options) {
 
 }  // namespace
 
+void ErrorSums::add(double e) {
+  const double a = std::abs(e);
+  s_.max = std::max(s_.max, a);
+  sum_abs_ += a;
+  sum_sq_ += e * e;
+  sum_ += e;
+  over_ += a > threshold_;
+  ++s_.count;
+}
+
+ErrorStats ErrorSums::stats() const {
+  ErrorStats s = s_;
+  if (s.count == 0) return s;
+  const double n = static_cast<double>(s.count);
+  s.mean = sum_abs_ / n;
+  s.rms = std::sqrt(sum_sq_ / n);
+  s.mean_signed = sum_ / n;
+  s.fraction_over = static_cast<double>(over_) / n;
+  return s;
+}
+
 ErrorStats error_stats(std::span<const double> errors, double threshold) {
-  ErrorStats s;
-  s.count = static_cast<long>(errors.size());
-  if (errors.empty()) return s;
+  ErrorSums sums(threshold);
   std::vector<double> abs(errors.size());
-  double sum_abs = 0, sum_sq = 0, sum = 0;
-  long over = 0;
   for (std::size_t i = 0; i < errors.size(); ++i) {
-    const double e = errors[i];
-    if (!std::isfinite(e)) throw std::invalid_argument(fmt::format("error {} is {}", i, e));
-    abs[i] = std::abs(e);
-    s.max = std::max(s.max, abs[i]);
-    sum_abs += abs[i];
-    sum_sq += e * e;
-    sum += e;
-    over += abs[i] > threshold;
+    if (!std::isfinite(errors[i])) throw std::invalid_argument(fmt::format("error {} is {}", i, errors[i]));
+    sums.add(errors[i]);
+    abs[i] = std::abs(errors[i]);
   }
-  const double n = static_cast<double>(errors.size());
-  s.mean = sum_abs / n;
-  s.rms = std::sqrt(sum_sq / n);
-  s.mean_signed = sum / n;
-  s.fraction_over = static_cast<double>(over) / n;
-  const auto rank = static_cast<std::size_t>(std::ceil(0.99 * n)) - 1;  // nearest rank, 0-based
+  ErrorStats s = sums.stats();
+  if (errors.empty()) return s;
+  const auto rank = static_cast<std::size_t>(std::ceil(0.99 * static_cast<double>(errors.size()))) - 1;  // nearest rank, 0-based
   std::nth_element(abs.begin(), abs.begin() + static_cast<std::ptrdiff_t>(rank), abs.end());
   s.p99 = abs[rank];
   return s;

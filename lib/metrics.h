@@ -36,6 +36,23 @@ struct ErrorStats {
 // the index).  An empty span gives count 0 and zeros.
 ErrorStats error_stats(std::span<const double> errors, double threshold);
 
+// The same sums taken one error at a time, in the order given, without keeping the errors: for
+// a caller that cannot afford a copy of its pixels (render) or skips some of them (the sampling
+// study's missed rays).  stats() leaves p99 at 0, which needs every value.  A NaN error is not
+// refused here: it leaves max as it was and makes mean, rms and mean_signed NaN.
+class ErrorSums {
+ public:
+  explicit ErrorSums(double threshold = 0) : threshold_(threshold) {}
+  void add(double e);
+  ErrorStats stats() const;
+
+ private:
+  double threshold_;
+  ErrorStats s_;
+  double sum_abs_ = 0, sum_sq_ = 0, sum_ = 0;
+  long over_ = 0;
+};
+
 // Which statistic an order fit or a bound reads.
 enum class Metric { max, mean, rms, p99, fraction_over };
 std::string_view metric_name(Metric m);                   // "max", "mean", "rms", "p99", "fraction_over"

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "lib/image_loop.h"
+#include "lib/reference_pixels.h"
 #include "lib/util/parallel.h"
 
 namespace vrv {
@@ -27,12 +29,7 @@ Camera scene_camera(const Scene& scene, std::optional<int> width, std::optional<
 
 std::vector<Ray> camera_rays(const Camera& camera) {
   validate(camera);
-  const long pixels = static_cast<long>(camera.width) * camera.height;
-  std::vector<Ray> rays(static_cast<std::size_t>(pixels));
-  parallel_for_index(pixels, [&](long i) {
-    rays[i] = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
-  });
-  return rays;
+  return image_loop(camera, [](const Ray& ray) { return ray; });
 }
 
 void reference_values(const Scene& scene, std::span<const Ray> rays,
@@ -67,33 +64,38 @@ std::vector<DiscreteResult> discrete_values(const Scene& scene, std::span<const 
   return out;
 }
 
-namespace {
-
-// The per-ray results as an image; the sums run in pixel order (thread-count independent).
-template <class Result, class Work, class Estimate>
-ValueImage to_image(const Camera& camera, const std::vector<Result>& results, Work work,
-                    Estimate estimate) {
-  ValueImage image{camera.width, camera.height, std::vector<double>(results.size())};
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    image.values[i] = results[i].value;
-    image.work += work(results[i]);
-    image.max_error_estimate = std::max(image.max_error_estimate, estimate(results[i]));
+ValueImage render_reference_image(const Scene& scene, const Camera& camera, const ReferenceOptions& options) {
+  validate(camera);
+  validate(options);
+  const long pixels = pixel_count(camera);
+  ValueImage image{camera.width, camera.height, std::vector<double>(static_cast<std::size_t>(pixels))};
+  std::vector<long> evaluations(image.values.size());
+  std::vector<double> estimates(image.values.size());
+  reference_pixels(scene, camera, options, [&](long i, const ReferenceResult& r) {
+    image.values[i] = r.value, evaluations[i] = r.evaluations, estimates[i] = r.error_estimate;
+  });
+  // The sums in pixel order: the same for any thread count.
+  for (long i = 0; i < pixels; ++i) {
+    image.work += evaluations[i];
+    image.max_error_estimate = std::max(image.max_error_estimate, estimates[i]);
   }
   return image;
 }
 
-}  // namespace
-
-ValueImage render_reference_image(const Scene& scene, const Camera& camera, const ReferenceOptions& options) {
-  return to_image(camera, reference_values(scene, camera_rays(camera), options),
-                  [](const ReferenceResult& r) { return r.evaluations; },
-                  [](const ReferenceResult& r) { return r.error_estimate; });
-}
-
 ValueImage render_discrete_image(const Scene& scene, const Camera& camera, const DiscreteConfig& config) {
-  return to_image(camera, discrete_values(scene, camera_rays(camera), config),
-                  [](const DiscreteResult& r) { return r.samples; },
-                  [](const DiscreteResult&) { return 0.0; });
+  validate(camera);
+  validate(config, std::holds_alternative<GridField>(scene.field));
+  const std::vector<DiscreteResult> results = visit_field(scene, [&](const auto& field) {
+    using F = std::decay_t<decltype(field)>;
+    const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config);
+    return image_loop(camera, [&](const Ray& ray) { return caster.cast(ray); });
+  });
+  ValueImage image{camera.width, camera.height, std::vector<double>(results.size())};
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    image.values[i] = results[i].value;
+    image.work += results[i].samples;
+  }
+  return image;
 }
 
 namespace {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 
+#include "lib/image_loop.h"
 #include "lib/util/parallel.h"
 #include "lib/verify/model_catalogue.h"
 #include "lib/work_estimate.h"
@@ -101,16 +102,11 @@ std::vector<Model> distinct_models(const Scene& scene, const std::vector<double>
 
 std::vector<double> cast_pixels(const Scene& scene, const Camera& camera, const DiscreteConfig& config,
                                 const std::vector<long>& pixels) {
-  std::vector<double> out(pixels.size());
-  visit_field(scene, [&](const auto& field) {
+  return visit_field(scene, [&](const auto& field) {
     using F = std::decay_t<decltype(field)>;
     const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config);
-    parallel_for_index(static_cast<long>(pixels.size()), [&](long k) {
-      const long i = pixels[k];
-      out[k] = caster.cast(camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width))).value;
-    });
+    return image_loop(camera, pixels, [&](const Ray& ray) { return caster.cast(ray).value; });
   });
-  return out;
 }
 
 std::vector<double> discrete_image(const Scene& scene, const Camera& camera, const DiscreteConfig& config) {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "lib/util/parallel.h"
+#include "lib/image_loop.h"
 
 namespace vrv {
 namespace {
@@ -17,33 +17,49 @@ std::vector<double> jump_values(const TransferFunction& tf) {
   return v;
 }
 
+// One pixel's ray: whether it hits the box, its sensitivities, whether it crosses a jump.
+struct Trace {
+  unsigned char hit = 0, crosses = 0;
+  double d_entry = 0, d_exit = 0;
+};
+
+template <class Field>
+Trace trace(const Field& field, const Scene& scene, const std::vector<double>& jumps, int jump_samples,
+            const Ray& ray, double value, double optical_depth) {
+  Trace t;
+  const auto iv = clip(ray, scene.box);
+  if (!iv || !(iv->t1 > iv->t0)) return t;
+  const TransferFunction& tf = scene.transfer;
+  t.hit = 1;
+  const double f0 = field.value(ray.at(iv->t0)), f1 = field.value(ray.at(iv->t1));
+  const double T1 = std::exp(-optical_depth);
+  t.d_entry = -tf.emission(f0) + tf.extinction(f0) * value;
+  t.d_exit = T1 * (tf.emission(f1) - scene.background * tf.extinction(f1));
+  if (jumps.empty()) return t;
+  const int m = std::max(2, jump_samples);
+  double prev = f0;
+  for (int k = 1; k < m && !t.crosses; ++k) {
+    const double f = field.value(ray.at(iv->t0 + (iv->t1 - iv->t0) * k / (m - 1)));
+    for (double v : jumps)
+      if ((prev - v) * (f - v) <= 0 && prev != f) t.crosses = 1;
+    prev = f;
+  }
+  return t;
+}
+
 // Hit, sensitivities and whether the ray crosses a jump (`crosses`), per pixel.
 void trace_pixels(const Scene& scene, const Camera& camera, const ReferenceImage& ref, int jump_samples,
                   PixelGeometry& g, std::vector<unsigned char>& crosses) {
-  const int w = camera.width;
-  const long n = static_cast<long>(w) * camera.height;
   const std::vector<double> jumps = jump_values(scene.transfer);
-  const TransferFunction& tf = scene.transfer;
   visit_field(scene, [&](const auto& field) {
-    parallel_for_index(n, [&](long i) {
-      const Ray ray = camera.ray(static_cast<int>(i % w), static_cast<int>(i / w));
-      const auto iv = clip(ray, scene.box);
-      if (!iv || !(iv->t1 > iv->t0)) return;
-      g.hit[i] = 1;
-      const double f0 = field.value(ray.at(iv->t0)), f1 = field.value(ray.at(iv->t1));
-      const double T1 = std::exp(-ref.optical_depth[i]);
-      g.d_entry[i] = -tf.emission(f0) + tf.extinction(f0) * ref.value[i];
-      g.d_exit[i] = T1 * (tf.emission(f1) - scene.background * tf.extinction(f1));
-      if (jumps.empty()) return;
-      const int m = std::max(2, jump_samples);
-      double prev = f0;
-      for (int k = 1; k < m && !crosses[i]; ++k) {
-        const double f = field.value(ray.at(iv->t0 + (iv->t1 - iv->t0) * k / (m - 1)));
-        for (double v : jumps)
-          if ((prev - v) * (f - v) <= 0 && prev != f) crosses[i] = 1;
-        prev = f;
-      }
-    });
+    image_loop_into(
+        camera, {},
+        [&](const Ray& ray, long i) {
+          return trace(field, scene, jumps, jump_samples, ray, ref.value[i], ref.optical_depth[i]);
+        },
+        [&](long i, const Trace& t) {
+          g.hit[i] = t.hit, crosses[i] = t.crosses, g.d_entry[i] = t.d_entry, g.d_exit[i] = t.d_exit;
+        });
   });
 }
 

@@ -4,8 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "lib/reference_integrator.h"
-#include "lib/util/parallel.h"
+#include "lib/reference_pixels.h"
 #include "lib/util/progress.h"
 #include "lib/verify/reference_cache.h"
 
@@ -17,18 +16,14 @@ namespace fs = std::filesystem;
 ReferenceImage render_reference(const Scene& scene, const Camera& camera, double tol, bool progress) {
   ReferenceImage r;
   r.width = camera.width, r.height = camera.height;
-  const long n = static_cast<long>(camera.width) * camera.height;
+  const long n = pixel_count(camera);
   r.value.resize(n), r.error_estimate.resize(n), r.optical_depth.resize(n);
   Progress bar("reference", n, progress);
-  visit_field(scene, [&](const auto& field) {
-    parallel_for_index(n, [&](long i) {
-      const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
-      const ReferenceResult v =
-          integrate_reference(field, scene.box, scene.transfer, scene.background, ray, {tol});
-      r.value[i] = v.value, r.error_estimate[i] = v.error_estimate, r.optical_depth[i] = v.optical_depth;
-      bar.advance();
-    });
-  });
+  ImageLoopHooks hooks;
+  hooks.progress = [&](long done) { bar.advance(done); };
+  reference_pixels(scene, camera, {tol}, [&](long i, const ReferenceResult& v) {
+    r.value[i] = v.value, r.error_estimate[i] = v.error_estimate, r.optical_depth[i] = v.optical_depth;
+  }, hooks);
   bar.finish();
   return r;
 }

@@ -3,13 +3,14 @@
 // results/performance.md, which studies/benchmarks/performance_report.py writes.
 //   build/bench_scaling [--benchmark_filter=...]
 //
-// Every render runs its pixels on all threads with parallel_for_index (TBB's default), so the
-// times are wall-clock (UseRealTime); `threads` records how many TBB may use.  Camera: perspective
-// from (0, 0, -4) at the box centre, up +y, 35 degree vertical fov, square images; at that fov
-// every pixel ray meets the box [-1, 1]^3 (its front face spans +-18.4 degrees from 3 units away),
-// so time per pixel is not diluted by misses (`hit_fraction` checks it).  Scene: default_scene()
-// (Marschner-Lobb fM = 6, alpha = 0.25 on [-1, 1]^3, emission g = f, extinction tau = f / 2,
-// background 0, dims 64^3); its grids are node-layout trilinear samples of the same field.
+// Every render runs its pixels on all threads through the image loop (lib/image_loop.h; TBB's
+// default), so the times are wall-clock (UseRealTime); `threads` records how many TBB may use.
+// Camera: perspective from (0, 0, -4) at the box centre, up +y, 35 degree vertical fov, square
+// images; at that fov every pixel ray meets the box [-1, 1]^3 (its front face spans +-18.4 degrees
+// from 3 units away), so time per pixel is not diluted by misses (`hit_fraction` checks it).
+// Scene: default_scene() (Marschner-Lobb fM = 6, alpha = 0.25 on [-1, 1]^3, emission g = f,
+// extinction tau = f / 2, background 0, dims 64^3); its grids are node-layout trilinear samples of
+// the same field.
 //
 // Series (size variable in brackets; each family's counters name it):
 //   BM_Image_Reference/side    [pixels = side^2]  analytic field, reference integrator, tol 1e-10
@@ -43,7 +44,7 @@
 
 #include "lib/camera.h"
 #include "lib/discrete_raycast.h"
-#include "lib/util/parallel.h"
+#include "lib/image_loop.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
 #include "lib/scene_file.h"
@@ -105,9 +106,7 @@ void render(benchmark::State& state, const Camera& cam, PerPixel&& per_pixel) {
   std::vector<PixelOut> out(pixels);
   long iterations = 0;
   for (auto _ : state) {
-    parallel_for_index(pixels, [&](long i) {
-      out[i] = per_pixel(cam.ray(static_cast<int>(i % cam.width), static_cast<int>(i / cam.width)));
-    });
+    image_loop_into(cam, {}, per_pixel, [&](long i, const PixelOut& p) { out[i] = p; });
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
     ++iterations;

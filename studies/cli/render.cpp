@@ -20,12 +20,14 @@
 
 #include "lib/camera.h"
 #include "lib/discrete_raycast.h"
+#include "lib/image_loop.h"
 #include "lib/io/image_io.h"
 #include "lib/io/image_module.h"
 #include "lib/io/output_paths.h"
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
-#include "lib/reference_integrator.h"
+#include "lib/metrics.h"
+#include "lib/reference_pixels.h"
 #include "lib/scene_hash.h"
 #include "lib/vrv.h"
 #include "lib/study_file.h"
@@ -150,40 +152,6 @@ struct Rendered {
   long first_not_finite = -1;     // the first such pixel (row-major index)
 };
 
-// Every pixel on TBB's threads, each writing its own slots; the sums run afterwards in pixel
-// order, so the output is the same for any thread count.
-template <class PerPixel>
-Rendered render_pixels(const Camera& camera, bool quiet, PerPixel&& per_pixel) {
-  Rendered r{Image(camera.width, camera.height),
-             ImageF64{camera.width, camera.height, std::vector<double>(static_cast<std::size_t>(camera.width) * camera.height)}};
-  const long pixels = static_cast<long>(camera.width) * camera.height;
-  std::vector<long> work(pixels);
-  std::vector<double> estimate(pixels);
-  std::vector<char> met(pixels);
-  Progress progress("render", pixels, !quiet);
-  parallel_for_index(pixels, [&](long i) {
-    const int x = static_cast<int>(i % camera.width), y = static_cast<int>(i / camera.width);
-    const auto [value, w, e, m] = per_pixel(camera.ray(x, y));
-    r.image.at(x, y) = static_cast<float>(value);
-    r.values.pixels[i] = value;
-    work[i] = w;
-    estimate[i] = e;
-    met[i] = m;
-    progress.advance();
-  });
-  progress.finish();
-  for (long i = 0; i < pixels; ++i) {
-    r.work += work[i];
-    r.max_error_estimate = std::max(r.max_error_estimate, estimate[i]);
-    if (!std::isfinite(r.image.pixels[i])) {
-      if (r.not_finite++ == 0) r.first_not_finite = i;
-    } else if (!met[i]) {
-      ++r.tolerance_missed;
-    }
-  }
-  return r;
-}
-
 struct PixelResult {
   double value;
   long work;
@@ -191,26 +159,72 @@ struct PixelResult {
   bool tolerance_met;
 };
 
+// The pixels as the image loop puts them, each part in its own plane (the 29 bytes a pixel of
+// check_render_memory); the sums run afterwards in pixel order, so the output is the same for
+// any thread count.
+class PixelPlanes {
+ public:
+  explicit PixelPlanes(const Camera& camera)
+      : r_{Image(camera.width, camera.height), ImageF64{camera.width, camera.height, std::vector<double>(pixel_count(camera))}},
+        work_(r_.values.pixels.size()), estimate_(work_.size()), met_(work_.size()) {}
+  void put(long i, const PixelResult& p) {
+    r_.image.pixels[i] = static_cast<float>(p.value);
+    r_.values.pixels[i] = p.value;
+    work_[i] = p.work;
+    estimate_[i] = p.estimate;
+    met_[i] = p.tolerance_met;
+  }
+  Rendered finish() {
+    for (std::size_t i = 0; i < work_.size(); ++i) {
+      r_.work += work_[i];
+      r_.max_error_estimate = std::max(r_.max_error_estimate, estimate_[i]);
+      if (!std::isfinite(r_.image.pixels[i])) {
+        if (r_.not_finite++ == 0) r_.first_not_finite = static_cast<long>(i);
+      } else if (!met_[i]) {
+        ++r_.tolerance_missed;
+      }
+    }
+    return std::move(r_);
+  }
+
+ private:
+  Rendered r_;
+  std::vector<long> work_;
+  std::vector<double> estimate_;
+  std::vector<char> met_;
+};
+
+// A progress bar the image loop advances block by block.
+ImageLoopHooks progress_hooks(Progress& bar) {
+  ImageLoopHooks hooks;
+  hooks.progress = [&bar](long done) { bar.advance(done); };
+  return hooks;
+}
+
 Rendered render_reference(const Scene& scene, const Camera& camera, double tol, bool quiet) {
-  return visit_field(scene, [&](const auto& field) {
-    return render_pixels(camera, quiet, [&](const Ray& ray) {
-      const ReferenceResult v =
-          integrate_reference(field, scene.box, scene.transfer, scene.background, ray, {tol});
-      return PixelResult{v.value, v.evaluations, v.error_estimate, v.tolerance_met};
-    });
-  });
+  PixelPlanes planes(camera);
+  Progress bar("render", pixel_count(camera), !quiet);
+  reference_pixels(scene, camera, {tol}, [&](long i, const ReferenceResult& v) {
+    planes.put(i, {v.value, v.evaluations, v.error_estimate, v.tolerance_met});
+  }, progress_hooks(bar));
+  bar.finish();
+  return planes.finish();
 }
 
 Rendered render_discrete(const Scene& scene, const Camera& camera, const DiscreteConfig& config,
                          bool quiet) {
-  return visit_field(scene, [&](const auto& field) {
+  PixelPlanes planes(camera);
+  Progress bar("render", pixel_count(camera), !quiet);
+  visit_field(scene, [&](const auto& field) {
     using F = std::decay_t<decltype(field)>;
     const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config);
-    return render_pixels(camera, quiet, [&](const Ray& ray) {
+    image_loop_into(camera, {}, [&](const Ray& ray) {
       const DiscreteResult v = caster.cast(ray);
       return PixelResult{v.value, v.samples, 0.0, true};
-    });
+    }, [&](long i, const PixelResult& p) { planes.put(i, p); }, progress_hooks(bar));
   });
+  bar.finish();
+  return planes.finish();
 }
 
 // A reference a verification can trust: floating point (an 8-bit preview is refused), the render's
@@ -277,27 +291,17 @@ ImageProvenance render_provenance(const Scene& scene, const Camera& camera,
   return p;
 }
 
-struct ErrorStats {
-  double max_abs = 0, mean_abs = 0, rms = 0;
-};
-
 // this - ref, pixel by pixel, in double (the reference from its .f64.tiff when there is one, so
 // errors below a float ulp are measured); out_error.exr holds them rounded to float.
 ErrorStats error_image(const ImageF64& image, const ImageF64& ref, Image& error) {
   error = Image(image.width, image.height);
-  ErrorStats s;
-  double sum_abs = 0, sum_sq = 0;
+  ErrorSums sums;
   for (std::size_t i = 0; i < image.pixels.size(); ++i) {
     const double e = image.pixels[i] - ref.pixels[i];
     error.pixels[i] = static_cast<float>(e);
-    s.max_abs = std::max(s.max_abs, std::abs(e));
-    sum_abs += std::abs(e);
-    sum_sq += e * e;
+    sums.add(e);
   }
-  const double n = static_cast<double>(image.pixels.size());
-  s.mean_abs = sum_abs / n;
-  s.rms = std::sqrt(sum_sq / n);
-  return s;
+  return sums.stats();
 }
 
 void run_render(const RenderOptions& opt) {
@@ -320,10 +324,8 @@ void run_render(const RenderOptions& opt) {
   image_module::functions();  // a missing image module fails now, not after the render
   std::optional<ImageF64> ref;
   if (!opt.error_against.empty()) ref = read_reference_image(opt.error_against, camera, provenance.scene_hash);
-  check_work(opt.discrete, discrete, opt.tol, scene, static_cast<long>(camera.width) * camera.height,
-             [&](long i) {
-               return camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
-             });
+  check_work(opt.discrete, discrete, opt.tol, scene, pixel_count(camera),
+             [&](long i) { return pixel_ray(camera, i); });
 
   if (!scene.camera)
     std::cerr << fmt::format(
@@ -373,14 +375,14 @@ void run_render(const RenderOptions& opt) {
     Image error;
     const ErrorStats s = error_image(r.values, *ref, error);
     write_exr(error, out.error_exr);
-    write_error_map_png(error, out.error_png, s.max_abs);
+    write_error_map_png(error, out.error_png, s.max);
     std::cerr << fmt::format("vrv render: error against {}: max |e| {:.6g}, mean |e| {:.6g}, RMS {:.6g}\n",
-                             opt.error_against, s.max_abs, s.mean_abs, s.rms);
+                             opt.error_against, s.max, s.mean, s.rms);
     j["error_against"] = opt.error_against;
     j["error_output"] = out.error_exr.string();
     j["error_preview"] = out.error_png.string();
-    j["max_abs_error"] = s.max_abs;
-    j["mean_abs_error"] = s.mean_abs;
+    j["max_abs_error"] = s.max;
+    j["mean_abs_error"] = s.mean;
     j["rms_error"] = s.rms;
   }
   std::cout << j.dump() << '\n' << std::flush;

@@ -7,7 +7,9 @@
 
 #include <fmt/format.h>
 
+#include "lib/image_loop.h"
 #include "lib/util/parallel.h"
+#include "lib/vrv.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
 #include "studies/engine/checkpoint.h"
@@ -37,17 +39,20 @@ RenderValues render_values(const RenderScenes& s, const Camera& camera, const st
   // Per pixel: the reference, its estimate, each method's value; one image row is one checkpoint.
   const std::size_t width = 2 + configs.size();
   Progress bar("render", pixels, progress);
-  const std::vector<double> v = checkpointed_items(checkpoints, "render", pixels, camera.width, width,
-                                                   [&](long i, std::span<double> o) {
-    const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
+  ImageLoopHooks hooks;
+  hooks.block = camera.width;
+  hooks.progress = [&](long done) { bar.advance(done); };
+  const std::vector<std::vector<double>> v = image_loop(camera, {}, [&](const Ray& ray) {
+    std::vector<double> o(width);
     const ReferenceResult ref = audited_reference(s.analytic, ray, {s.reference_tol});
     o[0] = ref.value;
     o[1] = ref.error_estimate;
     for (std::size_t k = 0; k < configs.size(); ++k) o[2 + k] = discrete_raycast(s.sampled, ray, configs[k]).value;
-  }, [&](long done) { bar.advance(done); });
+    return o;
+  }, hooks, checkpoint_blocks(checkpoints, "render", width));
   bar.finish();
   for (long i = 0; i < pixels; ++i) {
-    const double* o = v.data() + static_cast<std::size_t>(i) * width;
+    const std::vector<double>& o = v[static_cast<std::size_t>(i)];
     out.reference[i] = o[0];
     out.worst_estimate = std::max(out.worst_estimate, o[1]);
     for (std::size_t k = 0; k < configs.size(); ++k) out.methods[k][i] = o[2 + k];
@@ -61,37 +66,25 @@ Image to_image(const std::vector<double>& values, int width, int height) {
   return image;
 }
 
-PixelStats pixel_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  PixelStats s;
-  double sq = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const double d = std::fabs(a[i] - b[i]);
-    s.mean += d;
-    sq += d * d;
-    s.max = std::max(s.max, d);
-  }
-  if (!a.empty()) {
-    s.mean /= static_cast<double>(a.size());
-    s.rms = std::sqrt(sq / static_cast<double>(a.size()));
-  }
-  return s;
+ErrorStats pixel_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  ErrorSums sums;
+  for (std::size_t i = 0; i < a.size(); ++i) sums.add(a[i] - b[i]);
+  return sums.stats();
 }
 
 std::vector<double> render_groups(const RenderScenes& s, const Camera& camera, int N, bool centred) {
   const DiscreteConfig config = oversampled_config(Correction::none, N, s.unit_step, centred);
   const GridField& grid = std::get<GridField>(s.sampled.field);
   const PiecewiseLinear& opacity = s.sampled.transfer.first();
-  const long pixels = static_cast<long>(camera.width) * camera.height;
-  std::vector<std::vector<double>> per_pixel(pixels);
-  parallel_for_index(pixels, [&](long i) {
-    const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
+  const std::vector<std::vector<double>> per_pixel = image_loop(camera, [&](const Ray& ray) {
+    std::vector<double> groups;
     const auto iv = clip(ray, s.sampled.box);
-    if (!iv) return;
+    if (!iv) return groups;
     // The raycaster's own fine plan (lib/discrete_raycast_impl.h), so the groups are its groups.
     const SamplePlan fine = detail::oversampled(plan_samples(config.sampling, ray, *iv, s.sampled.box), N, centred);
     for (long m0 = 0; m0 + N <= fine.count; m0 += N)
-      for (long j = 0; j < N; ++j)
-        per_pixel[i].push_back(std::clamp(opacity(grid.value(ray.at(fine.t(m0 + j)))), 0.0, 1.0));
+      for (long j = 0; j < N; ++j) groups.push_back(std::clamp(opacity(grid.value(ray.at(fine.t(m0 + j)))), 0.0, 1.0));
+    return groups;
   });
   std::vector<double> out;
   for (const auto& g : per_pixel) out.insert(out.end(), g.begin(), g.end());
@@ -127,14 +120,15 @@ std::vector<SweepRow> error_against_N(const RenderScenes& s, const std::vector<R
     }
     for (std::size_t c = 0; c < corrections.size(); ++c) {
       SweepRow row{corrections[c], N, centred, 0, 0, 0, true};
+      ErrorSums error, from_none;
       for (long i = 0; i < R; ++i) {
-        const double e = std::fabs(values[c][i] - reference[i]);
         row.finite = row.finite && std::isfinite(values[c][i]);
-        row.mean_error += e;
-        row.max_error = std::max(row.max_error, e);
-        row.max_diff_from_none = std::max(row.max_diff_from_none, std::fabs(values[c][i] - none[i]));
+        error.add(values[c][i] - reference[i]);
+        from_none.add(values[c][i] - none[i]);
       }
-      row.mean_error /= static_cast<double>(std::max<long>(R, 1));
+      row.mean_error = error.stats().mean;
+      row.max_error = error.stats().max;
+      row.max_diff_from_none = from_none.stats().max;
       rows.push_back(row);
     }
   }
@@ -145,9 +139,7 @@ std::vector<SweepRow> error_against_N(const RenderScenes& s, const std::vector<R
 double render_seconds(const RenderScenes& s, const Camera& camera, const DiscreteConfig& config, int repeats) {
   const GridField& grid = std::get<GridField>(s.sampled.field);
   const DiscreteRaycaster<GridField> caster(grid, s.sampled.box, s.sampled.transfer, s.sampled.background, config);
-  std::vector<Ray> rays;
-  for (int y = 0; y < camera.height; ++y)
-    for (int x = 0; x < camera.width; ++x) rays.push_back(camera.ray(x, y));
+  const std::vector<Ray> rays = camera_rays(camera);
   double best = std::numeric_limits<double>::infinity();
   volatile double sink = 0;
   for (int r = 0; r < std::max(1, repeats); ++r) {

@@ -10,6 +10,7 @@
 #include "lib/camera.h"
 #include "lib/discrete_raycast.h"
 #include "lib/io/image_io.h"
+#include "lib/metrics.h"
 #include "lib/scene.h"
 
 namespace vrv {
@@ -49,11 +50,8 @@ RenderValues render_values(const RenderScenes& s, const Camera& camera, const st
                            bool progress, Checkpoints* checkpoints = nullptr);
 Image to_image(const std::vector<double>& values, int width, int height);
 
-// Mean, max and root-mean-square of |a - b| over the pixels (sums in index order).
-struct PixelStats {
-  double mean = 0, max = 0, rms = 0;
-};
-PixelStats pixel_difference(const std::vector<double>& a, const std::vector<double>& b);
+// Mean, max and root-mean-square of |a - b| over the pixels (sums in index order; p99 not taken).
+ErrorStats pixel_difference(const std::vector<double>& a, const std::vector<double>& b);
 
 // The opacities of the oversampled render's full groups of N along every pixel ray (grid field,
 // the scene's opacity curve; concatenated in pixel order): what the quadratic fit meets in use.

@@ -221,7 +221,7 @@ std::map<Correction, double> render_part(const OpacityStudy& s, const StudyRun& 
   double unit_mean = 0;
   for (std::size_t k = 0; k < methods.size(); ++k) {
     const RenderMethod& m = methods[k];
-    const PixelStats st = pixel_difference(v.methods[k], v.reference);
+    const ErrorStats st = pixel_difference(v.methods[k], v.reference);
     const std::string stem = m.N == 1 ? "unit" : name_of(m.correction) + (m.centred ? "_centred" : "");
     const bool paper_row = m.N != 1 && !m.centred;
     t.add_row({m.label, name_of(m.correction), m.N == 1 ? std::string("-") : placement_name(m.centred),

@@ -25,6 +25,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "lib/image_loop.h"  // pixel_ray
 #include "lib/io/npy.h"
 #include "lib/io/output_paths.h"
 #include "lib/verify/verify_output.h"
@@ -214,7 +215,7 @@ py::array_t<double> render(const Scene& scene, double tol, std::optional<int> wi
   const ReferenceOptions options{tol};
   if (!config) validate(options);
   cli::check_work(keywords->options, config, tol, scene, static_cast<long>(camera.width) * camera.height,
-                  [&](long i) { return camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width)); });
+                  [&](long i) { return pixel_ray(camera, i); });
   const ValueImage image = interruptible([&] {
     return config ? render_discrete_image(scene, camera, *config) : render_reference_image(scene, camera, options);
   });

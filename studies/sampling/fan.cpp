@@ -65,14 +65,6 @@ DiscreteConfig strategy_config(const Scene& scene, SegmentRule rule, Strategy st
   return c;
 }
 
-std::vector<Ray> camera_rays(const Camera& camera) {
-  std::vector<Ray> rays;
-  rays.reserve(static_cast<std::size_t>(camera.width) * camera.height);
-  for (int y = 0; y < camera.height; ++y)
-    for (int x = 0; x < camera.width; ++x) rays.push_back(camera.ray(x, y));
-  return rays;
-}
-
 double fan_angle_degrees(const FanSetup& s, int i) {
   return s.angle_degrees - s.fov_degrees / 2 + s.fov_degrees * (i + 0.5) / s.rays;
 }
@@ -104,23 +96,19 @@ std::vector<RayValue> discrete_rays(const Scene& scene, const std::vector<Ray>& 
   return out;
 }
 
-ErrorStats error_stats(const std::vector<ContinuousRay>& truth, const std::vector<RayValue>& rays) {
-  ErrorStats st;
-  double sum = 0, samples = 0;
+FanStats ray_error_stats(const std::vector<ContinuousRay>& truth, const std::vector<RayValue>& rays) {
+  FanStats st;
+  ErrorSums sums;
+  double samples = 0;
   for (std::size_t i = 0; i < truth.size(); ++i) {
     if (!std::isfinite(rays[i].value)) ++st.nonfinite;
     if (!(truth[i].chord > 0)) continue;
-    const double e = std::abs(rays[i].value - truth[i].value);
-    ++st.hit;
+    sums.add(std::abs(rays[i].value - truth[i].value));
     if (rays[i].samples == 0) ++st.dropped;
-    st.max_error = std::max(st.max_error, e);
-    sum += e;
     samples += static_cast<double>(rays[i].samples);
   }
-  if (st.hit > 0) {
-    st.mean_error = sum / static_cast<double>(st.hit);
-    st.mean_samples = samples / static_cast<double>(st.hit);
-  }
+  st.error = sums.stats();
+  if (st.error.count > 0) st.mean_samples = samples / static_cast<double>(st.error.count);
   return st;
 }
 

@@ -11,7 +11,9 @@
 #include "lib/camera.h"
 #include "lib/discrete_raycast.h"
 #include "lib/io/image_io.h"
+#include "lib/metrics.h"
 #include "lib/scene.h"
+#include "lib/vrv.h"  // camera_rays: every ray of a camera (fan: width rays; images: row-major)
 
 namespace vrv::sampling_study {
 
@@ -54,8 +56,6 @@ struct ContinuousRay {
   double value = 0, estimate = 0;
 };
 
-// Every ray of a camera (fan: width rays; images: row-major, row 0 at the top).
-std::vector<Ray> camera_rays(const Camera& camera);
 // The world (paper) angle of fan ray i, in degrees.
 double fan_angle_degrees(const FanSetup& s, int i);
 
@@ -64,13 +64,15 @@ std::vector<ContinuousRay> continuous_rays(const Scene& scene, const std::vector
 std::vector<RayValue> discrete_rays(const Scene& scene, const std::vector<Ray>& rays,
                                     const DiscreteConfig& c);
 
-// Errors |discrete - continuous| over the rays that meet the box (chord > 0).  dropped: rays
-// that meet it with a chord of positive length but receive no sample.
-struct ErrorStats {
-  double max_error = 0, mean_error = 0, mean_samples = 0;
-  long hit = 0, dropped = 0, nonfinite = 0;
+// Errors |discrete - continuous| over the rays that meet the box (chord > 0): `error` (lib/metrics;
+// count = those rays; max and mean are the study's).  dropped: rays that meet it with a chord of
+// positive length but receive no sample.
+struct FanStats {
+  vrv::ErrorStats error;
+  double mean_samples = 0;
+  long dropped = 0, nonfinite = 0;
 };
-ErrorStats error_stats(const std::vector<ContinuousRay>& truth, const std::vector<RayValue>& rays);
+FanStats ray_error_stats(const std::vector<ContinuousRay>& truth, const std::vector<RayValue>& rays);
 
 // Values as a float image of the camera's size (row-major rays).
 Image to_image(const Camera& camera, const std::vector<double>& values);

@@ -67,8 +67,8 @@ Table error_table(const Study& st, const std::vector<StrategyRun>& runs) {
   for (Strategy s : st.strategies)
     for (double rate : st.order_rates) {
       const StrategyRun* f = find_run(runs, rule, s, rate);
-      t.add_row({std::string(segment_rule_name(rule)), std::string(strategy_name(s)), rate, 1 / rate, f->stats.max_error,
-                 f->stats.mean_error, f->stats.mean_samples, f->stats.hit, f->stats.dropped});
+      t.add_row({std::string(segment_rule_name(rule)), std::string(strategy_name(s)), rate, 1 / rate, f->stats.error.max,
+                 f->stats.error.mean, f->stats.mean_samples, f->stats.error.count, f->stats.dropped});
     }
   return t;
 }
@@ -103,9 +103,9 @@ Table summary_table(const Study& st, const std::vector<StrategyRun>& runs,
     std::vector<Table::Cell> row{std::string(segment_rule_name(o.rule)),
                                  std::string(strategy_name(o.strategy))};
     for (double rate : st.curve_rates)
-      row.emplace_back(find_run(runs, o.rule, o.strategy, rate)->stats.max_error);
+      row.emplace_back(find_run(runs, o.rule, o.strategy, rate)->stats.error.max);
     for (double rate : st.curve_rates)
-      row.emplace_back(find_run(runs, o.rule, o.strategy, rate)->stats.mean_error);
+      row.emplace_back(find_run(runs, o.rule, o.strategy, rate)->stats.error.mean);
     row.emplace_back(find_run(runs, o.rule, o.strategy, st.curve_rates.front())->stats.dropped);
     row.emplace_back(o.order_max);
     row.emplace_back(o.order_mean);
@@ -126,7 +126,7 @@ void write_fan_tables(const std::filesystem::path& dir, const Study& st, std::si
   errors_style.caption = fmt::format(
       "Per-ray error $|I_\\mathrm{{discrete}} - I|$ over the {} fan rays that meet the volume "
       "per rule (riemann: eq.~(5)); $h = 1/\\mathrm{{rate}}$ in voxels.",
-      runs.empty() ? 0 : runs.front().stats.hit);
+      runs.empty() ? 0 : runs.front().stats.error.count);
   errors_style.label = "tab:sampling-errors";
   write_table(dir, "errors", error_table(st, runs), errors_style);
   LatexStyle summary_style;
@@ -158,7 +158,7 @@ void write_images(const std::filesystem::path& dir, const Study& st, const Camer
     // One colour range per rate, so the strategies' error maps compare at a glance.
     double range = 0;
     for (const StrategyRun& im : images)
-      if (im.rate == rate) range = std::max(range, im.stats.max_error);
+      if (im.rate == rate) range = std::max(range, im.stats.error.max);
     for (const StrategyRun& im : images) {
       if (im.rate != rate) continue;
       std::vector<double> value(truth.size()), error(truth.size());
@@ -172,8 +172,8 @@ void write_images(const std::filesystem::path& dir, const Study& st, const Camer
       write_exr(to_image(view, error), dir / (stem + "_error.exr"));
       write_error_map_png(to_image(view, error), dir / (stem + "_error.png"), range);
       t.add_row({std::string(strategy_name(im.strategy)), rate, static_cast<long>(view.width),
-                 static_cast<long>(view.height), im.stats.max_error, im.stats.mean_error,
-                 im.stats.mean_samples, im.stats.hit, im.stats.dropped, range});
+                 static_cast<long>(view.height), im.stats.error.max, im.stats.error.mean,
+                 im.stats.mean_samples, im.stats.error.count, im.stats.dropped, range});
     }
   }
   write_file_atomically(dir / "images.csv", t.to_csv());

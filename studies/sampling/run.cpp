@@ -35,8 +35,8 @@ std::vector<StrategyOrder> observed_orders(const Study& st, const std::vector<St
     for (const StrategyRun& f : runs)
       if (f.rule == rule && f.strategy == s) {
         rates.push_back(f.rate);
-        max_errors.push_back(f.stats.max_error);
-        mean_errors.push_back(f.stats.mean_error);
+        max_errors.push_back(f.stats.error.max);
+        mean_errors.push_back(f.stats.error.mean);
       }
     if (*std::max_element(max_errors.begin(), max_errors.end()) <= st.identity_tol)
       out.push_back({rule, s, NAN, NAN});
@@ -163,7 +163,7 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
         const std::string key = fmt::format("fan_{}_{}_{}", segment_rule_name(rule), strategy_name(s), k);
         StrategyRun f{rule, s, rate,
                       discrete(cp, key, st.scene, fan_rays, strategy_config(st.scene, rule, s, rate, eye)), {}};
-        f.stats = error_stats(truth, f.rays);
+        f.stats = ray_error_stats(truth, f.rays);
         nonfinite += f.stats.nonfinite;
         compare(f.rays, discrete(cp, key + "_ramp", ramp, fan_rays, strategy_config(ramp, rule, s, rate, eye)),
                 identity);
@@ -184,7 +184,7 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
                      discrete(cp, fmt::format("image_{}_{}", strategy_name(s), k), st.scene, pixels,
                               strategy_config(st.scene, rule, s, rate, view.eye)),
                      {}};
-      im.stats = error_stats(image_truth, im.rays);
+      im.stats = ray_error_stats(image_truth, im.rays);
       nonfinite += im.stats.nonfinite;
       images.push_back(std::move(im));
       progress.advance();
@@ -231,7 +231,7 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
     for (Strategy s : b.strategies) {
       double worst = 0;
       for (const StrategyRun& f : runs)
-        if (f.rule == b.rule && f.strategy == s) worst = std::max(worst, f.stats.max_error);
+        if (f.rule == b.rule && f.strategy == s) worst = std::max(worst, f.stats.error.max);
       checks.push_back(at_most(
           fmt::format("identity: {} {} = continuous", segment_rule_name(b.rule), strategy_name(s)),
           worst, b.max_error, "max error over every fan ray and rate: exact up to rounding"));
@@ -259,8 +259,8 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
       {"fan_angle_in_square_frame_degrees", fan.angle_degrees},
       {"image_width", width},
       {"image_height", height},
-      {"rays_hit", runs.empty() ? 0 : runs.front().stats.hit},
-      {"pixels_hit", images.empty() ? 0 : images.front().stats.hit},
+      {"rays_hit", runs.empty() ? 0 : runs.front().stats.error.count},
+      {"pixels_hit", images.empty() ? 0 : images.front().stats.error.count},
   };
   out.summary = fmt::format("{} rules x {} strategies x {} rates on {} rays, {}x{} images",
                             st.rules.size(), st.strategies.size(),

@@ -51,7 +51,7 @@ struct StrategyRun {
   Strategy strategy;
   double rate = 1;
   std::vector<RayValue> rays;
-  ErrorStats stats;
+  FanStats stats;
 };
 
 // Observed order: least-squares slope of log(error) against log(1/rate) (lib/metrics.h).

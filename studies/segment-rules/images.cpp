@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "lib/discrete_raycast.h"
+#include "lib/image_loop.h"
 #include "lib/metrics.h"
 #include "lib/order_estimate.h"
 #include "lib/reference_integrator.h"
@@ -65,7 +66,7 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
   out.reference = Image(camera.width, camera.height);
   // Per pixel: hit, reference value, then (error, samples) per (rule, step).
   const std::size_t width = 2 + 2 * per_pixel;
-  std::vector<double> values;
+  std::vector<std::vector<double>> records;
 
   const Scene& scene = spec.scene;
   visit_field(scene, [&](const auto& field) {
@@ -79,9 +80,11 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
         casters.emplace_back(field, scene.box, scene.transfer, scene.background, c);
       }
     Progress bar("segment-rules " + spec.name, n, progress);
-    // One image row is one checkpoint.
-    values = checkpointed_items(checkpoints, checkpoint_key, n, camera.width, width, [&](long i, std::span<double> v) {
-      const Ray ray = camera.ray(static_cast<int>(i % camera.width), static_cast<int>(i / camera.width));
+    ImageLoopHooks hooks;
+    hooks.block = camera.width;  // one image row is one checkpoint
+    hooks.progress = [&](long done) { bar.advance(done); };
+    records = image_loop(camera, {}, [&](const Ray& ray) {
+      std::vector<double> v(width);
       const ReferenceResult ref =
           audited_reference(field, scene.box, scene.transfer, scene.background, ray, {reference_tol});
       v[0] = ref.hit ? 1 : 0;
@@ -91,14 +94,15 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
         v[2 + 2 * k] = d.value - ref.value;
         v[3 + 2 * k] = static_cast<double>(d.samples);
       }
-    }, [&](long done) { bar.advance(done); });
+      return v;
+    }, hooks, checkpoint_blocks(checkpoints, checkpoint_key, width));
     bar.finish();
   });
   std::vector<double> error(static_cast<std::size_t>(n) * per_pixel);  // signed
   std::vector<long> samples(error.size());
   std::vector<char> hit(static_cast<std::size_t>(n));
   for (std::size_t pixel = 0; pixel < static_cast<std::size_t>(n); ++pixel) {
-    const double* v = values.data() + pixel * width;
+    const double* v = records[pixel].data();
     hit[pixel] = v[0] != 0;
     out.reference.pixels[pixel] = static_cast<float>(v[1]);
     for (std::size_t k = 0; k < per_pixel; ++k) {

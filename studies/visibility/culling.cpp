@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "lib/discrete_raycast.h"
+#include "lib/image_loop.h"
 #include "lib/util/parallel.h"
 #include "lib/sampling.h"
 
@@ -178,24 +179,23 @@ ViewCulling cull_view(const Scene& scene, const GridField& field, const BlockGri
   const double dthr = -std::log1p(-o.threshold);  // optical depth of the threshold opacity
 
   // 1. The samples of every pixel (strategy "step"), with their blocks.
-  std::vector<std::vector<Sample>> samples(P);
   SamplingConfig sampling;
   sampling.strategy = Strategy::step;
   sampling.step = o.step;
-  parallel_for_index(P, [&](long p) {
+  const std::vector<std::vector<Sample>> samples = image_loop(cam, [&](const Ray& ray) {
+    std::vector<Sample> s;
     // One classifier per pixel: it caches the transfer function's current branch (not shared).
     const detail::Classifier classes(scene.transfer, o.step);
-    const Ray ray = cam.ray(static_cast<int>(p % W), static_cast<int>(p / W));
     const auto iv = clip(ray, scene.box);
-    if (!iv) return;
+    if (!iv) return s;
     const SamplePlan plan = plan_samples(sampling, ray, *iv, scene.box);
-    auto& s = samples[p];
     s.reserve(plan.count);
     for (long m = 0; m < plan.count; ++m) {
       const Vec3 x = ray.at(plan.t(m));
       const auto c = classes.from_value<double>(field.value(x));
       s.push_back({blocks.index_of(x), c.alpha_unit, c.color, c.tau * o.step});
     }
+    return s;
   });
 
   // 2. Per block, the pixels whose samples reach it and the depth they take there.

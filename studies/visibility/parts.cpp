@@ -10,6 +10,7 @@
 
 #include "lib/io/atomic_file.h"
 #include "lib/discrete_raycast.h"
+#include "lib/image_loop.h"
 #include "lib/io/image_io.h"
 #include "lib/util/progress.h"
 #include "lib/reference_integrator.h"
@@ -250,19 +251,22 @@ TerminationResult run_termination(const VisibilityStudy& s, const StudyRun& run)
   // Per pixel: the reference, then (value, samples) per caster; one image row is one checkpoint.
   const std::size_t width = 1 + 2 * casters.size();
   Progress bar("visibility termination", P, run.progress);
-  const std::vector<double> pixels = checkpointed_items(run.checkpoints, "termination", P, side, width,
-                                                        [&](long p, std::span<double> o) {
-    const Ray ray = cam.ray(static_cast<int>(p % side), static_cast<int>(p / side));
+  ImageLoopHooks hooks;
+  hooks.block = cam.width;
+  hooks.progress = [&](long done) { bar.advance(done); };
+  const std::vector<std::vector<double>> pixels = image_loop(cam, {}, [&](const Ray& ray) {
+    std::vector<double> o(width);
     o[0] = audited_reference(s.scene, ray, {s.termination.reference_tol}).value;
     for (std::size_t c = 0; c < casters.size(); ++c) {
       const DiscreteResult r = casters[c].cast(ray);
       o[1 + 2 * c] = r.value;
       o[2 + 2 * c] = static_cast<double>(r.samples);
     }
-  }, [&](long done) { bar.advance(done); });
+    return o;
+  }, hooks, checkpoint_blocks(run.checkpoints, "termination", width));
   bar.finish();
   for (long p = 0; p < P; ++p) {
-    const double* o = pixels.data() + static_cast<std::size_t>(p) * width;
+    const double* o = pixels[static_cast<std::size_t>(p)].data();
     value[0][p] = o[0];
     for (std::size_t c = 0; c < casters.size(); ++c) {
       value[c + 1][p] = o[1 + 2 * c];

@@ -26,6 +26,26 @@ TEST(ErrorStats, RefusesNaNAndHandlesEmpty) {
   EXPECT_EQ(error_stats(std::vector<double>{}, 1).count, 0);
 }
 
+// One at a time, the same sums as error_stats (all but p99), in the same order: the same bits.
+TEST(ErrorStats, SumsOneAtATimeMatchErrorStats) {
+  const std::vector<double> e{0.3, -1e-7, 2.5, -0.75, 1.0 / 3};
+  ErrorSums sums(0.5);
+  for (double x : e) sums.add(x);
+  const ErrorStats a = sums.stats(), b = error_stats(e, 0.5);
+  EXPECT_EQ(a.count, b.count);
+  EXPECT_EQ(a.max, b.max);
+  EXPECT_EQ(a.mean, b.mean);
+  EXPECT_EQ(a.rms, b.rms);
+  EXPECT_EQ(a.fraction_over, b.fraction_over);
+  EXPECT_EQ(a.mean_signed, b.mean_signed);
+  EXPECT_EQ(a.p99, 0);
+  EXPECT_EQ(ErrorSums().stats().count, 0);
+  ErrorSums with_nan;
+  for (double x : {0.5, double(NAN), -2.0}) with_nan.add(x);
+  EXPECT_EQ(with_nan.stats().max, 2.0);  // NaN leaves the max alone
+  EXPECT_TRUE(std::isnan(with_nan.stats().mean));
+}
+
 TEST(FitOrder, ExactPowerLawHasNoSpread) {
   const std::vector<double> h{0.4, 0.2, 0.1, 0.05};
   std::vector<double> e;

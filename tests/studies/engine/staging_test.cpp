@@ -195,6 +195,35 @@ TEST(Checkpoints, ItemsResumeAtTheFirstMissingBlock) {
   EXPECT_EQ(checkpointed_items(nullptr, "px", 10, 4, 2, item), first);
 }
 
+// The image loop's blocks, one checkpoint each: a resumed loop computes only the missing block.
+TEST(Checkpoints, ImageBlocksResumeAtTheMissingBlock) {
+  const fs::path dir = fresh_dir("blocks") / "checkpoints";
+  Camera camera;
+  camera.width = 4;
+  camera.height = 3;
+  ImageLoopHooks hooks;
+  hooks.block = camera.width;
+  std::atomic<long> calls{0};
+  auto pixel = [&](const Ray&, long i) {
+    ++calls;
+    return std::vector<double>{static_cast<double>(i), 1.0 / static_cast<double>(i + 3)};
+  };
+  std::vector<std::vector<double>> first;
+  {
+    Checkpoints c(dir, "blocks", false);
+    first = image_loop(camera, {}, pixel, hooks, checkpoint_blocks(&c, "px", 2));
+    EXPECT_EQ(c.computed(), 3);
+  }
+  EXPECT_EQ(calls, 12);
+  fs::remove(dir / "px.4.txt");  // as if killed before the second row was stored
+  calls = 0;
+  Checkpoints c(dir, "blocks", true);
+  EXPECT_EQ(image_loop(camera, {}, pixel, hooks, checkpoint_blocks(&c, "px", 2)), first);
+  EXPECT_EQ(calls, 4);  // the missing row alone
+  EXPECT_EQ(c.reused(), 2);
+  EXPECT_EQ(image_loop(camera, {}, pixel, hooks, checkpoint_blocks(nullptr, "px", 2)), first);
+}
+
 TEST(Checkpoints, RecordsRoundTripOrComputeOnce) {
   const fs::path dir = fresh_dir("records") / "checkpoints";
   struct R {

@@ -120,7 +120,7 @@ TEST(OpacityCorrectionStudy, FitErrorStatisticsAreTheSampleMoments) {
 }
 
 TEST(OpacityCorrectionStudy, PixelDifferenceIsMeanMaxRms) {
-  const PixelStats s = pixel_difference({0, 1, 2, 3}, {0, 0, 4, 3});
+  const ErrorStats s = pixel_difference({0, 1, 2, 3}, {0, 0, 4, 3});
   EXPECT_DOUBLE_EQ(s.mean, 0.75);
   EXPECT_DOUBLE_EQ(s.max, 2);
   EXPECT_DOUBLE_EQ(s.rms, std::sqrt(5.0 / 4));

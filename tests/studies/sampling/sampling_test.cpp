@@ -101,14 +101,14 @@ TEST(SamplingStudy, ContinuousSolutionMatchesTheClosedForm) {
 TEST(SamplingStudy, ErrorStatsSkipMissesAndCountDroppedRays) {
   const std::vector<ContinuousRay> truth{{0, 0, 0}, {1.0, 0.5, 0}, {0.1, 0.2, 0}, {2.0, 1.0, 0}};
   const std::vector<RayValue> rays{{0.3, 0}, {0.6, 4}, {0, 0}, {0.9, 8}};
-  const ErrorStats st = error_stats(truth, rays);
-  EXPECT_EQ(st.hit, 3);
+  const FanStats st = ray_error_stats(truth, rays);
+  EXPECT_EQ(st.error.count, 3);
   EXPECT_EQ(st.dropped, 1);
-  EXPECT_DOUBLE_EQ(st.max_error, 0.2);
-  EXPECT_NEAR(st.mean_error, (0.1 + 0.2 + 0.1) / 3, 1e-16);
+  EXPECT_DOUBLE_EQ(st.error.max, 0.2);
+  EXPECT_NEAR(st.error.mean, (0.1 + 0.2 + 0.1) / 3, 1e-16);
   EXPECT_DOUBLE_EQ(st.mean_samples, 4);
   EXPECT_EQ(st.nonfinite, 0);
-  EXPECT_EQ(error_stats(truth, {{0, 0}, {NAN, 1}, {0, 0}, {1, 1}}).nonfinite, 1);
+  EXPECT_EQ(ray_error_stats(truth, {{0, 0}, {NAN, 1}, {0, 0}, {1, 1}}).nonfinite, 1);
 }
 
 TEST(SamplingStudy, OrderOverRatesIsTheSlopeAgainstOneOverRate) {
@@ -127,8 +127,8 @@ TEST(SamplingStudy, EntryExitDropsCornerRaysAndCornerKeepsThem) {
   const auto plain = discrete_rays(scene, rays, strategy_config(scene, SegmentRule::riemann, Strategy::entry_exit, 1, fan.eye));
   const auto corner =
       discrete_rays(scene, rays, strategy_config(scene, SegmentRule::riemann, Strategy::entry_exit_corner, 1, fan.eye));
-  EXPECT_GE(error_stats(truth, plain).dropped, 1);
-  EXPECT_EQ(error_stats(truth, corner).dropped, 0);
+  EXPECT_GE(ray_error_stats(truth, plain).dropped, 1);
+  EXPECT_EQ(ray_error_stats(truth, corner).dropped, 0);
 }
 
 // With g = 2 tau the alpha rule composites to 2 (1 - exp(-sum tau dx)); Listing 4 tiles every chord
@@ -141,10 +141,10 @@ TEST(SamplingStudy, AlphaWithTheCornerPlacementIsExactForProportionalTransfer) {
   for (double rate : {1.0, 3.0, 16.0}) {
     const auto corner = discrete_rays(
         scene, rays, strategy_config(scene, SegmentRule::alpha, Strategy::entry_exit_corner, rate, fan.eye));
-    EXPECT_LT(error_stats(truth, corner).max_error, 1e-13) << rate;
+    EXPECT_LT(ray_error_stats(truth, corner).error.max, 1e-13) << rate;
     const auto entry =
         discrete_rays(scene, rays, strategy_config(scene, SegmentRule::alpha, Strategy::entry, rate, fan.eye));
-    EXPECT_GT(error_stats(truth, entry).max_error, 1e-3) << rate;
+    EXPECT_GT(ray_error_stats(truth, entry).error.max, 1e-3) << rate;
   }
 }
 

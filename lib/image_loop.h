@@ -1,0 +1,135 @@
+#pragma once
+// The one loop over a camera's pixels: render, verify, the library, the studies and the
+// benchmarks run their per-pixel function through it.  The pixels (all of them row-major, or a
+// subset in its own order) are cut into blocks of consecutive positions; blocks run in parallel
+// on TBB (lib/util/parallel.h), the pixels of a block in order, and every position writes its
+// own slot, so the output is bitwise the same for any thread count.  A block is the unit a hook
+// sees (progress, a stop request, a study's checkpoint) and the unit a later distribution over
+// ranks would hand out.
+#include <algorithm>
+#include <atomic>
+#include <functional>
+#include <span>
+#include <type_traits>
+#include <vector>
+
+#include "lib/camera.h"
+#include "lib/util/parallel.h"
+
+namespace vrv {
+
+// The ray through pixel `pixel` (row-major index y * width + x).
+inline Ray pixel_ray(const Camera& camera, long pixel) {
+  return camera.ray(static_cast<int>(pixel % camera.width), static_cast<int>(pixel / camera.width));
+}
+
+// What a caller hooks into the loop; every hook may be empty.
+struct ImageLoopHooks {
+  long block = 64;                      // positions per block (a checkpointed study: one image row)
+  std::function<void(long)> progress;   // positions finished, once per block, from any thread
+  std::function<bool()> stop;           // polled before each block: true ends the loop (WorkCancelled)
+};
+
+// Runs each block of the vector form: compute() fills `values` (the block's slots, from
+// position `first`); a study's checkpoint stores them after, or restores them instead of
+// calling it (studies/engine/checkpoint.h, checkpoint_blocks).
+template <class Value>
+using BlockStore = std::function<void(long first, std::span<Value> values, const std::function<void()>& compute)>;
+
+namespace detail {
+
+// f(ray, pixel) when f takes the pixel's row-major index, else f(ray).
+template <class PerPixel>
+decltype(auto) call_pixel(PerPixel& f, const Ray& ray, long pixel) {
+  if constexpr (std::is_invocable_v<PerPixel&, const Ray&, long>) return f(ray, pixel);
+  else return f(ray);
+}
+
+// What f gives a pixel; no `type` (so the overload drops out) when f is no per-pixel function.
+template <class F>
+struct PixelValueOf {};
+template <class F>
+  requires std::is_invocable_v<F&, const Ray&, long>
+struct PixelValueOf<F> {
+  using type = std::decay_t<std::invoke_result_t<F&, const Ray&, long>>;
+};
+template <class F>
+  requires(!std::is_invocable_v<F&, const Ray&, long> && std::is_invocable_v<F&, const Ray&>)
+struct PixelValueOf<F> {
+  using type = std::decay_t<std::invoke_result_t<F&, const Ray&>>;
+};
+template <class PerPixel>
+using PixelValue = typename PixelValueOf<std::remove_reference_t<PerPixel>>::type;
+
+// run(first, last) for each block of [0, n), in parallel; stops between blocks on hooks.stop.
+template <class Run>
+void for_each_block(long n, const ImageLoopHooks& hooks, Run&& run) {
+  const long block = std::max(hooks.block, 1L);
+  std::atomic<bool> stopped{false};
+  parallel_for_index((n + block - 1) / block, [&](long b) {
+    if (stopped.load(std::memory_order_relaxed)) return;
+    if (hooks.stop && hooks.stop()) {
+      stopped = true;
+      return;
+    }
+    const long first = b * block, last = std::min(n, first + block);
+    run(first, last);
+    if (hooks.progress) hooks.progress(last - first);
+  });
+  if (stopped) throw WorkCancelled();
+}
+
+// The positions [first, last): put(position, f(ray)).  A cancelled task group (the Python
+// module's Ctrl-C) ends the block by WorkCancelled, so a half-filled block is never stored.
+template <class PerPixel, class Put>
+void run_positions(const Camera& camera, std::span<const long> subset, long first, long last, PerPixel& f,
+                   Put& put) {
+  for (long k = first; k < last; ++k) {
+    if (tbb::is_current_task_group_canceling()) throw WorkCancelled();
+    const long pixel = subset.empty() ? k : subset[static_cast<std::size_t>(k)];
+    put(k, call_pixel(f, pixel_ray(camera, pixel), pixel));
+  }
+}
+
+}  // namespace detail
+
+// The number of positions: the subset's size, or every pixel of the camera when it is empty.
+inline long pixel_count(const Camera& camera, std::span<const long> subset = {}) {
+  return subset.empty() ? static_cast<long>(camera.width) * camera.height : static_cast<long>(subset.size());
+}
+
+// value = f(ray) or f(ray, pixel) at every position (pixel = subset[position], or the position
+// itself when the subset is empty), handed to put(position, value) from any thread; each
+// position is put once.  For callers that keep only part of a value, or keep it in planes.
+template <class PerPixel, class Put>
+void image_loop_into(const Camera& camera, std::span<const long> subset, PerPixel&& f, Put&& put,
+                     const ImageLoopHooks& hooks = {}) {
+  detail::for_each_block(pixel_count(camera, subset), hooks, [&](long first, long last) {
+    detail::run_positions(camera, subset, first, last, f, put);
+  });
+}
+
+// The values position by position (row-major for the whole image); `store` runs each block
+// when given (checkpoints).
+template <class PerPixel, class Value = detail::PixelValue<PerPixel>>
+std::vector<Value> image_loop(const Camera& camera, std::span<const long> subset, PerPixel&& f,
+                              const ImageLoopHooks& hooks = {},
+                              const std::type_identity_t<BlockStore<Value>>& store = {}) {
+  std::vector<Value> out(static_cast<std::size_t>(pixel_count(camera, subset)));
+  auto put = [&](long k, Value v) { out[static_cast<std::size_t>(k)] = std::move(v); };
+  detail::for_each_block(static_cast<long>(out.size()), hooks, [&](long first, long last) {
+    const auto compute = [&] { detail::run_positions(camera, subset, first, last, f, put); };
+    if (!store) return compute();
+    store(first, std::span<Value>(out).subspan(static_cast<std::size_t>(first), static_cast<std::size_t>(last - first)),
+          compute);
+  });
+  return out;
+}
+
+// Every pixel of the camera, row-major.
+template <class PerPixel, class Value = detail::PixelValue<PerPixel>>
+std::vector<Value> image_loop(const Camera& camera, PerPixel&& f, const ImageLoopHooks& hooks = {}) {
+  return image_loop<PerPixel, Value>(camera, {}, std::forward<PerPixel>(f), hooks);
+}
+
+}  // namespace vrv
