@@ -16,8 +16,9 @@ namespace vrv {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr int kScanPoints = 11;    // a parameter's bracket is scanned first, then refined by Brent
-constexpr int kBrentBits = 24;
+constexpr int kScanPoints = 9;     // a parameter's bracket is scanned first, then refined by Brent
+constexpr int kBrentBits = 20;
+constexpr std::size_t kDifferenceImages = 3;  // the coarsest images pick the discretisation model
 constexpr std::uintmax_t kBrentIterations = 40;
 
 // vrv's model of the renderer, perturbed by an entry.
@@ -250,7 +251,8 @@ bool stalls(const VerifyReport& rep) {
 // The floor is fitted on top of the model of the renderer's placement and rule: among the models
 // whose opacity is corrected and that read the transfer function itself (no table), the one whose differences between successive steps match the
 // images' (a step-independent floor cancels in them, the discretisation does not), at the finest
-// step.  On the ranking pixels.
+// step.  On the ranking pixels of the kDifferenceImages coarsest images (the cheapest casts, and
+// the largest differences).
 std::optional<DiscreteConfig> discretisation_model(const Scene& scene, const Camera& camera,
                                                    const std::vector<const ImageWithStep*>& sorted, int channel,
                                                    const VerifyOptions& opt) {
@@ -258,14 +260,15 @@ std::optional<DiscreteConfig> discretisation_model(const Scene& scene, const Cam
   for (const auto* im : sorted) steps.push_back(im->step);
   const std::vector<long> pixels = ranking_pixels(camera.width, camera.height);
   std::vector<std::vector<double>> u;
-  for (const auto* im : sorted) u.push_back(observed(*im, channel, scene, opt.alpha, pixels));
+  const std::size_t n = std::min(kDifferenceImages, sorted.size());
+  for (std::size_t k = 0; k < n; ++k) u.push_back(observed(*sorted[k], channel, scene, opt.alpha, pixels));
   std::optional<DiscreteConfig> best;
   double best_ss = std::numeric_limits<double>::infinity();
   for (const Model& m : distinct_models(scene, steps, opt)) {
     // A table is a detail of the value path, which the catalogue fits: the curves themselves here.
     if (!m.label.opacity_corrected || m.per_step.back().table_size > 0) continue;
     std::vector<std::vector<double>> v;
-    for (const DiscreteConfig& c : m.per_step) v.push_back(cast_pixels(scene, camera, c, pixels));
+    for (std::size_t k = 0; k < n; ++k) v.push_back(cast_pixels(scene, camera, m.per_step[k], pixels));
     double ss = 0;
     for (std::size_t k = 0; k + 1 < v.size(); ++k)
       for (std::size_t j = 0; j < pixels.size(); ++j) {
