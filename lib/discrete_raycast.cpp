@@ -29,6 +29,10 @@ void validate(const DiscreteConfig& c, bool grid_field) {
     throw std::invalid_argument(fmt::format(
         "--centred-oversamples: needs a strategy whose first sample is at least half a step inside "
         "(step, vtk or inviwo), not {}", strategy_name(st)));
+  // The partial step's own sample has no unit step to divide.
+  if (c.oversample > 1 && (st == Strategy::partial || st == Strategy::exit_anchored))
+    throw std::invalid_argument(fmt::format("--oversample: the {} strategy samples its partial step once; "
+                                            "oversample with step, vtk or inviwo", strategy_name(st)));
   if (c.correction != Correction::none && c.rule != SegmentRule::alpha)
     throw std::invalid_argument(fmt::format(
         "--correction: only the alpha rule composites opacities (method is {})", segment_rule_name(c.rule)));

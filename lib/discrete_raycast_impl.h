@@ -153,6 +153,20 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
     ++samples;
     return classify<Real>(ray, t, classes);
   };
+  // The partial step's sample (plan.partial > 0), for its own length (riemann and alpha).
+  const bool partial_first = plan.partial > 0 && plan.partial_first, partial_last = plan.partial > 0 && !plan.partial_first;
+  auto add_partial = [&] {
+    if (out.done()) return;
+    const detail::Classifier own(tf_, plan.partial, with_color, lookup);
+    ++samples;
+    const auto c = classify<Real>(ray, Real(plan.t_partial), own);
+    if (config_.rule == SegmentRule::riemann) return out.add(riemann_sample(c.g, c.tau, Real(plan.partial)));
+    const bool premultiplied = config_.color == ColorConvention::premultiplied;
+    out.add({c.color * (premultiplied ? c.alpha_stored : c.alpha_unit), Real(1) - c.alpha_unit});
+  };
+  // The segment rules take it as one more node (below).
+  const bool per_sample_rule = config_.rule == SegmentRule::riemann || config_.rule == SegmentRule::alpha;
+  if (partial_first && per_sample_rule) add_partial();
 
   switch (config_.rule) {
     case SegmentRule::riemann:
@@ -186,19 +200,24 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
       break;
     }
     default: {
-      // Nodes: the entry point, the samples, the exit point.
+      // Nodes: the entry point, the samples (the partial step's among them), the exit point.
       Real t_a = Real(iv.t0);
       auto a = sample(t_a);
-      for (long m = 0; m <= fine.count && !out.done(); ++m) {
-        const Real t_b = m < fine.count ? t_of(m) : Real(iv.t1);
+      auto node = [&](Real t_b) {
         const auto b = sample(t_b);
         const Real h = t_b - t_a;
         if (h > 0) out.add(detail::segment(config_.rule, a, b, h));
         t_a = t_b;
         a = b;
-      }
+      };
+      if (partial_first) node(Real(plan.t_partial));
+      for (long m = 0; m < fine.count && !out.done(); ++m) node(t_of(m));
+      if (partial_last && !out.done()) node(Real(plan.t_partial));
+      if (!out.done()) node(Real(iv.t1));
+      return {static_cast<double>(out.finish(Real(background_))), samples};
     }
   }
+  if (partial_last && per_sample_rule) add_partial();
   return {static_cast<double>(out.finish(Real(background_))), samples};
 }
 

@@ -14,7 +14,7 @@ namespace vrv {
 
 namespace {
 
-constexpr NameTable<Strategy, 7> kNames{{
+constexpr NameTable<Strategy, 9> kNames{{
     {Strategy::eye, "eye"},
     {Strategy::entry, "entry"},
     {Strategy::entry_exit, "entry_exit"},
@@ -22,6 +22,8 @@ constexpr NameTable<Strategy, 7> kNames{{
     {Strategy::step, "step"},
     {Strategy::vtk, "vtk"},
     {Strategy::inviwo, "inviwo"},
+    {Strategy::partial, "partial"},
+    {Strategy::exit_anchored, "exit_anchored"},
 }};
 
 // More samples than this on one ray is a configuration error, not a plan.
@@ -121,6 +123,24 @@ SamplePlan plan_rate(const SamplingConfig& c, const Ray& ray, Interval iv, const
   return make_plan(iv.t0 + first_fraction * dt, dt, iv.t1, "--rate");
 }
 
+// n = floor(length / h) whole steps at their midpoints and the partial step r = length - n h at
+// its own: after them from the entry, or, anchored at the exit, before them.
+SamplePlan plan_with_partial_step(bool from_exit, double h, Interval iv, double length) {
+  const double ratio = length / h;
+  if (!(ratio <= kMaxSamples)) throw std::invalid_argument("--step gives more than 1e12 samples on one ray");
+  const double n = std::floor(ratio);
+  const double r = length - n * h;
+  const double t0 = from_exit ? iv.t1 - n * h : iv.t0;  // where the whole steps start
+  // t_end closes the whole steps, so count stays exact for t(k) < t_end.
+  SamplePlan plan = n > 0 ? make_plan(t0 + 0.5 * h, h, t0 + n * h, "--step") : empty_plan(iv.t1);
+  if (r > 0) {
+    plan.partial = r;
+    plan.partial_first = from_exit;
+    plan.t_partial = from_exit ? iv.t0 + 0.5 * r : iv.t1 - 0.5 * r;
+  }
+  return plan;
+}
+
 }  // namespace
 
 std::optional<Strategy> parse_strategy(std::string_view name) { return parse_name(kNames, name); }
@@ -160,6 +180,9 @@ SamplePlan plan_samples(const SamplingConfig& config, const Ray& ray, Interval i
       const double dt = length / n;
       return make_plan(iv.t0 + 0.5 * dt, dt, iv.t1, "--step");
     }
+    case Strategy::partial:
+    case Strategy::exit_anchored:
+      return plan_with_partial_step(config.strategy == Strategy::exit_anchored, h, iv, length);
     default:
       break;
   }

@@ -18,9 +18,14 @@ enum class Strategy {
   step,               // fixed world step H, first sample H/2 inside
   vtk,                // fixed step H, first sample one full step inside, last partial step dropped
   inviwo,             // step rounded so a whole number of steps fits, samples at midpoints
+  partial,            // fixed step H at midpoints from the entry; the partial step left at the
+                      // exit sampled at its own midpoint, for its own length
+  exit_anchored,      // the same anchored at the exit (a back-to-front march): whole steps back
+                      // from the exit at midpoints, the partial step at the entry at its midpoint
 };
 
-// Names: "eye", "entry", "entry_exit", "entry_exit_corner", "step", "vtk", "inviwo".
+// Names: "eye", "entry", "entry_exit", "entry_exit_corner", "step", "vtk", "inviwo", "partial",
+// "exit_anchored".
 std::optional<Strategy> parse_strategy(std::string_view name);
 std::string_view strategy_name(Strategy s);
 
@@ -37,7 +42,8 @@ struct SamplingConfig {
 // it is exact for this predicate: t(k) < t_end for every k < count and t(count) >= t_end, with
 // t(k) evaluated as below (no running sums), so `for (k = 0; k < count; ++k)` and
 // `for (k = 0; t(k) < t_end; ++k)` visit the same samples.
-// t_end is iv.t1, except for Strategy::vtk, whose loop keeps a sample lying exactly on the exit
+// t_end is iv.t1, except for Strategy::partial and exit_anchored (the end of the whole steps,
+// before the partial step or after it) and Strategy::vtk, whose loop keeps a sample lying exactly on the exit
 // (t <= iv.t1): there t_end = nextafter(iv.t1, +inf).  A plan without samples has count 0 and
 // t(0) >= t_end; dt is then the step the strategy would have used, or 0 (never NaN or inf).
 struct SamplePlan {
@@ -45,6 +51,11 @@ struct SamplePlan {
   double dt = 0;
   double t_end = 0;
   long count = 0;
+  // Strategies partial and exit_anchored: one more sample, at t_partial, standing for its own
+  // length `partial` (the partial step a whole number of steps leaves); before the others when
+  // partial_first (exit_anchored), after them otherwise.  partial 0: none.
+  double partial = 0, t_partial = 0;
+  bool partial_first = false;
   double t(long k) const { return t_first + static_cast<double>(k) * dt; }
 };
 

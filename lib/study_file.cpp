@@ -198,7 +198,8 @@ Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::str
 }
 
 bool step_based(Strategy st) {
-  return st == Strategy::step || st == Strategy::vtk || st == Strategy::inviwo;
+  return st == Strategy::step || st == Strategy::vtk || st == Strategy::inviwo || st == Strategy::partial ||
+         st == Strategy::exit_anchored;
 }
 
 // The renderer conventions of DiscreteConfig: opacity_unit = "sample" | "distance", color =
@@ -266,7 +267,7 @@ StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, co
     const auto st = parse_strategy(strategy);
     if (!st)
       r.fail(path + ".strategy", fmt::format("unknown strategy '{}' (one of eye, entry, entry_exit, "
-                                             "entry_exit_corner, step, vtk, inviwo)", strategy));
+                                             "entry_exit_corner, step, vtk, inviwo, partial, exit_anchored)", strategy));
     c.sampling.strategy = *st;
     c.sampling.dims = scene.dims;
     double samples;  // a bound on the samples per ray

@@ -6,7 +6,9 @@
 #include <fmt/format.h>
 
 #include "lib/verify/channel_errors.h"
+#include "lib/verify/conventions.h"
 #include "lib/verify/convergence_orders.h"
+#include "lib/verify/fault_fit.h"
 #include "lib/verify/fault_hints.h"
 #include "lib/verify/pixel_geometry.h"
 #include "lib/work_estimate.h"
@@ -90,11 +92,11 @@ VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>&
     for (int c = 0; c < nc; ++c) rep.channels.push_back(channel_report(*im, c, ref, geo, scene.background, opt));
   judge_orders(rep, sorted, first.names, scene.background, opt);
 
-  if (opt.diagnose) {
-    const int colour = first_colour_channel(first);
-    if (colour < nc) rep.diagnosis = diagnose(scene, rep.camera, sorted, colour, opt);
-  }
+  const int colour = first_colour_channel(first);
+  if (opt.diagnose && colour < nc) rep.diagnosis = diagnose(scene, rep.camera, sorted, colour, opt);
   rep.faults = find_faults(rep, geo, nc, opt);
+  if (colour < nc) decompose_floor(rep, scene, sorted, colour, opt);
+  separate_conventions(rep, opt);
   rep.pass = rep.failures.empty();
   return rep;
 }

@@ -16,7 +16,10 @@
 //     verdict per channel and overall (the worst): lib/verify/convergence_orders.h;
 //  4. a diagnosis: vrv casts its own discrete models (lib/verify/model_catalogue.h) at the same
 //     steps and lists them by RMS difference from the images (lib/verify/diagnosis.h), and the
-//     known faults whose pattern the errors match (lib/verify/fault_hints.h).
+//     known faults whose pattern the errors match (lib/verify/fault_hints.h); with an expected
+//     order, a placement or rule consistent with it is the renderer's convention, not a fault
+//     (lib/verify/conventions.h); a step-independent floor is decomposed by the fitted fault
+//     catalogue (lib/verify/fault_fit.h) and its best entry named.
 // The options are lib/verify/verify_options.h, the inputs lib/verify/verify_inputs.h, the report
 // and its JSON lib/verify/verify_report.h.
 #include <vector>

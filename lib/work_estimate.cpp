@@ -19,14 +19,14 @@ Ray box_diagonal(const Box& box) {
 }
 
 // The raycast's own count (DiscreteRaycaster::cast_in) without casting: the oversampled plan's
-// samples, the entry and exit nodes of a segment rule, and the unit samples Lee & Newman's
+// samples and its partial step's, the entry and exit nodes of a segment rule, and the unit samples Lee & Newman's
 // correction looks up when the oversamples are centred.
 double discrete_samples(const DiscreteConfig& config, const Scene& scene, const Ray& ray) {
   const auto iv = clip(ray, scene.box);
   if (!iv) return 0;
   const SamplePlan plan = plan_samples(config.sampling, ray, *iv, scene.box);
   const SamplePlan fine = detail::oversampled(plan, config.oversample, config.centred_oversamples);
-  double samples = static_cast<double>(fine.count);
+  double samples = static_cast<double>(fine.count) + (plan.partial > 0 ? 1 : 0);
   if (is_segment_rule(config.rule)) samples += 2;
   if (detail::looks_up_unit_samples(config)) samples += static_cast<double>(plan.count);
   return samples;

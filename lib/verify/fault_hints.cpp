@@ -100,7 +100,8 @@ std::optional<Fault> half_step_offset(const Evidence& e) {
                  fmt::format("{} ({}): the error is {:.0f} % explained by moving the samples {:+.2f} "
                              "steps at the entry and {:+.2f} at the exit: the samples sit half a step "
                              "{} than a midpoint rule puts them", r->image, e.ch, 100 * f.explained,
-                             f.entry, f.exit, f.entry > 0 ? "later" : "earlier")};
+                             f.entry, f.exit, f.entry > 0 ? "later" : "earlier"),
+                 f.entry > 0 ? "samples at the end of each step" : "samples at the start of each step", 1};
   }
   return std::nullopt;
 }
@@ -142,7 +143,8 @@ std::optional<Fault> border_band(const Evidence& e) {
                fmt::format("{} ({}): RMS {:.3g} in the {}-pixel silhouette band against {:.3g} "
                            "inside, converging there at order {:.3g}: rays that graze the box "
                            "(entry/exit handling)", e.finest.image, e.ch, band->stats.rms,
-                           e.opt.silhouette_band, inside_rms, f.order)};
+                           e.opt.silhouette_band, inside_rms, f.order),
+               "first-order handling of the ends of the ray (a partial step dropped or taken whole)", 1};
 }
 
 // Jittered start positions: zero-mean noise, uncorrelated between neighbours, and first order
@@ -162,7 +164,8 @@ std::optional<Fault> jitter(const Evidence& e, const std::vector<Fault>& found) 
   return Fault{FaultKind::jitter,
                fmt::format("{} ({}): interior error RMS {:.3g} with mean {:.3g} and neighbour correlation "
                            "{:.2f}: zero-mean noise, as from jittered start positions", e.finest.image, e.ch,
-                           inner->stats.rms, inner->stats.mean_signed, corr)};
+                           inner->stats.rms, inner->stats.mean_signed, corr),
+               "jittered start positions (a random fraction of a step per pixel)", 1};
 }
 
 // Error concentrated at transfer-function jumps.

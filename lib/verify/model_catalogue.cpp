@@ -31,7 +31,10 @@ bool rule_corrects_opacity(SegmentRule rule, const Scene& scene) {
 constexpr std::pair<Strategy, const char*> kPlacements[] = {
     {Strategy::step, "step (first sample half a step in)"},
     {Strategy::vtk, "vtk (first sample one step in, last partial step dropped)"},
-    {Strategy::inviwo, "inviwo (step rounded to fit, samples at midpoints)"}};
+    {Strategy::inviwo, "inviwo (step rounded to fit, samples at midpoints)"},
+    {Strategy::partial, "partial (midpoints of whole steps, the last partial step at its own midpoint)"},
+    {Strategy::exit_anchored, "exit_anchored (midpoints of whole steps back from the exit, the partial "
+                              "step at the entry at its own midpoint)"}};
 
 std::string_view placement_text(Strategy s) {
   for (auto [strategy, text] : kPlacements)

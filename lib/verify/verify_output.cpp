@@ -44,7 +44,7 @@ VerifyTables verify_tables(const VerifyReport& rep) {
                  Table({"channel", "kind", "order", "std_error", "points", "verdict", "reason"}),
                  Table({"series", "step", "error"}),
                  Table({"rank", "placement", "rule", "opacity", "color", "table", "rms", "max", "model"}),
-                 Table({"fault", "evidence"})};
+                 Table({"fault", "evidence"}), Table({"pattern", "behaves_like", "implied_order", "evidence"})};
   for (const char* c : {"max", "mean", "rms", "p99", "mean_signed", "quantisation_rms"}) t.errors.set_format(c, "{:.3e}");
   t.errors.set_format("fraction_over", "{:.4f}");
   for (const ChannelReport& c : rep.channels)
@@ -71,6 +71,7 @@ VerifyTables verify_tables(const VerifyReport& rep) {
   for (const Candidate& c : rep.diagnosis)
     t.diagnosis.add_row({rank++, c.placement, c.rule, c.opacity, c.color, c.table, c.rms, c.max, c.name});
   for (const Fault& f : rep.faults) t.faults.add_row({f.name(), f.evidence});
+  for (const Fault& f : rep.conventions) t.conventions.add_row({f.name(), f.behaviour, f.implied_order, f.evidence});
   return t;
 }
 
@@ -107,6 +108,7 @@ void write_verify_outputs(const fs::path& dir, const VerifyReport& rep,
   // No fault named: the Markdown says so rather than showing a header over nothing (the CSV and
   // JSON keep their empty table, which is what a program reading them expects).
   write_table_files(dir, "faults", t.faults, "none: no fault named\n");
+  write_table_files(dir, "conventions", t.conventions, "none: no convention named (no expected order, or none matched)\n");
   for (const auto& [name, table] : extra) write_table_files(dir, name, table);
 
   Image ref(rep.width, rep.height);

@@ -6,6 +6,7 @@
 //   points.csv                   the (step, error) points of every fit, for the plot
 //   diagnosis.{csv,md,tex,json}  vrv's models by RMS difference from the images, nearest first
 //   faults.{csv,md,tex,json}     the known faults the errors match
+//   conventions.{csv,md,tex,json} the placements or rules matched that the expected order allows
 //   bounds.{csv,md,tex,json}     with a bounds file: one row per bound
 //   reference.exr, <k>_<image>_<channel>_error.{exr,png}   the reference and signed error images
 //                                (PNG: colour-mapped with a numbered colour bar)
@@ -26,7 +27,7 @@
 namespace vrv {
 
 struct VerifyTables {
-  Table errors, orders, points, diagnosis, faults;
+  Table errors, orders, points, diagnosis, faults, conventions;
 };
 VerifyTables verify_tables(const VerifyReport& report);
 

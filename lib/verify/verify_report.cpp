@@ -15,13 +15,14 @@ constexpr NameTable<Region, 5> kRegionNames{{{Region::outside, "outside"},
 
 constexpr NameTable<OrderKind, 2> kOrderKindNames{{{OrderKind::reference, "reference"}, {OrderKind::self, "self"}}};
 
-constexpr NameTable<FaultKind, 7> kFaultNames{{{FaultKind::quantisation, "quantisation"},
+constexpr NameTable<FaultKind, 8> kFaultNames{{{FaultKind::quantisation, "quantisation"},
                                                {FaultKind::half_step_offset, "half-step offset"},
                                                {FaultKind::constant_floor, "constant floor"},
                                                {FaultKind::first_order_border_band, "first-order border band"},
                                                {FaultKind::jitter, "jitter"},
                                                {FaultKind::error_at_tf_jumps, "error at transfer-function jumps"},
-                                               {FaultKind::missing_opacity_correction, "missing opacity correction"}}};
+                                               {FaultKind::missing_opacity_correction, "missing opacity correction"},
+                                               {FaultKind::fitted, "fitted fault"}}};
 
 nlohmann::ordered_json number(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr; }
 
@@ -70,6 +71,12 @@ nlohmann::ordered_json to_json(const Candidate& c) {
           {"color", c.color}, {"table", c.table}, {"rms", number(c.rms)}, {"max", number(c.max)}, {"pixels", c.pixels}};
 }
 
+nlohmann::ordered_json to_json(const FaultFit& f) {
+  return {{"id", f.id}, {"name", f.name}, {"parameter", f.parameter}, {"value", number(f.value)},
+          {"explained", number(f.explained)}, {"confirmed", number(f.confirmed)}, {"pixels", f.pixels},
+          {"confirm_pixels", f.confirm_pixels}, {"description", f.description}};
+}
+
 template <class T>
 nlohmann::ordered_json array_of(const std::vector<T>& items) {
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
@@ -96,6 +103,7 @@ nlohmann::ordered_json to_json(const VerifyReport& rep) {
   j["verdict_channel"] = rep.verdict_channel;
   j["verdict_reason"] = rep.verdict.reason;
   j["failures"] = rep.failures;
+  j["expected_order"] = rep.expected_order ? nlohmann::ordered_json(*rep.expected_order) : nullptr;
   j["threshold"] = rep.threshold;
   j["order_metric"] = metric_name(rep.order_metric);
   j["width"] = rep.width;
@@ -105,8 +113,15 @@ nlohmann::ordered_json to_json(const VerifyReport& rep) {
   j["orders"] = array_of(rep.orders);
   j["diagnosis"] = array_of(rep.diagnosis);
   nlohmann::ordered_json faults = nlohmann::ordered_json::array();
-  for (const Fault& f : rep.faults) faults.push_back({{"name", fault_name(f.kind)}, {"evidence", f.evidence}});
+  for (const Fault& f : rep.faults)
+    faults.push_back({{"name", fault_name(f.kind)}, {"behaves_like", f.behaviour}, {"evidence", f.evidence}});
   j["faults"] = faults;
+  j["fault_fits"] = array_of(rep.fault_fits);
+  nlohmann::ordered_json conventions = nlohmann::ordered_json::array();
+  for (const Fault& f : rep.conventions)
+    conventions.push_back({{"name", fault_name(f.kind)}, {"behaves_like", f.behaviour},
+                           {"implied_order", number(f.implied_order)}, {"evidence", f.evidence}});
+  j["conventions"] = conventions;
   return j;
 }
 

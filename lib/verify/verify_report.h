@@ -1,6 +1,8 @@
 #pragma once
 // What a verification reports (lib/verify.h's verify_images), and its JSON.  Every kind that logic
 // depends on (a region, an order's series, a fault) is an enum; its text is in one table here.
+#include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -72,15 +74,35 @@ enum class FaultKind {
   jitter,
   error_at_tf_jumps,
   missing_opacity_correction,
+  fitted,  // an entry of the fitted fault catalogue (lib/verify/fault_fit.h); behaviour says which
 };
 // "quantisation", "half-step offset", "constant floor", "first-order border band", "jitter",
-// "error at transfer-function jumps", "missing opacity correction"
+// "error at transfer-function jumps", "missing opacity correction", "fitted fault"
 std::string_view fault_name(FaultKind kind);
 
 struct Fault {
+  Fault() = default;
+  Fault(FaultKind k, std::string why, std::string does = {},
+        double order = std::numeric_limits<double>::quiet_NaN())
+      : kind(k), evidence(std::move(why)), behaviour(std::move(does)), implied_order(order) {}
   FaultKind kind = FaultKind::quantisation;
   std::string evidence;  // one sentence with the numbers
+  // For a placement or rule: what the renderer does, in words ("samples at the start of each
+  // step"), and the order of convergence that implies (NaN: none; lib/verify/conventions.h).
+  std::string behaviour;
+  double implied_order = std::numeric_limits<double>::quiet_NaN();
   std::string name() const { return std::string(fault_name(kind)); }
+};
+
+// One entry of the fitted fault catalogue (lib/verify/fault_fit.h), fitted to the finest image.
+struct FaultFit {
+  std::string id, name;    // "fov_scale", "field of view scale"
+  std::string parameter;   // "scale"; empty for an entry without one
+  double value = std::numeric_limits<double>::quiet_NaN();      // the fitted parameter
+  double explained = std::numeric_limits<double>::quiet_NaN();  // 1 - SS(fit) / SS(model), on the subset
+  double confirmed = std::numeric_limits<double>::quiet_NaN();  // the same on the diagnosis pixels (leaders)
+  long pixels = 0, confirm_pixels = 0;
+  std::string description;  // "field of view 2.0 % wider"
 };
 
 struct ReferenceInfo {
@@ -105,6 +127,11 @@ struct VerifyReport {
   std::string verdict_channel;
   std::vector<Candidate> diagnosis;     // nearest first
   std::vector<Fault> faults;
+  std::vector<FaultFit> fault_fits;     // ranked, best first; empty without a floor
+  // Placements or rules consistent with the expected order: the renderer's convention, not a
+  // fault (lib/verify/conventions.h).
+  std::vector<Fault> conventions;
+  std::optional<double> expected_order;  // VerifyOptions::expected_order
   bool pass = true;  // reference within tolerance and, with an expected order, convergence at it
   std::vector<std::string> failures;  // why not, one line each
   std::vector<float> reference_image;  // the reference values (for writing), row-major

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "lib/study_file.h"
+
 namespace vrv::cli {
 namespace {
 
@@ -49,9 +51,11 @@ void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
                  "(omit for the reference integrator; the options below need it)");
   const std::size_t before = cmd.get_options().size();
   cmd.add_option("--strategy", opt.strategy,
-                 "Sample placement: eye | entry | entry_exit | entry_exit_corner (default) | step | vtk | inviwo");
+                 "Sample placement: eye | entry | entry_exit | entry_exit_corner (default) | step | vtk | inviwo | "
+                 "partial | exit_anchored");
   cmd.add_option("--rate", opt.rate, "Samples per voxel (eye, entry, entry_exit, entry_exit_corner; default 1)");
-  cmd.add_option("--step", opt.step, "World step H (step, vtk, inviwo; --step alone implies --strategy step)");
+  cmd.add_option("--step", opt.step,
+                 "World step H (step, vtk, inviwo, partial, exit_anchored; --step alone implies --strategy step)");
   cmd.add_option("--oversample", opt.oversample, "Oversampling factor N dividing the unit step")
       ->capture_default_str();
   cmd.add_flag("--centred-oversamples", opt.centred_oversamples,
@@ -89,9 +93,9 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
                                      "riemann, alpha, trapezoid, exact_linear, moreland");
   const std::string strategy = opt.strategy.value_or(opt.step ? "step" : "entry_exit_corner");
   c.sampling.strategy = parse_choice<Strategy>(strategy, "--strategy", parse_strategy,
-                                               "eye, entry, entry_exit, entry_exit_corner, step, vtk, inviwo");
-  const bool step_based = c.sampling.strategy == Strategy::step || c.sampling.strategy == Strategy::vtk ||
-                          c.sampling.strategy == Strategy::inviwo;
+                                               "eye, entry, entry_exit, entry_exit_corner, step, vtk, inviwo, "
+                                               "partial, exit_anchored");
+  const bool step_based = vrv::step_based(c.sampling.strategy);
   if (step_based && !opt.step)
     throw std::invalid_argument(fmt::format("--step: strategy {} needs --step H", strategy));
   if (!step_based && opt.step)

@@ -176,7 +176,12 @@ std::string summary_text(const VerifyRun& run) {
       s += fmt::format("; self-convergence order {:.3g}", o.fit.order);
   if (!r.diagnosis.empty())
     s += fmt::format("; behaves like {} to {:.2g} RMS", r.diagnosis.front().name, r.diagnosis.front().rms);
-  for (const Fault& f : r.faults) s += fmt::format("; fault: {}", f.name());
+  for (const Fault& f : r.conventions)
+    s += fmt::format("; behaves like: {} — consistent with the expected order {:g}", f.behaviour, *r.expected_order);
+  for (const Fault& f : r.faults)
+    s += f.kind == FaultKind::fitted ? fmt::format("; fault: {} (fitted: explains {:.0f} % of the error)", f.behaviour,
+                                                   100 * r.fault_fits.front().confirmed)
+                                     : fmt::format("; fault: {}", f.name());
   for (const std::string& f : r.failures) s += fmt::format("; FAIL: {}", f);
   for (const BoundRow& b : run.rows)
     if (b.verdict != BoundVerdict::pass)

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "lib/io/scene_file.h"
+#include "lib/scene_file.h"
 
 namespace vrv {
 namespace {

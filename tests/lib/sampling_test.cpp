@@ -82,7 +82,7 @@ const Vec3 kFromLeft(-3, 0, 0);  // enters [-1,1]^3 at t0 = 2, leaves at t1 = 4
 TEST(Sampling, NamesRoundTrip) {
   for (Strategy s : {Strategy::eye, Strategy::entry, Strategy::entry_exit,
                      Strategy::entry_exit_corner, Strategy::step, Strategy::vtk,
-                     Strategy::inviwo}) {
+                     Strategy::inviwo, Strategy::partial, Strategy::exit_anchored}) {
     const auto parsed = parse_strategy(strategy_name(s));
     ASSERT_TRUE(parsed) << strategy_name(s);
     EXPECT_EQ(*parsed, s);
@@ -345,7 +345,7 @@ TEST(Sampling, ZeroLengthRaysHaveNoSamplesAndNoNaN) {
                      Strategy::entry_exit_corner}) {
     configs.push_back(rate_config(s, 2.5));
   }
-  for (Strategy s : {Strategy::step, Strategy::vtk, Strategy::inviwo}) {
+  for (Strategy s : {Strategy::step, Strategy::vtk, Strategy::inviwo, Strategy::partial, Strategy::exit_anchored}) {
     configs.push_back(step_config(s, 0.1));
   }
   for (const auto& c : configs) {
@@ -362,6 +362,28 @@ TEST(Sampling, SingleVoxelGridCornerStrategyHasNoSamples) {
   const auto p = plan_for(rate_config(Strategy::entry_exit_corner, 1, {1, 1, 1}), kFromLeft, kX);
   EXPECT_EQ(p.plan.count, 0);
   expect_consistent(p.plan);
+}
+
+TEST(Sampling, PartialStepSampledAtItsOwnMidpointAtTheExitOrTheEntry) {
+  // Chord [2, 4], step 0.75: two whole steps and a partial one of 0.5.
+  const auto at_exit = plan_for(step_config(Strategy::partial, 0.75), kFromLeft, kX).plan;
+  EXPECT_EQ(at_exit.count, 2);
+  EXPECT_DOUBLE_EQ(at_exit.t(0), 2.375);
+  EXPECT_DOUBLE_EQ(at_exit.t(1), 3.125);
+  EXPECT_DOUBLE_EQ(at_exit.partial, 0.5);
+  EXPECT_DOUBLE_EQ(at_exit.t_partial, 3.75);
+  EXPECT_FALSE(at_exit.partial_first);
+  const auto from_exit = plan_for(step_config(Strategy::exit_anchored, 0.75), kFromLeft, kX).plan;
+  EXPECT_EQ(from_exit.count, 2);
+  EXPECT_DOUBLE_EQ(from_exit.t_partial, 2.25);
+  EXPECT_TRUE(from_exit.partial_first);
+  EXPECT_DOUBLE_EQ(from_exit.t(0), 2.875);
+  EXPECT_DOUBLE_EQ(from_exit.t(1), 3.625);
+  // A chord shorter than the step: the partial sample alone.
+  const auto short_chord = plan_for(step_config(Strategy::partial, 3), kFromLeft, kX).plan;
+  EXPECT_EQ(short_chord.count, 0);
+  EXPECT_DOUBLE_EQ(short_chord.partial, 2);
+  EXPECT_DOUBLE_EQ(short_chord.t_partial, 3);
 }
 
 // ---------------------------------------------------------------- the loop predicate
@@ -398,12 +420,25 @@ TEST(Sampling, CountsAgreeWithTheLoopPredicateOnRandomRays) {
       }
       ++checked;
     }
-    for (Strategy s : {Strategy::step, Strategy::vtk, Strategy::inviwo}) {
+    for (Strategy s : {Strategy::step, Strategy::vtk, Strategy::inviwo, Strategy::partial, Strategy::exit_anchored}) {
       const SamplePlan p = plan_samples(step_config(s, step(rng)), ray, *iv, box);
       expect_consistent(p);
       if (s == Strategy::inviwo && iv->length() > 0) {
         EXPECT_GE(p.count, 1);
         EXPECT_NEAR(p.count * p.dt, iv->length(), 1e-12 * (1 + iv->length()));
+      }
+      if (s == Strategy::partial || s == Strategy::exit_anchored) {
+        // Whole steps at their midpoints and the partial step at its own tile the chord.
+        EXPECT_NEAR(p.count * p.dt + p.partial, iv->length(), 1e-12 * (1 + iv->length()));
+        EXPECT_GE(p.partial, 0);
+        if (p.partial > 0) {
+          const double from = s == Strategy::partial ? iv->t1 - p.partial : iv->t0;
+          EXPECT_NEAR(p.t_partial, from + p.partial / 2, 1e-12 * (1 + std::abs(from)));
+        }
+        if (p.count > 0) {
+          const double start = s == Strategy::partial ? iv->t0 : iv->t0 + p.partial;
+          EXPECT_NEAR(p.t(0) - start, p.dt / 2, 1e-12 * (1 + std::abs(start)));
+        }
       }
       if (s == Strategy::vtk && p.count > 0) {
         EXPECT_LE(p.t(p.count - 1), iv->t1);
@@ -436,7 +471,7 @@ TEST(Sampling, BadRateOrStepThrows) {
     c.step = -1;  // ignored by rate-based strategies
     EXPECT_NO_THROW(plan_samples(c, ray, iv, cube));
   }
-  for (Strategy s : {Strategy::step, Strategy::vtk, Strategy::inviwo}) {
+  for (Strategy s : {Strategy::step, Strategy::vtk, Strategy::inviwo, Strategy::partial, Strategy::exit_anchored}) {
     for (double h : {0.0, -0.5, nan, inf}) {
       try {
         plan_samples(step_config(s, h), ray, iv, cube);

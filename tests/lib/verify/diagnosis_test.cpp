@@ -12,6 +12,7 @@
 #include "lib/scene_file.h"
 #include "lib/verify.h"
 #include "tests/lib/toy_renderer_conventions.h"
+#include "tests/lib/verify/verify_toy.h"
 
 namespace vrv {
 namespace {
@@ -43,17 +44,8 @@ const std::vector<double> kSteps{0.1, 0.05, 0.025};
 
 // The toy's images in double, as a renderer's in-memory images (no file quantisation).
 std::vector<ImageWithStep> images(const Scene& scene, const toy::RendererConvention& c) {
-  std::vector<ImageWithStep> out;
-  for (double h : kSteps) {
-    ChannelImage im;
-    im.width = scene.camera->width;
-    im.height = scene.camera->height;
-    im.names = {"Y"};
-    im.planes = {toy::render(scene, *scene.camera, h, c)};
-    im.pixel_type = "double";
-    out.push_back({fmt::format("toy_{}", h), h, std::move(im)});
-  }
-  return out;
+  return verify_toy::images_in_memory(
+      scene, [&](double h) { return toy::render(scene, *scene.camera, h, c); }, "toy", kSteps);
 }
 
 struct Case {

@@ -45,11 +45,12 @@ inline std::filesystem::path scratch() {
   return d;
 }
 
-// The toy's images at every step, through EXR files.
-inline std::vector<ImageWithStep> toy_images(const Scene& scene, toy::Fault fault, const std::string& tag) {
+// A renderer's images at every step (render(h): row-major values), through EXR files.
+template <class Render>
+std::vector<ImageWithStep> images_through_exr(const Scene& scene, Render render, const std::string& tag) {
   std::vector<ImageWithStep> out;
   for (double h : kSteps) {
-    const std::vector<double> v = toy::render(scene, *scene.camera, h, fault, kSteps.front());
+    const std::vector<double> v = render(h);
     Image im(scene.camera->width, scene.camera->height);
     std::transform(v.begin(), v.end(), im.pixels.begin(), [](double x) { return static_cast<float>(x); });
     const std::filesystem::path file = scratch() / (tag + "_" + std::to_string(h) + ".exr");
@@ -57,6 +58,34 @@ inline std::vector<ImageWithStep> toy_images(const Scene& scene, toy::Fault faul
     out.push_back({file.string(), h, read_channel_image(file)});
   }
   return out;
+}
+
+// A renderer's images at every step in double, as in-memory images (no file quantisation).
+template <class Render>
+std::vector<ImageWithStep> images_in_memory(const Scene& scene, Render render, const std::string& tag,
+                                            const std::vector<double>& steps = kSteps) {
+  std::vector<ImageWithStep> out;
+  for (double h : steps) {
+    ChannelImage im;
+    im.width = scene.camera->width;
+    im.height = scene.camera->height;
+    im.names = {"Y"};
+    im.planes = {render(h)};
+    im.pixel_type = "double";
+    out.push_back({tag + "_" + std::to_string(h), h, std::move(im)});
+  }
+  return out;
+}
+
+// The toy's images at every step, through EXR files.
+inline std::vector<ImageWithStep> toy_images(const Scene& scene, toy::Fault fault, const std::string& tag) {
+  return images_through_exr(
+      scene, [&](double h) { return toy::render(scene, *scene.camera, h, fault, kSteps.front()); }, tag);
+}
+
+// A correct toy with its own placement, through EXR files.
+inline std::vector<ImageWithStep> toy_images(const Scene& scene, toy::Placement placement, const std::string& tag) {
+  return images_through_exr(scene, [&](double h) { return toy::render(scene, *scene.camera, h, placement); }, tag);
 }
 
 // Expecting order 2.

@@ -48,7 +48,7 @@ string(JSON rms GET "${LAST_OUT}" diagnosis 0 rms)
 if(NOT verdict STREQUAL "converges" OR NOT placement STREQUAL "inviwo" OR NOT rule STREQUAL "alpha" OR rms GREATER 1e-6)
   message(FATAL_ERROR "verify_pass: ${verdict}, nearest ${placement}/${rule} at ${rms}:\n${LAST_OUT}")
 endif()
-foreach(f errors.csv errors.md errors.tex errors.json orders.csv diagnosis.json faults.md points.csv
+foreach(f errors.csv errors.md errors.tex errors.json orders.csv diagnosis.json faults.md conventions.md points.csv
           reference.exr 3_alpha_0.0125_Y_error.exr 3_alpha_0.0125_Y_error.png plots.json meta.json)
   if(NOT EXISTS ${OUT}/v/${f})
     message(FATAL_ERROR "verify_pass: ${f} was not written")

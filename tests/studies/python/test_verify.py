@@ -33,7 +33,9 @@ def test_numpy_raycaster_passes_and_its_files_are_written(scene_and_rays, tmp_pa
     reference = [o for o in report["orders"] if o["kind"] == "reference"][0]
     assert abs(reference["order"] - 2) < 0.25, reference
     nearest = report["diagnosis"][0]
-    assert (nearest["rule"], nearest["placement"]) == ("alpha", "inviwo"), nearest
+    # Its step, rounded up to fit the ray (ceil), is neither vrv's inviwo (round) nor partial
+    # placement exactly; the nearest is one of those two midpoint placements (partial since issue 24).
+    assert nearest["rule"] == "alpha" and nearest["placement"] in ("inviwo", "partial"), nearest
     assert report["faults"] == [], report["faults"]
     for name in ("errors.csv", "orders.md", "diagnosis.json", "faults.csv", "reference.exr", "meta.json",
                  "plots.json", "error_vs_step.png", "error_vs_step.pdf"):
