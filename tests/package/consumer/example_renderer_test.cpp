@@ -63,12 +63,17 @@ TEST(ExampleRenderer, VerifyNamesTheMidpointRule) {
   const vrv::VerifyReport report = verify_renderer(Scenario{}, example::render);
   EXPECT_TRUE(report.pass) << report.verdict.reason;
   ASSERT_FALSE(report.diagnosis.empty());
-  EXPECT_EQ(report.diagnosis.front().placement, "inviwo") << report.diagnosis.front().name;
-  EXPECT_EQ(report.diagnosis.front().rule, "alpha") << report.diagnosis.front().name;
-  // Not to rounding (the example cuts a ray into ceil(length / step) segments, inviwo into
-  // round(length / step)), but ten times nearer than any other placement or rule.
+  // Not to rounding: the example cuts a ray into ceil(length / step) equal segments, which none of
+  // vrv's midpoint placements is exactly (inviwo: round(length / step) equal segments; partial and
+  // exit_anchored: whole steps and a partial one at the exit or the entry); one of them, ten times
+  // nearer than any other placement or rule.
+  const auto midpoint_like = [](const vrv::Candidate& c) {
+    return (c.placement == "inviwo" || c.placement == "partial" || c.placement == "exit_anchored") &&
+           c.rule == "alpha";
+  };
+  EXPECT_TRUE(midpoint_like(report.diagnosis.front())) << report.diagnosis.front().name;
   for (const vrv::Candidate& c : report.diagnosis)
-    if (c.placement != "inviwo" || c.rule != "alpha") {
+    if (!midpoint_like(c)) {
       EXPECT_LT(report.diagnosis.front().rms, 0.1 * c.rms) << c.name;
       break;
     }
