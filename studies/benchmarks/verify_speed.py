@@ -10,7 +10,7 @@ an opacity/colour transfer function whose opacity is per unit distance) it rende
 BUILD_DIR's own `vrv render --method alpha --strategy inviwo --step H` (the grid's with
 `--opacity-unit distance`), warms the reference cache with each build, then times
 `vrv verify --out` on them ROUNDS times, alternating the builds when --before is given so that
-both see the same load, with and without the plot (`--no-plots`).  It prints a Markdown table of
+both see the same load, with and without the plot (`--plots`; `--no-plots` for builds before it).  It prints a Markdown table of
 the median CPU seconds (user + system of vrv and its children, as /usr/bin/time counts them) and
 wall seconds, and each build's nearest model.  --keep DIR keeps every build's last --out folder
 (DIR/<build>/<scene>/) for diffing.
@@ -81,6 +81,14 @@ def make_images(vrv, scene_args, render_args, size, folder):
     return images
 
 
+def plot_flags(vrv, plots):
+    """Builds since issue 23 draw the plot only with --plots; older ones unless --no-plots."""
+    opt_in = "--plots" in subprocess.run([str(vrv), "verify", "--help"], capture_output=True, text=True).stdout
+    if opt_in:
+        return ["--plots"] if plots else []
+    return [] if plots else ["--no-plots"]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("build_dir")
@@ -116,7 +124,7 @@ def main():
                         shutil.rmtree(out, ignore_errors=True)
                         cmd = [str(Path(d) / "vrv"), "verify", *scene_args, *images, "--steps", steps,
                                "--cache-dir", str(cache), "--quiet", "--out", str(out)]
-                        cpu, wall, proc = timed(cmd + ([] if plots else ["--no-plots"]), "verify")
+                        cpu, wall, proc = timed(cmd + plot_flags(Path(d) / "vrv", plots), "verify")
                         if plots and not (out / "error_vs_step.png").is_file():
                             sys.exit(f"verify_speed: {name}: no plot drawn ({proc.stderr.strip()})")
                         report = json.loads(proc.stdout)
