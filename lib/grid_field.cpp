@@ -60,38 +60,6 @@ Vec3 GridField::node_position(int i, int j, int k) const {
   return box_.min + index.cwiseProduct(spacing_);
 }
 
-double GridField::coordinate(double x, int a) const {
-  const double u = (x - box_.min[a]) / spacing_[a] - offset_;
-  return std::clamp(u, 0.0, static_cast<double>(n_[a] - 1));
-}
-
-double GridField::value(const Vec3& p) const {
-  const double u[3] = {coordinate(p.x(), 0), coordinate(p.y(), 1), coordinate(p.z(), 2)};
-  if (interpolation_ == Interpolation::nearest) {
-    // Node layout: round to the nearest node; cell layout: the texel that holds p.
-    int idx[3];
-    for (int a = 0; a < 3; ++a) {
-      const double x = layout_ == GridLayout::node ? std::round(u[a]) : std::floor(u[a] + 0.5);
-      idx[a] = std::clamp(static_cast<int>(x), 0, n_[a] - 1);
-    }
-    return node(idx[0], idx[1], idx[2]);
-  }
-  int i0[3], i1[3];
-  double w[3];
-  for (int a = 0; a < 3; ++a) {
-    i0[a] = std::min(static_cast<int>(u[a]), std::max(n_[a] - 2, 0));
-    i1[a] = std::min(i0[a] + 1, n_[a] - 1);
-    w[a] = u[a] - i0[a];
-  }
-  // Nested lerps: fewer operations and roundings than the expanded 8-term sum.
-  auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
-  const double c00 = lerp(node(i0[0], i0[1], i0[2]), node(i1[0], i0[1], i0[2]), w[0]);
-  const double c10 = lerp(node(i0[0], i1[1], i0[2]), node(i1[0], i1[1], i0[2]), w[0]);
-  const double c01 = lerp(node(i0[0], i0[1], i1[2]), node(i1[0], i0[1], i1[2]), w[0]);
-  const double c11 = lerp(node(i0[0], i1[1], i1[2]), node(i1[0], i1[1], i1[2]), w[0]);
-  return lerp(lerp(c00, c10, w[1]), lerp(c01, c11, w[1]), w[2]);
-}
-
 void GridField::append_breaks(const Ray& ray, Interval iv, std::vector<double>& breaks) const {
   // Planes at min + (i + shift) h: node planes for trilinear, half-way planes for nearest.
   const double shift = offset_ + (interpolation_ == Interpolation::nearest ? 0.5 : 0.0);

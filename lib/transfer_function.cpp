@@ -54,23 +54,6 @@ double PiecewiseLinear::max_abs_slope() const {
   return s;
 }
 
-double TransferSegment::tau(double v) const {
-  if (convention == Convention::emission_extinction) return std::max(0.0, second(v));
-  const double a = std::max(0.0, first(v));
-  return -std::log1p(-a) / unit_length;
-}
-
-double TransferSegment::g(double v) const {
-  if (convention == Convention::emission_extinction) return std::max(0.0, first(v));
-  return std::max(0.0, second(v)) * tau(v);
-}
-
-TransferSegment::Optical TransferSegment::optical(double v) const {
-  if (convention == Convention::emission_extinction) return {std::max(0.0, first(v)), std::max(0.0, second(v))};
-  const double t = tau(v);
-  return {std::max(0.0, second(v)) * t, t};
-}
-
 TransferFunction TransferFunction::emission_extinction(PiecewiseLinear emission,
                                                        PiecewiseLinear extinction) {
   if (emission.min_value() < 0) throw std::invalid_argument("emission must not be negative");

@@ -4,6 +4,8 @@
 // Both are given as piecewise-linear control points, constant beyond the ends; a repeated
 // value makes a jump.  Between two consecutive control values (of either curve) g and tau
 // are smooth, so the integrators split rays where the field crosses those values.
+#include <algorithm>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -55,14 +57,26 @@ struct TransferSegment {
   double unit_length = 1;
 
   // Clamped at 0 so that a rounding excursion past a zero-crossing never gives negative values.
-  double tau(double v) const;
-  double g(double v) const;
+  // Inline: the discrete raycaster classifies every sample through them.
+  double tau(double v) const {
+    if (convention == Convention::emission_extinction) return std::max(0.0, second(v));
+    const double a = std::max(0.0, first(v));
+    return -std::log1p(-a) / unit_length;
+  }
+  double g(double v) const {
+    if (convention == Convention::emission_extinction) return std::max(0.0, first(v));
+    return std::max(0.0, second(v)) * tau(v);
+  }
   // Both at once: the opacity convention's -log1p(-a) once, not once for tau and again for g.
   struct Optical {
     double g = 0;
     double tau = 0;
   };
-  Optical optical(double v) const;
+  Optical optical(double v) const {
+    if (convention == Convention::emission_extinction) return {std::max(0.0, first(v)), std::max(0.0, second(v))};
+    const double t = tau(v);
+    return {std::max(0.0, second(v)) * t, t};
+  }
 };
 
 class TransferFunction {

@@ -4,6 +4,8 @@
 
     python3 studies/benchmarks/verify_speed.py BUILD_DIR [--before OTHER_BUILD_DIR]
                                                [--rounds N] [--size N] [--keep DIR]
+                                               [--images N] [--first-run] [--threads T]
+                                               [--scenes default,grid] [--no-plot-rows]
 
 For each scene (the embedded default, and a 64^3 trilinear grid of the Marschner-Lobb field with
 an opacity/colour transfer function whose opacity is per unit distance) it renders 5 images with
@@ -13,7 +15,10 @@ BUILD_DIR's own `vrv render --method alpha --strategy inviwo --step H` (the grid
 both see the same load, with and without the plot (`--plots`; `--no-plots` for builds before it).  It prints a Markdown table of
 the median CPU seconds (user + system of vrv and its children, as /usr/bin/time counts them) and
 wall seconds, and each build's nearest model.  --keep DIR keeps every build's last --out folder
-(DIR/<build>/<scene>/) for diffing.
+(DIR/<build>/<scene>/) for diffing.  --images N takes the N coarsest of 0.04, 0.02, ..., 0.00125
+(default 5); --first-run times verify with an empty reference cache (the reference computed in the
+timed run, as a user's first verify); --threads T passes `--threads T` to verify (default: all
+cores); --scenes picks scenes; --no-plot-rows times only the runs without the plot.
 
 Python 3 standard library only; writes nothing but a scratch directory it removes.
 """
@@ -29,7 +34,8 @@ import tempfile
 import time
 from pathlib import Path
 
-STEPS = [0.04, 0.02, 0.01, 0.005, 0.0025]
+ALL_STEPS = [0.04, 0.02, 0.01, 0.005, 0.0025, 0.00125]
+STEPS = ALL_STEPS[:5]
 
 GRID_SCENE = """[volume]
 min = [-1.0, -1.0, -1.0]
@@ -48,8 +54,8 @@ intensity = 0.1
 """
 
 SCENES = {
-    "default": {"file": None, "render": []},
-    "grid 64^3": {"file": "grid.toml", "render": ["--opacity-unit", "distance"]},
+    "default": {"key": "default", "file": None, "render": []},
+    "grid 64^3": {"key": "grid", "file": "grid.toml", "render": ["--opacity-unit", "distance"]},
 }
 
 
@@ -96,7 +102,19 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--keep", help="keep each build's last --out folder here")
+    ap.add_argument("--images", type=int, default=5, choices=range(2, len(ALL_STEPS) + 1))
+    ap.add_argument("--first-run", action="store_true", help="an empty reference cache in every timed run")
+    ap.add_argument("--threads", type=int, help="verify's --threads (default: all cores)")
+    ap.add_argument("--scenes", default="default,grid", help="comma-separated: default, grid")
+    ap.add_argument("--no-plot-rows", action="store_true", help="time only the runs without the plot")
     args = ap.parse_args()
+    global STEPS
+    STEPS = ALL_STEPS[:args.images]
+    wanted = set(args.scenes.split(","))
+    if not wanted <= {spec["key"] for spec in SCENES.values()}:
+        sys.exit(f"verify_speed: --scenes: unknown scene in {args.scenes!r} (default, grid)")
+    plot_rows = (False,) if args.no_plot_rows else (True, False)
+    thread_args = ["--threads", str(args.threads)] if args.threads is not None else []
     builds = ([("before", args.before)] if args.before else []) + [("this build", args.build_dir)]
     for _, d in builds:
         if not (Path(d) / "vrv").is_file():
@@ -108,28 +126,33 @@ def main():
         (scratch / "grid.toml").write_text(GRID_SCENE)
         cache = scratch / "cache"
         for scene, spec in SCENES.items():
+            if spec["key"] not in wanted:
+                continue
             scene_args = ["--scene", str(scratch / spec["file"])] if spec["file"] else []
             folder = scratch / scene.replace(" ", "_").replace("^", "")
             folder.mkdir()
             images = make_images(str(Path(args.build_dir) / "vrv"), scene_args, spec["render"], args.size, folder)
-            results = {(name, plots): [] for name, _ in builds for plots in (True, False)}
+            results = {(name, plots): [] for name, _ in builds for plots in plot_rows}
             nearest = {}
-            for name, d in builds:  # warm the cache (the builds share it: the same key and reference)
+            for name, d in builds if not args.first_run else []:  # warm the cache (shared: same key)
                 run([str(Path(d) / "vrv"), "verify", *scene_args, *images, "--steps", steps,
                      "--cache-dir", str(cache), "--quiet", "--no-diagnosis"], "warm the cache")
             for _ in range(args.rounds):
                 for name, d in builds:
-                    for plots in (True, False):
+                    for plots in plot_rows:
+                        if args.first_run:
+                            shutil.rmtree(cache, ignore_errors=True)
                         out = folder / f"out_{name.replace(' ', '_')}_{plots}"
                         shutil.rmtree(out, ignore_errors=True)
                         cmd = [str(Path(d) / "vrv"), "verify", *scene_args, *images, "--steps", steps,
-                               "--cache-dir", str(cache), "--quiet", "--out", str(out)]
+                               "--cache-dir", str(cache), "--quiet", "--out", str(out), *thread_args]
                         cpu, wall, proc = timed(cmd + plot_flags(Path(d) / "vrv", plots), "verify")
                         if plots and not (out / "error_vs_step.png").is_file():
                             sys.exit(f"verify_speed: {name}: no plot drawn ({proc.stderr.strip()})")
                         report = json.loads(proc.stdout)
-                        if not report["reference"]["from_cache"]:
-                            sys.exit(f"verify_speed: {name}: the reference was not read from the cache")
+                        if report["reference"]["from_cache"] == args.first_run:
+                            sys.exit(f"verify_speed: {name}: the reference was "
+                                     f"{'read from' if args.first_run else 'not read from'} the cache")
                         results[(name, plots)].append((cpu, wall))
                         nearest[name] = report["diagnosis"][0]["name"] if report["diagnosis"] else "none"
                         if args.keep and not plots:
@@ -140,19 +163,21 @@ def main():
                 cpu = statistics.median(t[0] for t in times)
                 wall = statistics.median(t[1] for t in times)
                 rows.append((scene, name, "yes" if plots else "no", cpu, wall, nearest[name]))
+    cached = "computed in each run (first run)" if args.first_run else "cached"
     print(f"`vrv verify`, {len(STEPS)} images of {args.size}² (alpha, inviwo, steps {steps}), the reference "
-          f"cached, median of {args.rounds} rounds; CPU = user + system of vrv and its children.\n")
+          f"{cached}, median of {args.rounds} rounds; CPU = user + system of vrv and its children.\n")
     print("| scene | build | plot | CPU s | wall s | nearest model |")
     print("|---|---|---|---|---|---|")
     for scene, name, plots, cpu, wall, near in rows:
         print(f"| {scene} | {name} | {plots} | {cpu:.2f} | {wall:.2f} | {near} |")
     if args.before:
         print()
-        for scene in SCENES:
-            for plots in ("yes", "no"):
+        for scene in sorted({r[0] for r in rows}):
+            for plots in sorted({r[2] for r in rows}, reverse=True):
                 cpu = {r[1]: r[3] for r in rows if r[0] == scene and r[2] == plots}
                 print(f"- {scene}, plot {plots}: this build / before = {cpu['this build'] / cpu['before']:.2f}")
-    print(f"\nThreads: all ({os.cpu_count()} cores); `python3 studies/benchmarks/verify_speed.py "
+    threads = f"{args.threads}" if args.threads is not None else f"all ({os.cpu_count()} cores)"
+    print(f"\nThreads: {threads}; `python3 studies/benchmarks/verify_speed.py "
           f"{' '.join(sys.argv[1:])}`")
 
 
