@@ -26,6 +26,7 @@ std::string_view check_kind_name(CheckKind kind) {
     case CheckKind::derived: return "derived";
     case CheckKind::regression: return "regression";
     case CheckKind::identity: return "identity";
+    case CheckKind::finite: return "finite";
     case CheckKind::unlabelled: break;
   }
   return "unlabelled";

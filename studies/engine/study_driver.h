@@ -42,13 +42,14 @@ struct StudyRun {
   Checkpoints* checkpoints = nullptr;
 };
 
-// Where a check's bound comes from (docs/studies.md, "Three kinds of check"):
+// Where a check's bound comes from (docs/studies.md, "Four kinds of check"):
 //   derived     from theory or from the fit's own spread (a regression in the code can trip it);
 //   regression  a measured maximum rounded up: the study file says so next to the number, with
 //               the measurement and the command that made it;
-//   identity    true by construction, kept as a sanity check (it cannot show a finding).
+//   identity    true by construction, kept as a sanity check (it cannot show a finding);
+//   finite      no error bound is stated: only that the value is finite (the error is recorded).
 // `unlabelled` is refused by `vrv study`: every check must say which it is.
-enum class CheckKind { unlabelled, derived, regression, identity };
+enum class CheckKind { unlabelled, derived, regression, identity, finite };
 std::string_view check_kind_name(CheckKind kind);
 
 // One invariant the study checked: `value` compared with `bound` (pass is decided by the driver,

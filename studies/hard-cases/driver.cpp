@@ -11,13 +11,12 @@
 #include "studies/hard-cases/hard_cases.h"
 
 namespace vrv {
-namespace {
 
-std::vector<StudyCheck> checks_of(const HardCasesResult& result) {
+std::vector<StudyCheck> hard_case_checks(const HardCasesResult& result) {
   std::vector<StudyCheck> checks;
   // A row with a bound (the reference's own estimate, or a stated max_error whose derivation is
   // next to it in the study file) checks the error against it; a row without one is a
-  // finiteness check only, and says so.
+  // finiteness check only, says so and is labelled `finite` (not `derived`: nothing is derived).
   for (const CaseRow& r : result.cases) {
     const bool bounded = std::isfinite(r.bound);
     std::string detail = !r.finite  ? std::string("value not finite")
@@ -27,10 +26,13 @@ std::vector<StudyCheck> checks_of(const HardCasesResult& result) {
                                        : fmt::format("finiteness only: no error bound stated (error {:.3g}, recorded "
                                                      "in cases.csv)", r.error);
     checks.push_back({fmt::format("{} / {}{}", r.case_name, r.method, bounded || !r.finite ? "" : ": finite"),
-                      r.error, r.bound, r.pass, std::move(detail), CheckKind::derived});
+                      r.error, r.bound, r.pass, std::move(detail),
+                      bounded || !r.finite ? CheckKind::derived : CheckKind::finite});
   }
   return checks;
 }
+
+namespace {
 
 StudyPlan parse_hard_cases(const StudyInput& in) {
   HardCasesStudy study = read_hard_cases_study(in);
@@ -38,7 +40,7 @@ StudyPlan parse_hard_cases(const StudyInput& in) {
     const HardCasesResult result = run_hard_cases(study, run.progress, checkpoint_function(run.checkpoints));
     write_hard_case_tables(run.dir, study, result);
     StudyOutcome out;
-    out.checks = checks_of(result);
+    out.checks = hard_case_checks(result);
     out.parameters = hard_cases_parameters(study, run.quick, 0);
     out.parameters["cases_summary"] = case_summary_json(result);
     out.summary = fmt::format("{} cases", result.case_summary.size());

@@ -94,4 +94,8 @@ void write_hard_case_tables(const std::filesystem::path& dir, const HardCasesStu
                             const HardCasesResult& result);
 nlohmann::json case_summary_json(const HardCasesResult& result);
 
+// One check per (case, method): against the reference's own estimate or the stated max_error
+// (kind derived), or, with no bound stated, that the value is finite (kind finite).
+std::vector<StudyCheck> hard_case_checks(const HardCasesResult& result);
+
 }  // namespace vrv

@@ -2,6 +2,7 @@
 // thread count, and rejects bad study files with one line naming the file and key.
 #include "studies/hard-cases/hard_cases.h"
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -43,6 +44,24 @@ TEST(HardCases, HardCasesQuickPassesAndItsTablesHaveNoNan) {
     two = hard_case_tables(study, run_hard_cases(study, false)).cases_csv;
   }
   EXPECT_EQ(one, two);
+}
+
+// A discrete row with no stated bound is a finiteness check and is labelled `finite`, never
+// `derived`; a stated max_error and the reference's own estimate are `derived` (issue 29).
+TEST(HardCases, RowsWithoutABoundAreLabelledFiniteNotDerived) {
+  const HardCasesStudy study = load_hard_cases_study(kHardCases);
+  const HardCasesResult r = run_hard_cases(study, /*progress=*/false);
+  const std::vector<StudyCheck> checks = hard_case_checks(r);
+  ASSERT_EQ(checks.size(), r.cases.size());
+  int finite = 0, derived = 0;
+  for (std::size_t i = 0; i < checks.size(); ++i) {
+    const bool bounded = std::isfinite(r.cases[i].bound);
+    EXPECT_EQ(checks[i].kind, bounded ? CheckKind::derived : CheckKind::finite) << checks[i].name;
+    EXPECT_EQ(checks[i].detail.starts_with("finiteness only"), !bounded) << checks[i].name;
+    (bounded ? derived : finite) += 1;
+  }
+  EXPECT_GT(finite, 0);  // the committed study has both kinds of row
+  EXPECT_GT(derived, 0);
 }
 
 std::string error_of(const std::string& text) {
