@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/option_error.h"
 #include "lib/util/enum_names.h"
 
 namespace vrv {
@@ -23,46 +24,46 @@ std::string_view color_convention_name(ColorConvention c) { return name_of(kColo
 
 void validate(const DiscreteConfig& c, bool grid_field) {
   if (c.oversample < 1 || c.oversample > 65536)
-    throw std::invalid_argument(fmt::format("--oversample: must be in [1, 65536], got {}", c.oversample));
+    throw OptionError(Option::oversample, fmt::format("must be in [1, 65536], got {}", c.oversample));
   const Strategy st = c.sampling.strategy;
   if (c.centred_oversamples && st != Strategy::step && st != Strategy::vtk && st != Strategy::inviwo)
-    throw std::invalid_argument(fmt::format(
-        "--centred-oversamples: needs a strategy whose first sample is at least half a step inside "
-        "(step, vtk or inviwo), not {}", strategy_name(st)));
+    throw OptionError(Option::centred_oversamples,
+                      fmt::format("needs a strategy whose first sample is at least half a step inside "
+                                  "(step, vtk or inviwo), not {}", strategy_name(st)));
   // The partial step's own sample has no unit step to divide.
   if (c.oversample > 1 && (st == Strategy::partial || st == Strategy::exit_anchored))
-    throw std::invalid_argument(fmt::format("--oversample: the {} strategy samples its partial step once; "
-                                            "oversample with step, vtk or inviwo", strategy_name(st)));
+    throw OptionError(Option::oversample, fmt::format("the {} strategy samples its partial step once; "
+                                                      "oversample with step, vtk or inviwo", strategy_name(st)));
   if (c.correction != Correction::none && c.rule != SegmentRule::alpha)
-    throw std::invalid_argument(fmt::format(
-        "--correction: only the alpha rule composites opacities (method is {})", segment_rule_name(c.rule)));
+    throw OptionError(Option::correction, fmt::format("only the alpha rule composites opacities (method is {})",
+                                                      segment_rule_name(c.rule)));
   if (c.termination && !(*c.termination > 0 && *c.termination <= 1))
-    throw std::invalid_argument("--termination: must be in (0, 1]");
+    throw OptionError(Option::termination, "must be in (0, 1]");
   if (c.skip_below && !(*c.skip_below >= 0 && *c.skip_below < 1))
-    throw std::invalid_argument("--skip: must be in [0, 1)");
+    throw OptionError(Option::skip, "must be in [0, 1)");
   if (c.termination && c.compositing == Compositing::back_to_front)
-    throw std::invalid_argument("--termination: early termination needs front-to-back compositing");
+    throw OptionError(Option::termination, "early termination needs front-to-back compositing");
   if (c.opacity_unit != OpacityUnit::per_sample && c.rule != SegmentRule::alpha)
-    throw std::invalid_argument(fmt::format(
-        "--opacity-unit: only the alpha rule uses opacities (method is {})", segment_rule_name(c.rule)));
+    throw OptionError(Option::opacity_unit, fmt::format("only the alpha rule uses opacities (method is {})",
+                                                        segment_rule_name(c.rule)));
   if (c.color != ColorConvention::straight && c.rule != SegmentRule::alpha)
-    throw std::invalid_argument(fmt::format(
-        "--color: only the alpha rule composites colours (method is {})", segment_rule_name(c.rule)));
+    throw OptionError(Option::color, fmt::format("only the alpha rule composites colours (method is {})",
+                                                 segment_rule_name(c.rule)));
   if (c.table_size != 0 && (c.table_size < 2 || c.table_size > kMaxTableSize))
-    throw std::invalid_argument(
-        fmt::format("--table-size: must be 0 (no table) or in [2, {}], got {}", kMaxTableSize, c.table_size));
+    throw OptionError(Option::table_size,
+                      fmt::format("must be 0 (no table) or in [2, {}], got {}", kMaxTableSize, c.table_size));
   if (c.table_size == 0 && c.table_lookup != TableLookup::centred)
-    throw std::invalid_argument("--table-lookup: needs --table-size N (a table to read)");
+    throw OptionError(Option::table_lookup, "needs {0} N (a table to read)", {Option::table_size});
   if (c.classification == Classification::pre && !grid_field)
-    throw std::invalid_argument("--classification: pre-classification needs a grid field");
+    throw OptionError(Option::classification, "pre-classification needs a grid field");
 }
 
 void validate(const DiscreteConfig& c, bool grid_field, const TransferFunction& tf) {
   validate(c, grid_field);
   if (c.opacity_unit == OpacityUnit::per_unit_distance && tf.convention() != Convention::opacity_color)
-    throw std::invalid_argument(
-        "--opacity-unit: distance needs an opacity/colour transfer function (emission and extinction "
-        "are per unit length already)");
+    throw OptionError(Option::opacity_unit,
+                      "distance needs an opacity/colour transfer function (emission and extinction "
+                      "are per unit length already)");
 }
 
 DiscreteResult discrete_raycast(const Scene& scene, const Ray& ray, const DiscreteConfig& config) {

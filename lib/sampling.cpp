@@ -1,5 +1,6 @@
 #include "lib/sampling.h"
 
+#include "lib/option_error.h"
 #include "lib/util/enum_names.h"
 
 #include <algorithm>
@@ -42,7 +43,7 @@ SamplePlan empty_plan(double t_end) { return SamplePlan{t_end, 0, t_end, 0}; }
 // Samples t_first + k * dt (k = 0, 1, ...) while < t_end.  The count is found for exactly the
 // expression SamplePlan::t(k) evaluates; that expression is non-decreasing in k (a product and a
 // sum, each correctly rounded, are monotone), so the samples that pass form a prefix.
-SamplePlan make_plan(double t_first, double dt, double t_end, const char* flag) {
+SamplePlan make_plan(double t_first, double dt, double t_end, Option option) {
   if (!std::isfinite(t_first) || !std::isfinite(t_end) || !std::isfinite(dt) || !(dt > 0)) {
     return empty_plan(t_end);
   }
@@ -50,7 +51,7 @@ SamplePlan make_plan(double t_first, double dt, double t_end, const char* flag) 
   if (!(t_first < t_end)) return plan;
   const double estimate = std::ceil((t_end - t_first) / dt);
   if (!(estimate <= kMaxSamples)) {
-    throw std::invalid_argument(std::string(flag) + " gives more than 1e12 samples on one ray");
+    throw OptionError(option, "gives more than 1e12 samples on one ray");
   }
   long n = std::max(1L, static_cast<long>(estimate));
   while (n > 0 && !(plan.t(n - 1) < t_end)) --n;
@@ -59,11 +60,9 @@ SamplePlan make_plan(double t_first, double dt, double t_end, const char* flag) 
   return plan;
 }
 
-void check_positive(double value, const char* flag) {
-  if (!(std::isfinite(value) && value > 0)) {
-    throw std::invalid_argument(std::string(flag) + " must be a positive finite number, got " +
-                                number(value));
-  }
+void check_positive(double value, Option option) {
+  if (!(std::isfinite(value) && value > 0))
+    throw OptionError(option, "must be a positive finite number, got " + number(value));
 }
 
 double fract(double x) { return x - std::floor(x); }
@@ -106,7 +105,7 @@ SamplePlan plan_rate(const SamplingConfig& c, const Ray& ray, Interval iv, const
   // only gets here when dims - 1 is 0 along the whole ray (dims of 1).
   if (!(samples > 0)) return empty_plan(iv.t1);
   if (!(samples <= kMaxSamples)) {
-    throw std::invalid_argument("--rate gives more than 1e12 samples on one ray");
+    throw OptionError(Option::rate, "gives more than 1e12 samples on one ray");
   }
 
   // World step: tIncr = tEnd / samples in texture units; the texture length tEnd of the chord
@@ -120,19 +119,19 @@ SamplePlan plan_rate(const SamplingConfig& c, const Ray& ray, Interval iv, const
     const double num_steps = (entry - eye).norm() / t_incr_tex;
     first_fraction = 1 - fract(num_steps);  // in (0, 1]: the entry itself is never sampled
   }
-  return make_plan(iv.t0 + first_fraction * dt, dt, iv.t1, "--rate");
+  return make_plan(iv.t0 + first_fraction * dt, dt, iv.t1, Option::rate);
 }
 
 // n = floor(length / h) whole steps at their midpoints and the partial step r = length - n h at
 // its own: after them from the entry, or, anchored at the exit, before them.
 SamplePlan plan_with_partial_step(bool from_exit, double h, Interval iv, double length) {
   const double ratio = length / h;
-  if (!(ratio <= kMaxSamples)) throw std::invalid_argument("--step gives more than 1e12 samples on one ray");
+  if (!(ratio <= kMaxSamples)) throw OptionError(Option::step, "gives more than 1e12 samples on one ray");
   const double n = std::floor(ratio);
   const double r = length - n * h;
   const double t0 = from_exit ? iv.t1 - n * h : iv.t0;  // where the whole steps start
   // t_end closes the whole steps, so count stays exact for t(k) < t_end.
-  SamplePlan plan = n > 0 ? make_plan(t0 + 0.5 * h, h, t0 + n * h, "--step") : empty_plan(iv.t1);
+  SamplePlan plan = n > 0 ? make_plan(t0 + 0.5 * h, h, t0 + n * h, Option::step) : empty_plan(iv.t1);
   if (r > 0) {
     plan.partial = r;
     plan.partial_first = from_exit;
@@ -150,9 +149,9 @@ std::string_view strategy_name(Strategy s) { return name_of(kNames, s); }
 SamplePlan plan_samples(const SamplingConfig& config, const Ray& ray, Interval iv, const Box& box) {
   const bool by_rate = rate_based(config.strategy);
   if (by_rate) {
-    check_positive(config.rate, "--rate");
+    check_positive(config.rate, Option::rate);
   } else {
-    check_positive(config.step, "--step");
+    check_positive(config.step, Option::step);
   }
   if (!std::isfinite(iv.t0) || !std::isfinite(iv.t1)) {
     throw std::invalid_argument("plan_samples: the clipped ray interval must be finite");
@@ -166,19 +165,19 @@ SamplePlan plan_samples(const SamplingConfig& config, const Ray& ray, Interval i
   const double length = iv.length();
   switch (config.strategy) {
     case Strategy::step:
-      return make_plan(iv.t0 + 0.5 * h, h, iv.t1, "--step");
+      return make_plan(iv.t0 + 0.5 * h, h, iv.t1, Option::step);
     case Strategy::vtk:
       // First sample one full step inside; a sample exactly on the exit is kept (t <= t1).
       return make_plan(iv.t0 + h, h, std::nextafter(iv.t1, std::numeric_limits<double>::infinity()),
-                       "--step");
+                       Option::step);
     case Strategy::inviwo: {
       const double ratio = length / h;
       if (!(ratio <= kMaxSamples)) {
-        throw std::invalid_argument("--step gives more than 1e12 samples on one ray");
+        throw OptionError(Option::step, "gives more than 1e12 samples on one ray");
       }
       const double n = std::max(1.0, std::round(ratio));
       const double dt = length / n;
-      return make_plan(iv.t0 + 0.5 * dt, dt, iv.t1, "--step");
+      return make_plan(iv.t0 + 0.5 * dt, dt, iv.t1, Option::step);
     }
     case Strategy::partial:
     case Strategy::exit_anchored:

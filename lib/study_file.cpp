@@ -1,5 +1,7 @@
 #include "lib/study_file.h"
 
+#include "lib/option_error.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -313,10 +315,8 @@ StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, co
     }
     try {
       validate(c, std::holds_alternative<GridField>(scene.field), scene.transfer);
-    } catch (const std::invalid_argument& e) {
-      std::string msg = e.what();  // "--option: reason"
-      if (msg.starts_with("--")) msg = msg.substr(2);
-      r.fail(path, msg);
+    } catch (const OptionError& e) {  // named by the key the file uses, not the command line's flag
+      r.fail(StudyReader::child(path, option_name(e.option(), Spelling::key)), e.reason(Spelling::key));
     }
   }
   out.label = m.contains("label") ? r.string(*m.get("label"), path + ".label") : method_label(out);

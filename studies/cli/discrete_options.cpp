@@ -5,69 +5,72 @@
 
 #include <fmt/format.h>
 
+#include "lib/option_error.h"
 #include "lib/study_file.h"
 
 namespace vrv::cli {
 namespace {
 
+// The option's command-line name, from the one table of lib/option_error.
+std::string flag(Option option) { return std::string(option_name(option, Spelling::flag)); }
+
 template <class T, class Parse>
-T parse_choice(const std::string& text, const char* option, Parse&& parse, const char* choices) {
+T parse_choice(const std::string& text, Option option, Parse&& parse, const char* choices) {
   const auto value = parse(text);
-  if (!value)
-    throw std::invalid_argument(fmt::format("{}: unknown value '{}' (one of {})", option, text, choices));
+  if (!value) throw OptionError(option, fmt::format("unknown value '{}' (one of {})", text, choices));
   return *value;
 }
 
 // The renderer conventions of DiscreteConfig (defaults documented there).
 void add_convention_options(CLI::App& cmd, DiscreteOptions& opt) {
-  cmd.add_option("--opacity-unit", opt.opacity_unit,
+  cmd.add_option(flag(Option::opacity_unit), opt.opacity_unit,
                  "Alpha rule, opacity/colour scenes: sample (opacity per sample, unit_length unused) | "
                  "distance (per unit_length, corrected to the step: 1 - (1 - a)^(H/L))")
       ->capture_default_str();
-  cmd.add_option("--color", opt.color,
+  cmd.add_option(flag(Option::color), opt.color,
                  "Alpha rule: straight (emit colour * alpha) | premultiplied (colour stored times the "
                  "transfer function's opacity, emitted as stored)")
       ->capture_default_str();
-  cmd.add_option("--table-size", opt.table_size,
+  cmd.add_option(flag(Option::table_size), opt.table_size,
                  "Read the transfer function from N-entry tables over its control-point range (0: no table)")
       ->capture_default_str();
-  cmd.add_option("--table-lookup", opt.table_lookup,
+  cmd.add_option(flag(Option::table_lookup), opt.table_lookup,
                  "centred (entry i read at its own value; half-texel remap) | uncentred (plain texture coordinate)")
       ->capture_default_str();
 }
 
 void set_conventions(const DiscreteOptions& opt, DiscreteConfig& c) {
-  c.opacity_unit = parse_choice<OpacityUnit>(opt.opacity_unit, "--opacity-unit", parse_opacity_unit, "sample, distance");
-  c.color = parse_choice<ColorConvention>(opt.color, "--color", parse_color_convention, "straight, premultiplied");
+  c.opacity_unit = parse_choice<OpacityUnit>(opt.opacity_unit, Option::opacity_unit, parse_opacity_unit, "sample, distance");
+  c.color = parse_choice<ColorConvention>(opt.color, Option::color, parse_color_convention, "straight, premultiplied");
   c.table_size = opt.table_size;
-  c.table_lookup = parse_choice<TableLookup>(opt.table_lookup, "--table-lookup", parse_table_lookup, "centred, uncentred");
+  c.table_lookup = parse_choice<TableLookup>(opt.table_lookup, Option::table_lookup, parse_table_lookup, "centred, uncentred");
 }
 
 }  // namespace
 
 void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
-  cmd.add_option("--method", opt.method,
+  cmd.add_option(flag(Option::method), opt.method,
                  "Discrete raycast: riemann | alpha | trapezoid | exact_linear | moreland "
                  "(omit for the reference integrator; the options below need it)");
   const std::size_t before = cmd.get_options().size();
-  cmd.add_option("--strategy", opt.strategy,
+  cmd.add_option(flag(Option::strategy), opt.strategy,
                  "Sample placement: eye | entry | entry_exit | entry_exit_corner (default) | step | vtk | inviwo | "
                  "partial | exit_anchored");
-  cmd.add_option("--rate", opt.rate, "Samples per voxel (eye, entry, entry_exit, entry_exit_corner; default 1)");
-  cmd.add_option("--step", opt.step,
+  cmd.add_option(flag(Option::rate), opt.rate, "Samples per voxel (eye, entry, entry_exit, entry_exit_corner; default 1)");
+  cmd.add_option(flag(Option::step), opt.step,
                  "World step H (step, vtk, inviwo, partial, exit_anchored; --step alone implies --strategy step)");
-  cmd.add_option("--oversample", opt.oversample, "Oversampling factor N dividing the unit step")
+  cmd.add_option(flag(Option::oversample), opt.oversample, "Oversampling factor N dividing the unit step")
       ->capture_default_str();
-  cmd.add_flag("--centred-oversamples", opt.centred_oversamples,
+  cmd.add_flag(flag(Option::centred_oversamples), opt.centred_oversamples,
                "Put the N oversamples at the centres of the unit step's N parts (default: from the unit sample on)");
-  cmd.add_option("--correction", opt.correction,
+  cmd.add_option(flag(Option::correction), opt.correction,
                  "Opacity correction (alpha method): none | lacroute | schulze | lee_newman | lee_newman_quadratic")
       ->capture_default_str();
-  cmd.add_option("--termination", opt.termination, "Early ray termination at this accumulated opacity (off by default)");
-  cmd.add_option("--skip", opt.skip, "Skip samples whose opacity is below this (off by default)");
-  cmd.add_option("--compositing", opt.compositing, "front_to_back | back_to_front")->capture_default_str();
-  cmd.add_option("--classification", opt.classification, "post | pre (grid fields)")->capture_default_str();
-  cmd.add_option("--precision", opt.precision, "double | float")->capture_default_str();
+  cmd.add_option(flag(Option::termination), opt.termination, "Early ray termination at this accumulated opacity (off by default)");
+  cmd.add_option(flag(Option::skip), opt.skip, "Skip samples whose opacity is below this (off by default)");
+  cmd.add_option(flag(Option::compositing), opt.compositing, "front_to_back | back_to_front")->capture_default_str();
+  cmd.add_option(flag(Option::classification), opt.classification, "post | pre (grid fields)")->capture_default_str();
+  cmd.add_option(flag(Option::precision), opt.precision, "double | float")->capture_default_str();
   add_convention_options(cmd, opt);
   const auto all = cmd.get_options();
   opt.given.assign(all.begin() + static_cast<long>(before), all.end());
@@ -89,37 +92,38 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
     return std::nullopt;
   }
   DiscreteConfig c;
-  c.rule = parse_choice<SegmentRule>(opt.method, "--method", parse_segment_rule,
+  c.rule = parse_choice<SegmentRule>(opt.method, Option::method, parse_segment_rule,
                                      "riemann, alpha, trapezoid, exact_linear, moreland");
   const std::string strategy = opt.strategy.value_or(opt.step ? "step" : "entry_exit_corner");
-  c.sampling.strategy = parse_choice<Strategy>(strategy, "--strategy", parse_strategy,
+  c.sampling.strategy = parse_choice<Strategy>(strategy, Option::strategy, parse_strategy,
                                                "eye, entry, entry_exit, entry_exit_corner, step, vtk, inviwo, "
                                                "partial, exit_anchored");
   const bool step_based = vrv::step_based(c.sampling.strategy);
   if (step_based && !opt.step)
-    throw std::invalid_argument(fmt::format("--step: strategy {} needs --step H", strategy));
+    throw OptionError(Option::step, fmt::format("strategy {} needs {{0}} H", strategy), {Option::step});
   if (!step_based && opt.step)
-    throw std::invalid_argument(fmt::format("--step: strategy {} takes --rate, not --step", strategy));
+    throw OptionError(Option::step, fmt::format("strategy {} takes {{0}}, not {{1}}", strategy),
+                      {Option::rate, Option::step});
   if (step_based && opt.rate)
-    throw std::invalid_argument("--rate: a step-based strategy takes --step, not --rate");
+    throw OptionError(Option::rate, "a step-based strategy takes {0}, not {1}", {Option::step, Option::rate});
   c.sampling.rate = opt.rate.value_or(1.0);
   c.sampling.step = opt.step.value_or(0.0);
   c.sampling.dims = scene.dims;
   c.oversample = opt.oversample;
   c.centred_oversamples = opt.centred_oversamples;
-  c.correction = parse_choice<Correction>(opt.correction, "--correction", parse_correction,
+  c.correction = parse_choice<Correction>(opt.correction, Option::correction, parse_correction,
                                           "none, lacroute, schulze, lee_newman, lee_newman_quadratic");
   c.termination = opt.termination;
   c.skip_below = opt.skip;
   if (opt.compositing == "front_to_back") c.compositing = Compositing::front_to_back;
   else if (opt.compositing == "back_to_front") c.compositing = Compositing::back_to_front;
-  else throw std::invalid_argument(fmt::format("--compositing: unknown value '{}' (front_to_back or back_to_front)", opt.compositing));
+  else throw OptionError(Option::compositing, fmt::format("unknown value '{}' (front_to_back or back_to_front)", opt.compositing));
   if (opt.classification == "post") c.classification = Classification::post;
   else if (opt.classification == "pre") c.classification = Classification::pre;
-  else throw std::invalid_argument(fmt::format("--classification: unknown value '{}' (post or pre)", opt.classification));
+  else throw OptionError(Option::classification, fmt::format("unknown value '{}' (post or pre)", opt.classification));
   if (opt.precision == "double") c.precision = Precision::double_precision;
   else if (opt.precision == "float") c.precision = Precision::single_precision;
-  else throw std::invalid_argument(fmt::format("--precision: unknown value '{}' (double or float)", opt.precision));
+  else throw OptionError(Option::precision, fmt::format("unknown value '{}' (double or float)", opt.precision));
   set_conventions(opt, c);
   validate(c, std::holds_alternative<GridField>(scene.field), scene.transfer);
   return c;

@@ -32,6 +32,7 @@
 #include "lib/util/parallel.h"
 #include "lib/verify_work.h"
 #include "lib/vrv.h"
+#include "lib/option_error.h"
 #include "studies/cli/discrete_options.h"
 #include "lib/io/image_module.h"
 #include "studies/cli/published_folder.h"
@@ -158,7 +159,11 @@ std::unique_ptr<DiscreteKeywords> discrete_keywords(const Scene& scene, const py
   } catch (const CLI::ParseError& e) {
     throw std::invalid_argument(e.what());
   }
-  k->config = cli::discrete_config(k->options, scene);
+  try {
+    k->config = cli::discrete_config(k->options, scene);
+  } catch (const OptionError& e) {  // named by the keyword, as the caller wrote it
+    throw std::invalid_argument(e.message(Spelling::key));
+  }
   return k;
 }
 

@@ -54,12 +54,12 @@ TEST(StudyWork, TheLoaderRefusesWorkAboveTheLimit) {
                StudyFileError);
   // A configuration no plan can hold is the study file's problem, named as such.
   LoadedStudy unplannable = study_costing(1);
-  unplannable.work = [](bool) -> StudyWork { throw std::invalid_argument("--step gives more than 1e12 samples on one ray"); };
+  unplannable.work = [](bool) -> StudyWork { throw std::invalid_argument("--step: gives more than 1e12 samples on one ray"); };
   try {
     check_study_work(unplannable, false, 1e9);
     FAIL() << "not refused";
   } catch (const StudyFileError& e) {
-    EXPECT_EQ(std::string(e.what()), "big.toml: (work): --step gives more than 1e12 samples on one ray");
+    EXPECT_EQ(std::string(e.what()), "big.toml: (work): --step: gives more than 1e12 samples on one ray");
   }
 }
 

@@ -1,0 +1,70 @@
+#include "lib/option_error.h"
+
+#include <array>
+
+#include <fmt/args.h>
+#include <fmt/format.h>
+
+#include "lib/util/enum_names.h"
+
+namespace vrv {
+namespace {
+
+constexpr NameTable<Option, 16> kKeys{{{Option::method, "method"},
+                                       {Option::strategy, "strategy"},
+                                       {Option::rate, "rate"},
+                                       {Option::step, "step"},
+                                       {Option::oversample, "oversample"},
+                                       {Option::centred_oversamples, "centred_oversamples"},
+                                       {Option::correction, "correction"},
+                                       {Option::termination, "termination"},
+                                       {Option::skip, "skip"},
+                                       {Option::compositing, "compositing"},
+                                       {Option::classification, "classification"},
+                                       {Option::precision, "precision"},
+                                       {Option::opacity_unit, "opacity_unit"},
+                                       {Option::color, "color"},
+                                       {Option::table_size, "table_size"},
+                                       {Option::table_lookup, "table_lookup"}}};
+
+// The flag is the key with '-' for '_' behind "--": derived, so the two can never disagree.
+std::string flag_of(std::string_view key) {
+  std::string flag = "--" + std::string(key);
+  for (char& c : flag)
+    if (c == '_') c = '-';
+  return flag;
+}
+
+}  // namespace
+
+std::string_view option_name(Option option, Spelling spelling) {
+  static const auto flags = [] {
+    std::array<std::string, kKeys.size()> f;
+    for (std::size_t i = 0; i < kKeys.size(); ++i) f[static_cast<std::size_t>(kKeys[i].first)] = flag_of(kKeys[i].second);
+    return f;
+  }();
+  if (spelling == Spelling::key) return name_of(kKeys, option);
+  return flags[static_cast<std::size_t>(option)];
+}
+
+std::string OptionError::spelled(const std::string& reason, const std::vector<Option>& mentioned,
+                                 Spelling spelling) {
+  fmt::dynamic_format_arg_store<fmt::format_context> names;
+  for (Option o : mentioned) names.push_back(std::string(option_name(o, spelling)));
+  return fmt::vformat(reason, names);
+}
+
+OptionError::OptionError(Option option, std::string reason, std::vector<Option> mentioned)
+    : std::invalid_argument(fmt::format("{}: {}", option_name(option, Spelling::flag),
+                                        spelled(reason, mentioned, Spelling::flag))),
+      option_(option),
+      reason_(std::move(reason)),
+      mentioned_(std::move(mentioned)) {}
+
+std::string OptionError::reason(Spelling spelling) const { return spelled(reason_, mentioned_, spelling); }
+
+std::string OptionError::message(Spelling spelling) const {
+  return fmt::format("{}: {}", option_name(option_, spelling), reason(spelling));
+}
+
+}  // namespace vrv
