@@ -849,6 +849,25 @@ def section_verify_speed(build_dir, rounds=3):
         "builds side by side: `--before OLD_BUILD`.", 1800)
 
 
+def section_verify_first_run(build_dir):
+    """verify_speed.py --first-run: 6 images of 1024² on the grid scene, the reference computed."""
+    return script_section(
+        "## verify's first run at 1024²", "verify_speed.py",
+        [str(build_dir), "--rounds", "1", "--size", "1024", "--images", "6", "--first-run", "--scenes", "grid",
+         "--no-plot-rows"],
+        "`vrv verify --out` on 6 images of 1024² of the 64³ grid scene with an empty reference cache, so the "
+        "reference image is computed in the timed run, as on a user's first run (issue 23's goal: at most "
+        "40 CPU s).", 1800)
+
+
+def section_thread_scaling(build_dir):
+    """thread_scaling.py's table: render --reference and a cached verify at 1 and 2 threads."""
+    return script_section(
+        "## Thread scaling", "thread_scaling.py", [str(build_dir)],
+        "wall time at 1 and 2 threads, alternately (issue 23's goal: at least 1.8x on an idle machine, "
+        "serial parts named); the load average says whether the machine was idle.", 1800)
+
+
 def section_study_work(build_dir):
     """study_work.py's table: each shipped study's estimated work against its wall time."""
     return script_section(
@@ -893,6 +912,8 @@ def main():
     startup_text = section_startup(build_dir)
     reference_image_text = section_reference_image(build_dir)
     verify_speed_text = section_verify_speed(build_dir)
+    verify_first_run_text = section_verify_first_run(build_dir)
+    thread_scaling_text = section_thread_scaling(build_dir)
     study_work_text = section_study_work(build_dir)
     scaling_text, fits = section_scaling(by_name.get("bench_scaling"))
     largest_text, largest_headline = section_largest(by_name.get("bench_scaling"), fits, machine)
@@ -924,6 +945,10 @@ def main():
         reference_image_text,
         "",
         verify_speed_text,
+        "",
+        verify_first_run_text,
+        "",
+        thread_scaling_text,
         "",
         study_work_text,
         "",

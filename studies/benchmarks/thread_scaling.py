@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""Thread scaling of `vrv render --reference` and a cached `vrv verify` (issue 23: >= 1.8x from 1 to
+2 threads on an idle machine, serial parts named).
+
+    python3 studies/benchmarks/thread_scaling.py BUILD_DIR [--rounds N] [--size N]
+
+Renders the 64^3 grid scene's reference image (studies/benchmarks/grid64_opacity.toml, tol 1e-10)
+at SIZE^2 with --threads 1 and 2, alternately, ROUNDS times, and times `vrv verify` of 5 alpha
+images of 256^2 (reference cached, no plot) the same way.  Prints the median wall seconds, the
+speed-up, and the load average before and after, since a busy machine cannot show a speed-up.
+For verify it also times the run with --no-diagnosis, so that the part that is not the diagnosis
+(reading images, the reference from the cache, statistics, writing) is named with its share.
+
+Python 3 standard library only; writes nothing but a scratch directory it removes.
+"""
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+SCENE = REPO / "studies" / "benchmarks" / "grid64_opacity.toml"
+STEPS = [0.04, 0.02, 0.01, 0.005, 0.0025]
+
+
+def wall(cmd):
+    start = time.perf_counter()
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=3600)
+    took = time.perf_counter() - start
+    if proc.returncode not in (0, 1):
+        sys.exit(f"thread_scaling: {' '.join(cmd)} exited {proc.returncode}: {proc.stderr.strip()}")
+    return took
+
+
+def median_by_threads(make_cmd, rounds):
+    times = {1: [], 2: []}
+    for _ in range(rounds):
+        for threads in (1, 2):
+            times[threads].append(wall(make_cmd(threads)))
+    return {t: statistics.median(v) for t, v in times.items()}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("build_dir")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--size", type=int, default=512)
+    args = ap.parse_args()
+    vrv = str(Path(args.build_dir) / "vrv")
+    if not Path(vrv).is_file():
+        sys.exit(f"thread_scaling: {vrv}: not found")
+    load_before = os.getloadavg()
+    rows = []
+    with tempfile.TemporaryDirectory() as scratch:
+        scratch = Path(scratch)
+        scene = ["--scene", str(SCENE)]
+        size = ["--width", str(args.size), "--height", str(args.size)]
+        render = median_by_threads(lambda t: [vrv, "render", *scene, "--reference", "--tol", "1e-10", *size, "--quiet",
+                                              "--threads", str(t), "-o", str(scratch / f"ref{t}.exr")], args.rounds)
+        rows.append((f"render --reference, grid 64³, {args.size}²", render))
+        images = []
+        for h in STEPS:
+            out = scratch / f"alpha_{h}.exr"
+            subprocess.run([vrv, "render", *scene, "--method", "alpha", "--strategy", "inviwo", "--step", str(h),
+                            "--opacity-unit", "distance", "--width", "256", "--height", "256", "--quiet", "-o",
+                            str(out)], check=True, capture_output=True)
+            images.append(str(out))
+        cache = scratch / "cache"
+        verify = [vrv, "verify", *scene, *images, "--steps", ",".join(map(str, STEPS)), "--cache-dir", str(cache),
+                  "--quiet"]
+        subprocess.run(verify + ["--no-diagnosis"], capture_output=True)  # warm the cache
+        full = median_by_threads(lambda t: verify + ["--threads", str(t), "--out", str(scratch / f"v{t}")],
+                                 args.rounds)
+        rows.append(("verify, 5 images of 256², reference cached", full))
+        bare = median_by_threads(lambda t: verify + ["--no-diagnosis", "--threads", str(t), "--out",
+                                                     str(scratch / f"n{t}")], args.rounds)
+        rows.append(("verify --no-diagnosis (the part that is not the diagnosis)", bare))
+    load_after = os.getloadavg()
+    print(f"Median wall seconds of {args.rounds} rounds, 1 and 2 threads alternately "
+          f"({os.cpu_count()} cores; load average before {load_before[0]:.2f}, after {load_after[0]:.2f}).\n")
+    print("| run | 1 thread s | 2 threads s | speed-up |")
+    print("|---|---|---|---|")
+    for name, t in rows:
+        print(f"| {name} | {t[1]:.3f} | {t[2]:.3f} | {t[1] / t[2]:.2f}× |")
+    share = rows[2][1][2] / rows[1][1][2]
+    print(f"\nThe part of verify that is not the diagnosis is {share:.0%} of its 2-thread wall time. "
+          f"`python3 studies/benchmarks/thread_scaling.py {' '.join(sys.argv[1:])}`")
+
+
+if __name__ == "__main__":
+    main()
