@@ -1,7 +1,5 @@
 #pragma once
 // The `vrv` subcommands.  Each registers its options on the app and runs when chosen.
-#include <filesystem>
-
 #include <CLI/CLI.hpp>
 
 namespace vrv::cli {
@@ -14,9 +12,5 @@ void add_export_command(CLI::App& app);
 void add_verify_command(CLI::App& app);
 void add_gate_command(CLI::App& app);
 void add_scene_command(CLI::App& app);
-
-// Runs studies/engine/plot_study.py on `dir` (which has plots.json), as `vrv study` does; returns ""
-// when the plot was drawn, else why not (one line, studies/engine/plot_script.h).
-std::string draw_study_plots(const std::filesystem::path& dir);
 
 }  // namespace vrv::cli

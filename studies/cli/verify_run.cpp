@@ -13,7 +13,7 @@
 #include "lib/io/stderr_capture.h"
 #include "lib/work_estimate.h"
 #include "lib/verify/verify_output.h"
-#include "studies/cli/commands.h"
+#include "studies/engine/study_runner.h"
 
 namespace vrv::cli {
 

@@ -246,13 +246,10 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
   return 0;
 }
 
-}  // namespace vrv
-
-// For `vrv verify` (studies/cli/verify_run.cpp), which writes plots.json as a study does.
-namespace vrv::cli {
 std::string draw_study_plots(const std::filesystem::path& dir) {
   const PlotScript script = find_plot_script(study_dirs());
   const int status = draw_plots(dir, script);
   return status == 0 ? std::string() : plot_failure(script, status);
 }
-}  // namespace vrv::cli
+
+}  // namespace vrv

@@ -22,6 +22,10 @@ std::vector<std::filesystem::path> study_dirs();
 // per name; in name order within a directory.
 std::vector<std::pair<std::string, std::filesystem::path>> find_studies();
 
+// Runs plot_study.py on `dir` (which has plots.json), as a study's run does; "" when the plot was
+// drawn, else why not (one line, plot_script.h).  `vrv verify --plots` draws its plot this way.
+std::string draw_study_plots(const std::filesystem::path& dir);
+
 // A NAME (found as above) or a path to a .toml file; throws std::invalid_argument for an
 // unknown name.
 std::filesystem::path resolve_study(const std::string& arg);
