@@ -77,6 +77,25 @@ void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
       ->capture_default_str();
 }
 
+SamplingConfig sampling_config(const DiscreteOptions& opt, const Scene& scene) {
+  SamplingConfig c;
+  const std::string strategy = opt.strategy.value_or(opt.step ? "step" : "entry_exit_corner");
+  c.strategy = parse_choice<Strategy>(strategy, "--strategy", parse_strategy,
+                                      "eye, entry, entry_exit, entry_exit_corner, step, vtk, inviwo, "
+                                      "partial, exit_anchored");
+  const bool step_based = vrv::step_based(c.strategy);
+  if (step_based && !opt.step)
+    throw std::invalid_argument(fmt::format("--step: strategy {} needs --step H", strategy));
+  if (!step_based && opt.step)
+    throw std::invalid_argument(fmt::format("--step: strategy {} takes --rate, not --step", strategy));
+  if (step_based && opt.rate)
+    throw std::invalid_argument("--rate: a step-based strategy takes --step, not --rate");
+  c.rate = opt.rate.value_or(1.0);
+  c.step = opt.step.value_or(0.0);
+  c.dims = scene.dims;
+  return c;
+}
+
 std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene) {
   if (!(opt.max_work > 0))
     throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", opt.max_work));
@@ -91,20 +110,7 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
   DiscreteConfig c;
   c.rule = parse_choice<SegmentRule>(opt.method, "--method", parse_segment_rule,
                                      "riemann, alpha, trapezoid, exact_linear, moreland");
-  const std::string strategy = opt.strategy.value_or(opt.step ? "step" : "entry_exit_corner");
-  c.sampling.strategy = parse_choice<Strategy>(strategy, "--strategy", parse_strategy,
-                                               "eye, entry, entry_exit, entry_exit_corner, step, vtk, inviwo, "
-                                               "partial, exit_anchored");
-  const bool step_based = vrv::step_based(c.sampling.strategy);
-  if (step_based && !opt.step)
-    throw std::invalid_argument(fmt::format("--step: strategy {} needs --step H", strategy));
-  if (!step_based && opt.step)
-    throw std::invalid_argument(fmt::format("--step: strategy {} takes --rate, not --step", strategy));
-  if (step_based && opt.rate)
-    throw std::invalid_argument("--rate: a step-based strategy takes --step, not --rate");
-  c.sampling.rate = opt.rate.value_or(1.0);
-  c.sampling.step = opt.step.value_or(0.0);
-  c.sampling.dims = scene.dims;
+  c.sampling = sampling_config(opt, scene);
   c.oversample = opt.oversample;
   c.centred_oversamples = opt.centred_oversamples;
   c.correction = parse_choice<Correction>(opt.correction, "--correction", parse_correction,
