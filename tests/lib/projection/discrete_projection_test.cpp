@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <vector>
 
@@ -104,7 +105,12 @@ double observed_order(ProjectionMode mode, Strategy strategy, XrayRule rule, std
     }
     errors.push_back(sum / rays.size());
   }
-  return estimate_order(steps, errors).order;
+  const double order = estimate_order(steps, errors).order;
+  std::cout << projection_mode_name(mode) << " " << strategy_name(strategy) << " " << xray_rule_name(rule)
+            << ": mean errors";
+  for (double e : errors) std::cout << " " << e;
+  std::cout << ", observed order " << order << "\n";
+  return order;
 }
 
 TEST(DiscreteProjectionOrders, MipAtASmoothInteriorMaximumIsSecondOrder) {
