@@ -83,6 +83,22 @@ TEST(XrayReference, MissCornerAndFarOrigin) {
   EXPECT_TRUE(far.tolerance_met);
 }
 
+// The classified X-ray is the optical depth, which the emission-absorption reference carries by
+// its own route (its accumulator, not these panels' sums): the two agree.
+TEST(XrayReference, ClassifiedIsTheEmissionAbsorptionOpticalDepth) {
+  const MarschnerLobb ml;
+  const TransferFunction tf = TransferFunction::emission_extinction(PiecewiseLinear({{0, 0}, {1, 1}}),
+                                                                    PiecewiseLinear({{0, 0}, {0.4, 1.0}, {1, 0.5}}));
+  for (const Ray& ray : {make_ray({-3, 0.5, 0}, {1, 0, 0}), make_ray({-2, -1.5, 1.2}, {1, 0.8, -0.4})}) {
+    const ProjectionResult x = xray_reference(ml, Box{}, ray, {1e-12}, &tf);
+    ReferenceOptions ea;
+    ea.stop_when_opaque = false;
+    const ReferenceResult r = integrate_reference(ml, Box{}, tf, 0.0, ray, ea);
+    EXPECT_TRUE(x.tolerance_met);
+    EXPECT_NEAR(x.value, r.optical_depth, 1e-12);
+  }
+}
+
 TEST(XrayReference, MarschnerLobbMeetsTheTolerance) {
   const MarschnerLobb ml;
   const Ray ray = make_ray({-3, 0.3, 0.2}, {1, 0.1, 0.05});
