@@ -52,6 +52,29 @@ std::vector<ReferenceResult> reference_values(const Scene& scene, std::span<cons
   return out;
 }
 
+std::vector<ProjectionResult> projection_values(const Scene& scene, std::span<const Ray> rays, ProjectionMode mode,
+                                                const ProjectionOptions& options) {
+  validate(options);
+  std::vector<ProjectionResult> out(rays.size());
+  visit_field(scene, [&](const auto& field) {
+    parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
+      out[i] = projection_reference(field, scene.box, scene.transfer, rays[i], mode, options);
+    });
+  });
+  return out;
+}
+
+std::vector<DiscreteProjectionResult> discrete_projection_values(const Scene& scene, std::span<const Ray> rays,
+                                                                 const DiscreteProjectionConfig& config) {
+  std::vector<DiscreteProjectionResult> out(rays.size());
+  visit_field(scene, [&](const auto& field) {
+    parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
+      out[i] = discrete_projection(field, scene.box, scene.transfer, rays[i], config);
+    });
+  });
+  return out;
+}
+
 std::vector<DiscreteResult> discrete_values(const Scene& scene, std::span<const Ray> rays,
                                             const DiscreteConfig& config) {
   validate(config, std::holds_alternative<GridField>(scene.field));

@@ -22,6 +22,8 @@
 #include "lib/discrete_raycast.h"
 #include "lib/gate.h"
 #include "lib/geometry.h"
+#include "lib/projection/discrete_projection.h"
+#include "lib/projection/projection_reference.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
 #include "lib/bounds_file.h"
@@ -53,6 +55,13 @@ void reference_values(const Scene& scene, std::span<const Ray> rays,
 // rate-based strategies count voxels of config.sampling.dims: set it to scene.dims.
 std::vector<DiscreteResult> discrete_values(const Scene& scene, std::span<const Ray> rays,
                                             const DiscreteConfig& config);
+
+// X-ray and MIP projections (docs/projections.md): the reference along each ray (options.tol
+// validated), or the discrete projection `config` describes; as `vrv ray --mode`.
+std::vector<ProjectionResult> projection_values(const Scene& scene, std::span<const Ray> rays, ProjectionMode mode,
+                                                const ProjectionOptions& options = {});
+std::vector<DiscreteProjectionResult> discrete_projection_values(const Scene& scene, std::span<const Ray> rays,
+                                                                 const DiscreteProjectionConfig& config);
 
 // One value per pixel in double (row-major, row 0 at the top), and what it cost.
 struct ValueImage {

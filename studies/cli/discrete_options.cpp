@@ -80,6 +80,26 @@ void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt) {
       ->capture_default_str();
 }
 
+SamplingConfig sampling_config(const DiscreteOptions& opt, const Scene& scene) {
+  SamplingConfig c;
+  const std::string strategy = opt.strategy.value_or(opt.step ? "step" : "entry_exit_corner");
+  c.strategy = parse_choice<Strategy>(strategy, Option::strategy, parse_strategy,
+                                      "eye, entry, entry_exit, entry_exit_corner, step, vtk, inviwo, "
+                                      "partial, exit_anchored");
+  const bool step_based = vrv::step_based(c.strategy);
+  if (step_based && !opt.step)
+    throw OptionError(Option::step, fmt::format("strategy {} needs {{0}} H", strategy), {Option::step});
+  if (!step_based && opt.step)
+    throw OptionError(Option::step, fmt::format("strategy {} takes {{0}}, not {{1}}", strategy),
+                      {Option::rate, Option::step});
+  if (step_based && opt.rate)
+    throw OptionError(Option::rate, "a step-based strategy takes {0}, not {1}", {Option::step, Option::rate});
+  c.rate = opt.rate.value_or(1.0);
+  c.step = opt.step.value_or(0.0);
+  c.dims = scene.dims;
+  return c;
+}
+
 std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene) {
   if (!(opt.max_work > 0))
     throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", opt.max_work));
@@ -94,21 +114,7 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
   DiscreteConfig c;
   c.rule = parse_choice<SegmentRule>(opt.method, Option::method, parse_segment_rule,
                                      "riemann, alpha, trapezoid, exact_linear, moreland");
-  const std::string strategy = opt.strategy.value_or(opt.step ? "step" : "entry_exit_corner");
-  c.sampling.strategy = parse_choice<Strategy>(strategy, Option::strategy, parse_strategy,
-                                               "eye, entry, entry_exit, entry_exit_corner, step, vtk, inviwo, "
-                                               "partial, exit_anchored");
-  const bool step_based = vrv::step_based(c.sampling.strategy);
-  if (step_based && !opt.step)
-    throw OptionError(Option::step, fmt::format("strategy {} needs {{0}} H", strategy), {Option::step});
-  if (!step_based && opt.step)
-    throw OptionError(Option::step, fmt::format("strategy {} takes {{0}}, not {{1}}", strategy),
-                      {Option::rate, Option::step});
-  if (step_based && opt.rate)
-    throw OptionError(Option::rate, "a step-based strategy takes {0}, not {1}", {Option::step, Option::rate});
-  c.sampling.rate = opt.rate.value_or(1.0);
-  c.sampling.step = opt.step.value_or(0.0);
-  c.sampling.dims = scene.dims;
+  c.sampling = sampling_config(opt, scene);
   c.oversample = opt.oversample;
   c.centred_oversamples = opt.centred_oversamples;
   c.correction = parse_choice<Correction>(opt.correction, Option::correction, parse_correction,

@@ -43,6 +43,10 @@ void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt);
 // option given without --method.
 std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene);
 
+// The sample placement of --strategy, --rate and --step (shared by the projections' discrete
+// modes); throws std::invalid_argument naming the option.
+SamplingConfig sampling_config(const DiscreteOptions& opt, const Scene& scene);
+
 // Throws the refusal: `discrete` says whether the work is samples or the reference's evaluations.
 [[noreturn]] void refuse_work(const DiscreteOptions& opt, bool discrete, double work, long rays);
 

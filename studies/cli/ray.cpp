@@ -19,6 +19,8 @@
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 #include "studies/cli/discrete_options.h"
+#include "studies/cli/projection_options.h"
+#include "lib/projection/projection_reference.h"
 
 namespace vrv::cli {
 namespace {
@@ -32,6 +34,8 @@ struct RayOptions {
   bool json = false;
   int threads = 0;
   bool quiet = false;
+  std::string mode;  // --mode: a projection instead of emission-absorption
+  std::optional<ProjectionSetup> projection;
   DiscreteOptions discrete;
   CLI::Option* tol_option = nullptr;
   CLI::Option* threads_option = nullptr;
@@ -55,14 +59,31 @@ Answer discrete_answer(const DiscreteResult& r) {
   return {j, std::isfinite(r.value), true};
 }
 
+Answer projection_answer(const Scene& scene, const Ray& ray, const RayOptions& opt, const ProjectionSetup& p) {
+  if (p.discrete) {
+    const DiscreteProjectionResult r = discrete_projection(scene, ray, *p.discrete);
+    return {to_json(r, p.mode), std::isfinite(r.value), true};
+  }
+  const ProjectionResult r = projection_reference(scene, ray, p.mode, {opt.tol});
+  return {to_json(r, p.mode), std::isfinite(r.value) && std::isfinite(r.error_estimate), r.tolerance_met};
+}
+
 Answer answer(const Scene& scene, const Ray& ray, const RayOptions& opt,
               const std::optional<DiscreteConfig>& discrete) {
+  if (opt.projection) return projection_answer(scene, ray, opt, *opt.projection);
   if (discrete) return discrete_answer(discrete_raycast(scene, ray, *discrete));
   return reference_answer(integrate_reference(scene, ray, {opt.tol}));
 }
 
 void print_text(const Answer& a, const std::optional<DiscreteConfig>& discrete) {
   const auto& j = a.json;
+  if (j.contains("mode")) {  // a projection: every key as it is in the JSON
+    for (const auto& [key, value] : j.items()) {
+      if (value.is_number_float()) fmt::print("{:<14} {:.17g}\n", key, value.get<double>());
+      else fmt::print("{:<14} {}\n", key, value.is_string() ? value.get<std::string>() : value.dump());
+    }
+    return;
+  }
   fmt::print("value          {:.17g}\n", j["value"].get<double>());
   if (discrete) {
     fmt::print("samples        {}\n", j["samples"].get<long>());
@@ -203,7 +224,7 @@ void run_one(const Scene& scene, const RayOptions& opt, const std::optional<Disc
                                     a.json["error_estimate"].get<double>(), opt.tol));
 }
 
-void run_ray(const RayOptions& opt) {
+void run_ray(RayOptions& opt) {
   check_tolerance(opt.tol);
   check_threads(opt.threads);
   if (!opt.discrete.method.empty() && opt.tol_option->count() > 0)
@@ -211,7 +232,9 @@ void run_ray(const RayOptions& opt) {
   if (!opt.rays.empty() && (!opt.origin.empty() || !opt.direction.empty()))
     throw std::invalid_argument("--rays: give either --rays or --origin/--direction, not both");
   const Scene scene = load_scene_or_default(opt.scene);
-  const auto discrete = discrete_config(opt.discrete, scene);
+  opt.projection = projection_setup(opt.mode, opt.discrete, scene);
+  // A projection's work is estimated as the emission-absorption cast's of the same sampling.
+  const auto discrete = opt.projection ? opt.projection->work : discrete_config(opt.discrete, scene);
   if (!opt.rays.empty()) run_rays(scene, opt, discrete);
   else run_one(scene, opt, discrete);
 }
@@ -240,6 +263,7 @@ void add_ray_command(CLI::App& app) {
       "--threads", opt->threads, "Threads for --rays (default: all cores); results do not depend on it");
   cmd->add_flag("--quiet", opt->quiet, "No progress bar on stderr");
   add_discrete_options(*cmd, opt->discrete);
+  add_mode_option(*cmd, opt->mode);
   cmd->callback([opt] { run_ray(*opt); });
 }
 

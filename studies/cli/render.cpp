@@ -35,6 +35,8 @@
 #include "studies/cli/commands.h"
 #include "studies/cli/memory_limit.h"
 #include "studies/cli/discrete_options.h"
+#include "studies/cli/projection_options.h"
+#include "lib/projection/projection_reference.h"
 
 namespace vrv::cli {
 namespace {
@@ -44,6 +46,7 @@ namespace fs = std::filesystem;
 struct RenderOptions {
   std::string scene;
   bool reference = false;
+  std::string mode;  // --mode: a projection instead of emission-absorption
   double tol = 1e-12;
   DiscreteOptions discrete;
   std::string output;
@@ -227,6 +230,25 @@ Rendered render_discrete(const Scene& scene, const Camera& camera, const Discret
   return planes.finish();
 }
 
+// A projection (--mode) per pixel: its reference, or its discrete version with --method.
+Rendered render_projection(const Scene& scene, const Camera& camera, const ProjectionSetup& p, double tol,
+                           bool quiet) {
+  PixelPlanes planes(camera);
+  Progress bar("render", pixel_count(camera), !quiet);
+  visit_field(scene, [&](const auto& field) {
+    image_loop_into(camera, {}, [&](const Ray& ray) {
+      if (p.discrete) {
+        const DiscreteProjectionResult v = discrete_projection(field, scene.box, scene.transfer, ray, *p.discrete);
+        return PixelResult{v.value, v.samples, 0.0, true};
+      }
+      const ProjectionResult v = projection_reference(field, scene.box, scene.transfer, ray, p.mode, {tol});
+      return PixelResult{v.value, v.evaluations, v.error_estimate, v.tolerance_met};
+    }, [&](long i, const PixelResult& px) { planes.put(i, px); }, progress_hooks(bar));
+  });
+  bar.finish();
+  return planes.finish();
+}
+
 // A reference a verification can trust: floating point (an 8-bit preview is refused), the render's
 // size, of this scene and camera by its provenance, every pixel finite; read in double from
 // REF.f64.tiff when it lies beside REF.exr with the same provenance.
@@ -316,10 +338,21 @@ void run_render(const RenderOptions& opt) {
   check_tolerance(opt.tol);
   check_threads(opt.threads);
   const Scene scene = load_scene_or_default(opt.scene);
-  const auto discrete = discrete_config(opt.discrete, scene);
+  const auto projection = projection_setup(opt.mode, opt.discrete, scene);
+  // A projection's work is estimated as the emission-absorption cast's of the same sampling.
+  const auto discrete = projection ? projection->work : discrete_config(opt.discrete, scene);
   const Camera camera = scene_camera(scene, opt.width, opt.height);  // --width/--height errors named
   check_render_memory(opt, camera);
-  const ImageProvenance provenance = render_provenance(scene, camera, discrete, opt.tol);
+  ImageProvenance provenance = render_provenance(scene, camera, discrete, opt.tol);
+  if (projection) {
+    // The mode is part of what the image is: --error-against refuses an image of another mode.
+    const std::string_view mode = projection_mode_name(projection->mode);
+    provenance.scene_hash = fmt::format("{}:{}", mode, provenance.scene_hash);
+    provenance.method = projection->discrete
+                            ? fmt::format("{} {} strategy={}", mode, opt.discrete.method,
+                                          strategy_name(projection->discrete->sampling.strategy))
+                            : fmt::format("{} reference tol={:g}", mode, opt.tol);
+  }
   check_outputs(out, opt.error_against);
   image_module::functions();  // a missing image module fails now, not after the render
   std::optional<ImageF64> ref;
@@ -335,8 +368,9 @@ void run_render(const RenderOptions& opt) {
   const long pixels = static_cast<long>(camera.width) * camera.height;
   const auto start = std::chrono::steady_clock::now();
   const ThreadLimit threads(opt.threads);
-  const Rendered r = discrete ? render_discrete(scene, camera, *discrete, opt.quiet)
-                              : render_reference(scene, camera, opt.tol, opt.quiet);
+  const Rendered r = projection ? render_projection(scene, camera, *projection, opt.tol, opt.quiet)
+                     : discrete ? render_discrete(scene, camera, *discrete, opt.quiet)
+                                : render_reference(scene, camera, opt.tol, opt.quiet);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (r.not_finite > 0)
@@ -363,6 +397,7 @@ void run_render(const RenderOptions& opt) {
   j["scene_camera_hash"] = provenance.scene_hash;
   j["width"] = camera.width;
   j["height"] = camera.height;
+  if (projection) j["mode"] = projection_mode_name(projection->mode);
   j["method"] = discrete ? opt.discrete.method : "reference";
   j["max_value"] = max_value;
   if (discrete) j["samples"] = r.work;
@@ -417,6 +452,7 @@ void add_render_command(CLI::App& app) {
       cmd->add_option("--tol", opt->tol, "Absolute tolerance on I per pixel (--reference)")
           ->capture_default_str();
   add_discrete_options(*cmd, opt->discrete);
+  add_mode_option(*cmd, opt->mode);
   cmd->add_option("-o,--output", opt->output, "Output image, OUT.exr");
   cmd->add_option("--error-against", opt->error_against,
                   "Reference EXR of the same scene and camera (checked by its provenance; its .f64.tiff is "

@@ -1,0 +1,82 @@
+#include "studies/cli/projection_options.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "studies/cli/cli_support.h"
+
+namespace vrv::cli {
+
+void add_mode_option(CLI::App& cmd, std::string& mode) {
+  cmd.add_option("--mode", mode,
+                 "Projection instead of emission-absorption: xray | xray_classified | mip | mip_classified "
+                 "(classified: of the transfer function's extinction); with --method, riemann | trapezoid | "
+                 "simpson (X-ray) or max (MIP)");
+}
+
+std::optional<ProjectionSetup> projection_setup(const std::string& mode, const DiscreteOptions& opt, const Scene& scene) {
+  if (mode.empty()) return std::nullopt;
+  const auto parsed = parse_projection_mode(mode);
+  if (!parsed)
+    throw std::invalid_argument(fmt::format("--mode: unknown value '{}' (one of {})", mode, projection_mode_list()));
+  ProjectionSetup s;
+  s.mode = *parsed;
+  if (!(opt.max_work > 0))
+    throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", opt.max_work));
+  for (const CLI::Option* o : opt.given) {
+    const std::string name = o->get_name();
+    if (o->count() == 0) continue;
+    if (opt.method.empty())
+      throw std::invalid_argument(fmt::format("{}: applies to a discrete projection only; add --method", name));
+    if (name != "--strategy" && name != "--rate" && name != "--step")
+      throw std::invalid_argument(
+          fmt::format("{}: applies to emission-absorption raycasts, not to --mode {}", name, mode));
+  }
+  if (opt.method.empty()) return s;
+  DiscreteProjectionConfig c;
+  c.mode = s.mode;
+  if (is_mip(s.mode)) {
+    if (opt.method != "max")
+      throw std::invalid_argument(fmt::format("--method: unknown value '{}' for --mode {} (max)", opt.method, mode));
+  } else {
+    const auto rule = parse_xray_rule(opt.method);
+    if (!rule)
+      throw std::invalid_argument(
+          fmt::format("--method: unknown value '{}' for --mode {} (riemann, trapezoid, simpson)", opt.method, mode));
+    c.rule = *rule;
+  }
+  c.sampling = sampling_config(opt, scene);
+  s.discrete = c;
+  DiscreteConfig work;
+  work.sampling = c.sampling;
+  s.work = work;
+  return s;
+}
+
+nlohmann::ordered_json to_json(const ProjectionResult& r, ProjectionMode mode) {
+  nlohmann::ordered_json j;
+  j["mode"] = projection_mode_name(mode);
+  j["value"] = finite_or_null(r.value);
+  j["error_estimate"] = finite_or_null(r.error_estimate);
+  j["evaluations"] = r.evaluations;
+  j["t_entry"] = r.hit ? nlohmann::ordered_json(r.t_entry) : nlohmann::ordered_json(nullptr);
+  j["t_exit"] = r.hit ? nlohmann::ordered_json(r.t_exit) : nlohmann::ordered_json(nullptr);
+  if (is_mip(mode)) {
+    j["position"] = finite_or_null(r.position);
+    j["ambiguous"] = r.ambiguous;
+  }
+  j["tolerance_met"] = r.tolerance_met;
+  return j;
+}
+
+nlohmann::ordered_json to_json(const DiscreteProjectionResult& r, ProjectionMode mode) {
+  nlohmann::ordered_json j;
+  j["mode"] = projection_mode_name(mode);
+  j["value"] = finite_or_null(r.value);
+  j["samples"] = r.samples;
+  if (is_mip(mode)) j["position"] = finite_or_null(r.position);
+  return j;
+}
+
+}  // namespace vrv::cli

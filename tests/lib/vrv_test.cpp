@@ -1,0 +1,59 @@
+// The library API of lib/vrv.h for projections: batches equal the per-ray functions bit for bit,
+// whatever the thread count, and a bad tolerance is refused with the command line's message.
+#include "lib/vrv.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <vector>
+
+#include "lib/util/parallel.h"
+
+namespace vrv {
+namespace {
+
+std::vector<Ray> some_rays() {
+  return {make_ray({-3, 0.5, 0}, {1, 0, 0}), make_ray({0, 0, -5}, {0.1, 0.2, 1}), make_ray({-3, 5, 0}, {1, 0, 0})};
+}
+
+TEST(LibraryProjections, BatchesAreThePerRayValues) {
+  const Scene scene = default_scene();
+  const auto rays = some_rays();
+  for (ProjectionMode mode : {ProjectionMode::xray, ProjectionMode::mip_classified}) {
+    std::vector<ProjectionResult> one, two;
+    {
+      const ThreadLimit limit(1);
+      one = projection_values(scene, rays, mode);
+    }
+    {
+      const ThreadLimit limit(2);
+      two = projection_values(scene, rays, mode);
+    }
+    ASSERT_EQ(one.size(), rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const ProjectionResult r = projection_reference(scene, rays[i], mode);
+      EXPECT_EQ(one[i].value, r.value);
+      EXPECT_EQ(two[i].value, r.value);
+      EXPECT_EQ(one[i].error_estimate, r.error_estimate);
+    }
+    EXPECT_FALSE(one[2].hit);
+  }
+  DiscreteProjectionConfig c;
+  c.sampling.strategy = Strategy::step;
+  c.sampling.step = 0.01;
+  const auto d = discrete_projection_values(scene, rays, c);
+  for (std::size_t i = 0; i < rays.size(); ++i) EXPECT_EQ(d[i].value, discrete_projection(scene, rays[i], c).value);
+}
+
+TEST(LibraryProjections, BadToleranceIsRefused) {
+  const auto rays = some_rays();
+  try {
+    projection_values(default_scene(), rays, ProjectionMode::mip, {-1});
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--tol:", 0), 0u) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace vrv

@@ -1,0 +1,52 @@
+// The projections study (studies/projections/): its --quick run's orders within their derived
+// tolerances and its references within reference_tol; a bad key is refused naming it.
+#include "studies/projections/projections.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "lib/study_file.h"
+
+namespace vrv {
+namespace {
+
+ProjectionsStudy parse(const std::string& text, const std::string& name) {
+  const StudyReader r(name);
+  const toml::table doc = parse_study_toml(text, name);
+  return read_projections_study(StudyInput{doc, r, "projections"});
+}
+
+TEST(ProjectionsStudy, QuickRunMeetsTheExpectedOrders) {
+  const std::filesystem::path file = std::filesystem::path(VRV_SOURCE_DIR) / "studies/projections/projections.toml";
+  const ProjectionsStudy study = parse(read_study_text(file), file.string());
+  ASSERT_EQ(study.methods.size(), 7u);
+  const ProjectionsResult r = run_projections(study, /*quick=*/true);
+  EXPECT_EQ(r.rays, study.quick_rays);
+  EXPECT_EQ(r.references_missed, 0);
+  EXPECT_LE(r.max_reference_estimate, study.reference_tol);
+  ASSERT_EQ(r.orders.size(), 7u);
+  for (const ProjectionsOrder& o : r.orders)
+    EXPECT_TRUE(order_matches(o.fit, o.expected, study.order_tolerance)) << o.method << ": " << o.fit.order;
+  for (const StudyCheck& c : projections_checks(study, r)) EXPECT_TRUE(c.pass) << c.name << " " << c.value;
+}
+
+TEST(ProjectionsStudy, BadMethodIsRefusedNamingTheKey) {
+  const std::string text =
+      "kind = \"projections\"\nsteps = [0.1, 0.05, 0.025]\n"
+      "[scene.volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n"
+      "[scene.field]\nkind = \"marschner_lobb\"\n"
+      "[scene.transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 1]]\n"
+      "[[method]]\nmode = \"mip\"\nmethod = \"simpson\"\nstrategy = \"step\"\nexpected_order = 2\n";
+  try {
+    parse(text, "bad.toml");
+    FAIL() << "accepted";
+  } catch (const StudyFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("method[0].method"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace vrv
