@@ -96,7 +96,7 @@ double srgb_encode(double x) {
 
 // The transfer function read from a table of `entries` values per curve at evenly spaced values
 // over its breakpoints' range, each stored in `bits` bits (rounded to the nearest multiple of the
-// curve's largest value / (2^bits - 1)), read with linear interpolation between entries.
+// curve's largest value / (2^bits - 1), ties to even), read with linear interpolation between entries.
 TransferFunction quantised_table(const TransferFunction& tf, int entries, int bits) {
   const double lo = tf.breakpoints().front(), range = domain_range(tf);
   const double levels = std::ldexp(1.0, bits) - 1;
@@ -105,7 +105,9 @@ TransferFunction quantised_table(const TransferFunction& tf, int entries, int bi
     std::vector<ControlPoint> points;
     for (int i = 0; i < entries; ++i) {
       const double v = lo + range * i / (entries - 1);
-      points.push_back({v, top > 0 ? std::round(curve(v) / top * levels) / levels * top : curve(v)});
+      // Ties to even, as IEEE conversions (and GPUs' float-to-unorm) round: a linear curve's
+      // entries often land on exact halves.
+      points.push_back({v, top > 0 ? std::nearbyint(curve(v) / top * levels) / levels * top : curve(v)});
     }
     return PiecewiseLinear(points);
   };
