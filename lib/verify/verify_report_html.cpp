@@ -69,7 +69,7 @@ std::string data_uri(const fs::path& png) { return "data:image/png;base64," + ba
 // A table's rows as HTML: numbers to 3 significant digits, right-aligned; every cell escaped.
 std::string html_table(const Table& table, const std::string& id) {
   const nlohmann::json rows = nlohmann::json::parse(table.to_json());
-  std::string s = fmt::format("<table id=\"{}\"><thead><tr>", html_escape(id));
+  std::string s = fmt::format("<div class=\"scroll\"><table id=\"{}\"><thead><tr>", html_escape(id));
   for (const std::string& c : table.columns()) s += "<th>" + html_escape(c) + "</th>";
   s += "</tr></thead><tbody>\n";
   for (const nlohmann::json& row : rows) {
@@ -83,7 +83,7 @@ std::string html_table(const Table& table, const std::string& id) {
     }
     s += "</tr>\n";
   }
-  return s + "</tbody></table>\n";
+  return s + "</tbody></table></div>\n";
 }
 
 // The log-log plot of every order's points, drawn here from the numbers (no Python, no
@@ -178,11 +178,14 @@ std::string html_colour_bar(double max_abs) {
 
 std::string verdict_section(const VerifyReport& rep, const HtmlReportContext& ctx) {
   const std::string verdict(verdict_name(rep.verdict.verdict));
-  std::string s = fmt::format("<header id=\"verdict\" class=\"{}\">\n<p class=\"kicker\">{}: {} × {} pixels, {} "
-                              "image channels</p>\n<h1><span id=\"verdict-text\">{}</span> <span class=\"badge\">{}</span></h1>\n"
+  std::size_t images = 0;  // channels are image-major: count the image names' changes
+  for (std::size_t i = 0; i < rep.channels.size(); ++i) images += i == 0 || rep.channels[i].image != rep.channels[i - 1].image;
+  const std::size_t channels = images ? rep.channels.size() / images : 0;
+  std::string s = fmt::format("<header id=\"verdict\" class=\"{}\">\n<p class=\"kicker\">{}: {} × {} pixels, {} images "
+                              "× {} channel{}</p>\n<h1><span id=\"verdict-text\">{}</span> <span class=\"badge\">{}</span></h1>\n"
                               "<p id=\"verdict-reason\">{} ({})</p>\n",
-                              rep.pass ? "pass" : "fail", html_escape(ctx.title), rep.width, rep.height,
-                              rep.channels.size(), html_escape(verdict), rep.pass ? "PASS" : "FAIL",
+                              rep.pass ? "pass" : "fail", html_escape(ctx.title), rep.width, rep.height, images,
+                              channels, channels == 1 ? "" : "s", html_escape(verdict), rep.pass ? "PASS" : "FAIL",
                               html_escape(rep.verdict.reason), html_escape(rep.verdict_channel));
   s += "<div id=\"named-fault\">\n";
   if (rep.faults.empty()) s += "<p class=\"fault none\">No fault named.</p>\n";
@@ -298,7 +301,7 @@ th{background:#eee}td.num{text-align:right;font-variant-numeric:tabular-nums}
 .maps{display:flex;flex-wrap:wrap;gap:1em}figure{margin:0}figcaption{font-size:.8em;max-width:30em}
 img{image-rendering:pixelated}.bar{height:10px;width:100%;max-width:20em;margin-top:.3em}
 .ticks{display:flex;justify-content:space-between;max-width:20em;font-size:.9em}
-pre{background:#f4f4f4;padding:.5em;overflow-x:auto;white-space:pre-wrap}
+.scroll{overflow-x:auto}pre{background:#f4f4f4;padding:.5em;overflow-x:auto;white-space:pre-wrap}
 )";
 
 }  // namespace
