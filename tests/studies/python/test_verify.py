@@ -165,6 +165,6 @@ def test_report_writes_one_self_contained_page(scene_and_rays, tmp_path):
     verdict = text.index('<span id="verdict-text">' + report["verdict"])
     assert verdict < text.index("<b>Fault: half-step offset</b>") < text.index('id="convergence-plot"')
     assert text.count('<img class="error-map"') == len(STEPS)
-    assert "vrv.verify(scene, images, steps=[0.08, 0.04, 0.02, 0.01], expected_order=2.0" in text
+    assert "vrv.verify(scene, images, steps=[0.08, 0.04, 0.02, 0.01], expected_order=2, report=&quot;" in text
     with pytest.raises(ValueError, match=r"^report: .*: is a directory"):
         vrv.verify(scene, images, STEPS, report=str(tmp_path))
