@@ -28,8 +28,8 @@ void check_finite(double x, std::string_view field) {
 }
 
 // Pixel centre in [-1, 1]^2, x to the right, y up (row 0 is the top).
-double ndc_x(const Camera& c, int x) { return 2 * (x + 0.5) / c.width - 1; }
-double ndc_y(const Camera& c, int y) { return 1 - 2 * (y + 0.5) / c.height; }
+double ndc_x(const Camera& c, double px) { return 2 * px / c.width - 1; }
+double ndc_y(const Camera& c, double py) { return 1 - 2 * py / c.height; }
 
 }  // namespace
 
@@ -53,15 +53,17 @@ CameraFrame camera_frame(const Camera& c) {
   return {forward, right, right.cross(forward)};
 }
 
-Ray Camera::ray(int x, int y) const {
+Ray Camera::ray(int x, int y) const { return ray_at(x + 0.5, y + 0.5); }
+
+Ray Camera::ray_at(double px, double py) const {
   if (projection == Projection::fan) {
     const double theta =
-        (angle_degrees - fov_degrees / 2 + fov_degrees * (x + 0.5) / width) * kDegree;
+        (angle_degrees - fov_degrees / 2 + fov_degrees * px / width) * kDegree;
     return make_ray(eye, Vec3(std::cos(theta), std::sin(theta), 0));
   }
   const CameraFrame f = camera_frame(*this);
   const double aspect = static_cast<double>(width) / height;
-  const double u = ndc_x(*this, x), v = ndc_y(*this, y);
+  const double u = ndc_x(*this, px), v = ndc_y(*this, py);
   if (projection == Projection::orthographic) {
     const double half_h = extent / 2, half_w = half_h * aspect;
     return make_ray(eye + u * half_w * f.right + v * half_h * f.up, f.forward);

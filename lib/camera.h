@@ -34,6 +34,10 @@ struct Camera {
   // The ray through the centre of pixel (x, y); unit direction.  For the fan, ray x of
   // `width` (y must be 0).  Expects a validated camera.
   Ray ray(int x, int y) const;
+  // The ray through the image point (px, py) in pixel units, pixel (x, y) covering [x, x + 1) x
+  // [y, y + 1): ray(x, y) is ray_at(x + 0.5, y + 0.5), bit for bit.  For renderers whose rays miss
+  // the pixel centres (lib/verify/fault_fit.h).  Fan: py is not used.
+  Ray ray_at(double px, double py) const;
 };
 
 inline constexpr int kMaxImageSide = 16384;

@@ -10,6 +10,7 @@
 #include <boost/math/tools/minima.hpp>
 #include <fmt/format.h>
 
+#include "lib/image_loop.h"
 #include "lib/verify/diagnosis.h"
 
 namespace vrv {
@@ -40,6 +41,9 @@ struct Entry {
   std::function<long(long, int, int)> remap;        // the pixel whose ray pixel i shows (w, h)
   std::function<double(double, double)> curve;      // the output curve on a value
   std::function<std::string(double)> describe;
+  // The ray pixel i is cast along (none: the camera's, through the pixel centre).
+  std::function<Ray(const Camera&, long, double)> ray = {};
+  bool integer = false;  // the parameter takes whole values (the scan's points are whole)
 };
 
 bool always(const Scene&, const Camera&) { return true; }
@@ -89,6 +93,30 @@ Vec3 voxel(const Scene& scene) {
 double srgb_encode(double x) {
   return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055;
 }
+
+// The transfer function read from a table of `entries` values per curve at evenly spaced values
+// over its breakpoints' range, each stored in `bits` bits (rounded to the nearest multiple of the
+// curve's largest value / (2^bits - 1), ties to even), read with linear interpolation between entries.
+TransferFunction quantised_table(const TransferFunction& tf, int entries, int bits) {
+  const double lo = tf.breakpoints().front(), range = domain_range(tf);
+  const double levels = std::ldexp(1.0, bits) - 1;
+  const auto table = [&](const PiecewiseLinear& curve) {
+    const double top = curve.max_value();
+    std::vector<ControlPoint> points;
+    for (int i = 0; i < entries; ++i) {
+      const double v = lo + range * i / (entries - 1);
+      // Ties to even, as IEEE conversions (and GPUs' float-to-unorm) round: a linear curve's
+      // entries often land on exact halves.
+      points.push_back({v, top > 0 ? std::nearbyint(curve(v) / top * levels) / levels * top : curve(v)});
+    }
+    return PiecewiseLinear(points);
+  };
+  return tf.convention() == Convention::opacity_color
+             ? TransferFunction::opacity_color(table(tf.first()), table(tf.second()), tf.unit_length())
+             : TransferFunction::emission_extinction(table(tf.first()), table(tf.second()));
+}
+
+constexpr int kQuantisedEntries = 256;
 
 std::string percent_off(double s, const char* more, const char* less) {
   return fmt::format("{:.1f} % {}", 100 * std::abs(s - 1), s > 1 ? more : less);
@@ -167,8 +195,38 @@ const std::vector<Entry>& entries() {
          return fmt::format("volume box {:.2f} voxel {} on each side{}", std::abs(p), p > 0 ? "larger" : "smaller",
                             std::abs(p - 0.5) < 0.1 ? " (cell- instead of node-centred)" : "");
        }},
+      {"tf_bits", "transfer-function table bit depth", "bits", 4, 12, false,
+       [](const Scene& s, const Camera&) { return domain_range(s.transfer) > 0; },
+       [](Perturbed& m, double b) {
+         m.scene.transfer = quantised_table(m.scene.transfer, kQuantisedEntries, static_cast<int>(std::lround(b)));
+       },
+       {}, {},
+       [](double b) {
+         return fmt::format("transfer function from a {}-entry table stored in {} bits (values rounded to 1/{:g} "
+                            "of their largest)", kQuantisedEntries, std::lround(b), std::ldexp(1.0, static_cast<int>(std::lround(b))) - 1);
+       },
+       {}, true},
+      {"pixel_shift", "pixel-centre shift", "pixels (both axes)", -1, 1, false,
+       [](const Scene&, const Camera& c) { return c.projection != Projection::fan; }, {}, {}, {},
+       [](double p) {
+         return fmt::format("rays {:+.2f} pixel off the pixel centres on both axes{}", p,
+                            std::abs(std::abs(p) - 0.5) < 0.1 ? " (through pixel corners: the half-pixel shift)" : "");
+       },
+       [](const Camera& c, long i, double p) {
+         return c.ray_at(static_cast<double>(i % c.width) + 0.5 + p, static_cast<double>(i / c.width) + 0.5 + p);
+       }},
   };
   return kEntries;
+}
+
+// vrv's model cast along the entry's own rays at `pixels`.
+std::vector<double> cast_rays(const Perturbed& m, const std::vector<long>& pixels,
+                              const std::function<Ray(long)>& ray) {
+  return visit_field(m.scene, [&](const auto& field) {
+    using F = std::decay_t<decltype(field)>;
+    const DiscreteRaycaster<F> caster(field, m.scene.box, m.scene.transfer, m.scene.background, m.config);
+    return image_loop(m.camera, pixels, [&](const Ray&, long pixel) { return caster.cast(ray(pixel)).value; });
+  });
 }
 
 // The image's values at `pixels` (comparable with vrv's casts).
@@ -187,7 +245,8 @@ std::vector<double> predict(const Entry& e, const FitInput& in, const std::vecto
   std::vector<long> rays = pixels;
   if (e.remap)
     for (long& i : rays) i = e.remap(i, in.camera.width, in.camera.height);
-  std::vector<double> v = cast_pixels(m.scene, m.camera, m.config, rays);
+  std::vector<double> v = e.ray ? cast_rays(m, rays, [&](long i) { return e.ray(m.camera, i, p); })
+                                 : cast_pixels(m.scene, m.camera, m.config, rays);
   if (e.curve)
     for (double& x : v) x = e.curve(x, p);
   return v;
@@ -210,6 +269,7 @@ std::pair<double, double> fit_parameter(const Entry& e, const std::function<doub
     f[k] = ss(x[k]);
   }
   const int best = static_cast<int>(std::min_element(f.begin(), f.end()) - f.begin());
+  if (e.integer) return {x[best], f[best]};  // the scan is every whole value: nothing between to refine
   std::uintmax_t iterations = kBrentIterations;
   const auto [p, value] = boost::math::tools::brent_find_minima(ss, x[std::max(best - 1, 0)],
                                                                 x[std::min(best + 1, kScanPoints - 1)], kBrentBits,

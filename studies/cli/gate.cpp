@@ -33,6 +33,7 @@ namespace fs = std::filesystem;
 struct GateOptions {
   std::string bounds, out, case_name, cache_dir;
   bool no_cache = false, plots = false, no_diagnosis = false, quiet = false;
+  bool report = false;  // --report: OUT/<case>/report.html
   int threads = 0;
   double max_work = kDefaultVerifyWorkLimit;
 };
@@ -239,7 +240,9 @@ int run_gate(const GateOptions& o) {
                               o.max_work,
                               fmt::format("{}: case[{}]", o.bounds, &c - file.cases.data()));
     const nlohmann::json parameters = {{"command", "gate"}, {"bounds", o.bounds}, {"case", c.name}};
-    const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, out / c.name, parameters, o.plots && !o.out.empty());
+    const HtmlReportContext html{"vrv gate: case " + c.name, invoking_commands(), {}};
+    const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, out / c.name, parameters,
+                                           o.plots && !o.out.empty(), o.report ? &html : nullptr);
     if (!run.report.pass)
       for (const std::string& f : run.report.failures) {
         BoundRow r = study_row(c.name, false, 1);
@@ -282,6 +285,8 @@ void add_gate_command(CLI::App& app) {
   cmd->add_flag("--no-cache", o->no_cache, "Do not read or write the reference cache");
   cmd->add_flag("--no-diagnosis", o->no_diagnosis, "Skip casting vrv's own models");
   add_plot_flags(cmd, o->plots, "With --out: draw each case's log-log plot (~1 CPU s a case)");
+  cmd->add_flag("--report", o->report, "With --out: write each case's verification as one HTML page, OUT/<case>/report.html")
+      ->needs(cmd->get_option("--out"));
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
   cmd->add_option("--max-work", o->max_work,
                   "Field evaluations a render case may take (its renders and the reference), estimated "

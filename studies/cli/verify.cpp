@@ -30,6 +30,7 @@ struct VerifyCliOptions {
   std::optional<double> expected_order;
   std::string bounds, case_name;
   std::string out;
+  std::string report;  // --report FILE.html
   std::string alpha = "premultiplied";
   std::optional<double> threshold;
   double tol = 1e-10;
@@ -74,11 +75,10 @@ int run_verify(const VerifyCliOptions& o) {
     throw std::invalid_argument("--case: needs --bounds");
   }
   if (o.threshold) opt.threshold = *o.threshold;
-  if (!o.out.empty()) {
-    std::vector<fs::path> inputs(o.images.begin(), o.images.end());
-    inputs.insert(inputs.end(), {fs::path(o.scene), fs::path(o.bounds)});
-    check_verify_out(o.out, inputs);
-  }
+  std::vector<fs::path> inputs(o.images.begin(), o.images.end());
+  inputs.insert(inputs.end(), {fs::path(o.scene), fs::path(o.bounds)});
+  if (!o.out.empty()) check_verify_out(o.out, inputs);
+  if (!o.report.empty()) check_verify_report_path(o.report, inputs, o.out, "--report");
   const std::vector<ImageWithStep> images =
       read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
   std::vector<double> steps;
@@ -97,11 +97,21 @@ int run_verify(const VerifyCliOptions& o) {
                                      {"threshold", opt.threshold}, {"tol", o.tol}, {"order_metric", o.order_metric}};
   const VerifyRun run = run_verification(scene, images, opt, bounds, o.case_name.empty() ? "verify" : o.case_name,
                                          out ? &*out : nullptr, parameters, o.plots);
+  if (!o.report.empty()) {
+    HtmlReportContext context{"vrv verify", invoking_commands(), {}};
+    if (bounds) context.bounds = bound_table(run.rows);
+    try {
+      write_verify_report_html(o.report, run.report, context);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(fmt::format("--report: {}: not written: {}", o.report, e.what()));
+    }
+  }
   if (!o.quiet) std::cerr << "vrv verify: " << summary_text(run) << '\n';
   nlohmann::ordered_json j = to_json(run.report);
   j["pass"] = run.pass;
   if (bounds) j["bounds"] = nlohmann::ordered_json::parse(bound_table(run.rows).to_json());
   if (!o.out.empty()) j["out"] = o.out;
+  if (!o.report.empty()) j["report"] = o.report;
   // A plot that could not be drawn fails the run, as it fails a study: the tables are published.
   if (!run.plot_failure.empty()) j["plots"] = "failed: " + run.plot_failure;
   const int rc = run.pass && run.plot_failure.empty() ? kExitPass : kExitCheckFailed;
@@ -132,6 +142,8 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--bounds", o->bounds, "Bounds file (TOML): gate on its [defaults] (or --case)");
   cmd->add_option("--case", o->case_name, "With --bounds: the case whose bounds apply");
   cmd->add_option("--out", o->out, "Write tables, error images, plots.json and meta.json (and with --plots the plot) into this directory");
+  cmd->add_option("--report", o->report, "Write the verification as one self-contained HTML page (verdict, fault, "
+                                         "plot, error maps, regions, catalogue, commands) to this file");
   cmd->add_option("--alpha", o->alpha, "Colour channels with an alpha channel: premultiplied or straight")->capture_default_str();
   cmd->add_option("--threshold", o->threshold, "Count pixels with |error| above this (default 1e-3)");
   cmd->add_option("--tol", o->tol, "Absolute tolerance of the reference per pixel")->capture_default_str();

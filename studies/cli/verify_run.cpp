@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -126,7 +127,7 @@ std::vector<double> provenance_steps(const std::vector<std::string>& files) {
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
                            const std::string& case_name, PublishedFolder* out,
-                           const nlohmann::json& parameters, bool plots) {
+                           const nlohmann::json& parameters, bool plots, const HtmlReportContext* html) {
   const auto start = std::chrono::steady_clock::now();
   VerifyRun run;
   run.report = verify_images(scene, images, options);
@@ -138,6 +139,11 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out->write_and_publish([&](const fs::path& dir) {
       write_verify_outputs(dir, run.report, extra, parameters, seconds);
+      if (html) {
+        HtmlReportContext context = *html;
+        if (bounds) context.bounds = bound_table(run.rows);
+        write_verify_report_html(dir / "report.html", run.report, context);
+      }
       if (plots) run.plot_failure = draw_plot(dir);
     });
     if (!run.plot_failure.empty())
@@ -150,11 +156,20 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
                            const std::string& case_name, const fs::path& out,
-                           const nlohmann::json& parameters, bool plots) {
+                           const nlohmann::json& parameters, bool plots, const HtmlReportContext* html) {
   std::optional<PublishedFolder> folder;
   if (!out.empty()) folder.emplace(out, kVerifyOutMarker, "--out");
   return run_verification(scene, images, options, bounds, case_name, folder ? &*folder : nullptr, parameters,
-                          plots);
+                          plots, html);
+}
+
+std::vector<std::string> invoking_commands() {
+  std::ifstream in("/proc/self/cmdline", std::ios::binary);
+  std::string word, line;
+  while (std::getline(in, word, '\0')) line += (line.empty() ? "" : " ") + shell_quote(word);
+  if (line.empty()) return {};
+  std::error_code ec;
+  return {"cd " + shell_quote(fs::current_path(ec).string()), line};
 }
 
 void add_plot_flags(CLI::App* cmd, bool& plots, const std::string& what) {

@@ -23,6 +23,7 @@
 
 #include "lib/gate.h"
 #include "lib/verify.h"
+#include "lib/verify/verify_report_html.h"
 #include "lib/verify_work.h"  // check_verification_work, kDefaultVerifyWorkLimit
 #include "studies/cli/cli_support.h"
 #include "studies/cli/published_folder.h"
@@ -44,17 +45,23 @@ struct VerifyRun {
 };
 
 // Verifies, evaluates `bounds` (if any) for `case_name`, and writes the outputs into `out`
-// (if not null) with the plot if `plots`, then publishes it whole (published_folder.h).
+// (if not null) with the plot if `plots`, and with `html` the page report.html
+// (verify_report_html.h, the bounds' rows added), then publishes it whole (published_folder.h).
 // Throws VerifyInputError / std::invalid_argument for bad input.
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
                            const std::string& case_name, PublishedFolder* out,
-                           const nlohmann::json& parameters, bool plots);
+                           const nlohmann::json& parameters, bool plots, const HtmlReportContext* html = nullptr);
 // The same into the folder `out` (if not empty), its PublishedFolder made here (vrv gate's cases).
 VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& options, const std::optional<BoundSet>& bounds,
                            const std::string& case_name, const std::filesystem::path& out,
-                           const nlohmann::json& parameters, bool plots);
+                           const nlohmann::json& parameters, bool plots, const HtmlReportContext* html = nullptr);
+
+// The command line this process was started with (/proc/self/cmdline), each word shell-quoted,
+// after a `cd` to the working folder: what the HTML report shows under "To reproduce".  Empty
+// where /proc is not there.
+std::vector<std::string> invoking_commands();
 
 // What marks a folder as a verification's outputs (check_replaceable_dir, lib/io/output_paths.h).
 inline constexpr const char* kVerifyOutMarker = "meta.json";

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -29,6 +30,7 @@
 #include "lib/io/npy.h"
 #include "lib/io/output_paths.h"
 #include "lib/verify/verify_output.h"
+#include "lib/verify/verify_report_html.h"
 #include "lib/util/parallel.h"
 #include "lib/verify_work.h"
 #include "lib/vrv.h"
@@ -344,6 +346,18 @@ void draw_plot(const std::filesystem::path& out, const std::filesystem::path& sh
   if (status != 0 && PyErr_WarnEx(PyExc_RuntimeWarning, line.c_str(), 1) < 0) throw py::error_already_set();
 }
 
+// The call as the report's "To reproduce" shows it (the images are the caller's arrays).
+std::string python_call(const std::vector<double>& steps, std::optional<double> expected_order,
+                        const std::optional<std::filesystem::path>& bounds,
+                        const std::optional<std::string>& case_name, const std::filesystem::path& report) {
+  std::string s = fmt::format("vrv.verify(scene, images, steps=[{}]", fmt::join(steps, ", "));
+  if (expected_order) s += fmt::format(", expected_order={}", *expected_order);
+  if (bounds) s += fmt::format(", bounds={}", nlohmann::json(bounds->string()).dump());
+  if (case_name) s += fmt::format(", case={}", nlohmann::json(*case_name).dump());
+  return s + fmt::format(", report={})  # images: the {} arrays given", nlohmann::json(report.string()).dump(),
+                         steps.size());
+}
+
 // `vrv verify` in-process: the report as a dict (the JSON line `vrv verify` prints: to_json of
 // lib/verify.h, with the bounds' rows and `pass` including them when a bounds file is given),
 // and its files written into `out` when given, with the plot unless `plots` is false.
@@ -352,7 +366,8 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
                      const std::string& order_metric, double tol, std::optional<double> threshold,
                      bool diagnose, double unit_distance, std::optional<std::filesystem::path> bounds,
                      std::optional<std::string> case_name, std::optional<std::filesystem::path> out,
-                     bool plots, double max_work, const std::string& alpha) {
+                     bool plots, double max_work, const std::string& alpha,
+                     std::optional<std::filesystem::path> report) {
   VerifyOptions options;
   apply(VerifySettings{tol, order_tolerance, order_metric, unit_distance, alpha}, options);
   options.expected_order = expected_order;
@@ -374,13 +389,14 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
     check_replaceable_dir(*out, cli::kVerifyOutMarker, "--out");
     image_module::functions();
   }
+  if (report) check_verify_report_path(*report, {bounds.value_or("")}, out.value_or(""), "report");
   if (const auto [width, height] = image_size(images); width > 0)
     check_verification_work(scene, options, width, height, steps, 0, max_work, "--max-work");
   std::vector<ChannelImage> values;
   for (std::size_t i = 0; i < images.size(); ++i) values.push_back(array_image(images[i], i));
-  const VerifyReport report = interruptible([&] { return verify(scene, values, steps, options); });
+  const VerifyReport result = interruptible([&] { return verify(scene, values, steps, options); });
   std::vector<BoundRow> rows;
-  if (set) rows = evaluate_bounds(case_name.value_or("verify"), report, *set);
+  if (set) rows = evaluate_bounds(case_name.value_or("verify"), result, *set);
   if (out) {
     cli::PublishedFolder folder(*out, cli::kVerifyOutMarker, "--out");
     std::vector<std::pair<std::string, Table>> extra;
@@ -392,15 +408,27 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
     folder.write_and_publish([&](const std::filesystem::path& staging) {
       {
         py::gil_scoped_release release;
-        write_verify_outputs(staging, report, extra, parameters, 0);
+        write_verify_outputs(staging, result, extra, parameters, 0);
       }
       if (plots) draw_plot(staging, *out);
     });
   }
-  nlohmann::ordered_json j = to_json(report);
-  j["pass"] = report.pass && worst(rows) < BoundVerdict::fail;
+  if (report) {
+    // Arrays cannot be shown as a command: the call itself, with what it was given.
+    HtmlReportContext context{"vrv.verify (Python)", {python_call(steps, expected_order, bounds, case_name, *report)}, {}};
+    if (set) context.bounds = bound_table(rows);
+    py::gil_scoped_release release;
+    try {
+      write_verify_report_html(*report, result, context);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(fmt::format("report: {}: not written: {}", report->string(), e.what()));
+    }
+  }
+  nlohmann::ordered_json j = to_json(result);
+  j["pass"] = result.pass && worst(rows) < BoundVerdict::fail;
   if (set) j["bounds"] = nlohmann::ordered_json::parse(bound_table(rows).to_json());
   if (out) j["out"] = out->string();
+  if (report) j["report"] = report->string();
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
@@ -445,6 +473,7 @@ PYBIND11_MODULE(vrv, m) {
         py::arg("diagnose") = true, py::arg("unit_distance") = 0.0, py::arg("bounds") = py::none(),
         py::arg("case") = py::none(), py::arg("out") = py::none(), py::arg("plots") = false,
         py::arg("max_work") = kDefaultVerifyWorkLimit, py::arg("alpha") = "premultiplied",
+        py::arg("report") = py::none(),
         "`vrv verify` in-process: a renderer's images of the scene's camera ((height, width) arrays, "
         "or (height, width, 3 or 4) for RGB and RGBA as `vrv verify` reads them; one per sample "
         "distance in `steps`) against the reference; above `max_work` field evaluations (as "
@@ -453,5 +482,6 @@ PYBIND11_MODULE(vrv, m) {
         "file (its [defaults], or `case`), whose rows are added and whose fail levels `pass` includes; "
         "`out`: a folder for its tables, error images and meta.json, with the log-log plot "
         "error_vs_step.{png,pdf} if `plots=True` (`vrv verify --plots`); `alpha`: colour with an alpha "
-        "channel is 'premultiplied' (the default) or 'straight', as --alpha");
+        "channel is 'premultiplied' (the default) or 'straight', as --alpha; `report`: a file for the "
+        "verification as one self-contained HTML page, as --report");
 }

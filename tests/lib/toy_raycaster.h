@@ -17,6 +17,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>  // cross
+
 #include "lib/camera.h"
 #include "lib/scene.h"
 
@@ -152,6 +154,41 @@ struct Planted {
   double opacity_ratio = 1;    // each sample's opacity for opacity_ratio times its length
   bool nearest = false;        // grid scenes: the nearest node's value instead of trilinear
   double box_grow = 0;         // the box this many voxels (grid spacings) larger on each side
+  double pixel_shift = 0;      // rays this many pixels off the pixel centres on both axes (perspective)
+  int table_bits = 0;          // the transfer function from 256-entry tables of this many bits; 0: none
+};
+
+// The toy's own perspective camera (not Camera::ray): the ray through image point (px, py) in
+// pixel units, the frame right = forward x up, true up = right x forward (lib/camera.h's convention).
+inline Ray toy_ray(const Camera& c, double px, double py) {
+  const Vec3 forward = (c.target - c.eye).normalized();
+  const Vec3 right = forward.cross(c.up).normalized();
+  const Vec3 up = right.cross(forward);
+  const double half_h = std::tan(c.fov_degrees * 3.14159265358979323846 / 360);
+  const double half_w = half_h * c.width / c.height;
+  const double u = 2 * px / c.width - 1, v = 1 - 2 * py / c.height;
+  const Vec3 d = (forward + u * half_w * right + v * half_h * up).normalized();
+  return Ray{c.eye, d};
+}
+
+// A curve read from a table of 256 entries over [lo, lo + range], each rounded to `bits` bits of
+// the curve's largest entry, with linear interpolation between entries (clamped at the ends).
+struct ToyTable {
+  double lo = 0, range = 1;
+  std::vector<double> entries;
+  template <class Curve>
+  ToyTable(Curve curve, double lo_, double range_, int bits) : lo(lo_), range(range_) {
+    for (int i = 0; i < 256; ++i) entries.push_back(curve(lo + range * i / 255.0));
+    const double top = *std::max_element(entries.begin(), entries.end());
+    const double levels = std::pow(2.0, bits) - 1;
+    if (top > 0)
+      for (double& e : entries) e = std::nearbyint(e / top * levels) * top / levels;
+  }
+  double operator()(double v) const {
+    const double u = std::clamp((v - lo) / range * 255.0, 0.0, 255.0);
+    const int i = std::min(static_cast<int>(u), 254);
+    return entries[i] + (u - i) * (entries[i + 1] - entries[i]);
+  }
 };
 
 // A grid's nearest node to p (node layout), by the toy's own arithmetic.
@@ -188,12 +225,15 @@ inline std::vector<double> render(const Scene& scene, const Camera& camera, doub
   cam.fov_degrees *= f.fov_scale;
   const TransferFunction& tf = scene.transfer;
   const double lo = tf.breakpoints().front(), range = tf.breakpoints().back() - lo;
+  const int bits = f.table_bits > 0 ? f.table_bits : 30;  // unused without a table
+  const ToyTable emission([&](double v) { return tf.emission(v); }, lo, range, bits);
+  const ToyTable extinction([&](double v) { return tf.extinction(v); }, lo, range, bits);
   std::vector<double> out(static_cast<std::size_t>(camera.width) * camera.height);
   visit_field(scene, [&](const auto& field) {
     for (int y = 0; y < camera.height; ++y)
       for (int x = 0; x < camera.width; ++x) {
         double colour = 0, transparency = 1;
-        const Ray ray = cam.ray(x, y);
+        const Ray ray = f.pixel_shift != 0 ? toy_ray(cam, x + 0.5 + f.pixel_shift, y + 0.5 + f.pixel_shift) : cam.ray(x, y);
         const auto iv = clip(ray, grown.box);
         if (iv && iv->t1 > iv->t0) {
           const long n = std::max(1L, std::lround((iv->t1 - iv->t0) / step));
@@ -202,7 +242,8 @@ inline std::vector<double> render(const Scene& scene, const Camera& camera, doub
             const Vec3 p = ray.at(iv->t0 + (static_cast<double>(k) + 0.5) * h);
             const double v = (f.nearest && grid ? nearest_node(*grid, p) : field.value(p)) * f.tf_scale +
                              f.tf_offset * range;
-            const double g = tf.emission(v), tau = tf.extinction(v);
+            const double g = f.table_bits > 0 ? emission(v) : tf.emission(v);
+            const double tau = f.table_bits > 0 ? extinction(v) : tf.extinction(v);
             const double alpha = -std::expm1(-tau * h * f.opacity_ratio);
             colour += transparency * (tau > 0 ? g / tau * alpha : g * h * f.opacity_ratio);
             transparency *= 1 - alpha;

@@ -91,7 +91,9 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"termination", planted([](toy::Planted& p) { p.termination = 0.5; }), 0.5, 0.02},
         Case{"opacity_step_ratio", planted([](toy::Planted& p) { p.opacity_ratio = 2; }), 2, 0.02},
         Case{"nearest", planted([](toy::Planted& p) { p.nearest = true; }), kNone, 0, true},
-        Case{"box_offset", planted([](toy::Planted& p) { p.box_grow = 0.5; }), 0.5, 0.05, true}),
+        Case{"box_offset", planted([](toy::Planted& p) { p.box_grow = 0.5; }), 0.5, 0.05, true},
+        Case{"tf_bits", planted([](toy::Planted& p) { p.table_bits = 8; }), 8, 0},
+        Case{"pixel_shift", planted([](toy::Planted& p) { p.pixel_shift = -0.5; }), -0.5, 0.02}),
     [](const auto& info) { return info.param.name; });
 
 }  // namespace

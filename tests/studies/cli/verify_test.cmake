@@ -153,3 +153,33 @@ endif()
 file(WRITE ${OUT}/nostudy.toml "[[case]]\nname = \"s\"\nstudy = \"no_such_study\"\n")
 expect_bad_input(gate_no_study "case\\[0\\]\\.study: 'no_such_study' is not a study vrv knows"
   gate --bounds ${OUT}/nostudy.toml --out ${OUT}/nostudy --quiet)
+
+# --report: one self-contained HTML page (docs/verify.md, "The HTML report"), the verdict first;
+# its path checked before any work (one line, exit 2, nothing written); vrv gate --report writes
+# one per case.  The page in a real browser: tests/lib/verify/verify_report_html_browser_test.py.
+run_vrv(0 verify_report verify --scene ${SCENE} ${images} --steps ${steps} --expected-order 2
+        --cache-dir ${OUT}/cache --report ${OUT}/report/r.html --quiet)
+file(READ ${OUT}/report/r.html page)
+string(JSON report_path GET "${LAST_OUT}" report)
+if(NOT page MATCHES "^<!DOCTYPE html>" OR NOT page MATCHES "<span id=\"verdict-text\">converges</span>"
+   OR NOT page MATCHES "No fault named" OR NOT page MATCHES "</body></html>\n$" OR NOT report_path MATCHES "r.html$")
+  message(FATAL_ERROR "verify_report: the page does not start with the verdict or is not whole:\n${LAST_OUT}")
+endif()
+expect_bad_input(report_directory "^vrv: error: --report: .*: is a directory"
+  verify --scene ${SCENE} ${images} --steps ${steps} --report ${OUT} --no-cache)
+expect_bad_input(report_input "^vrv: error: --report: .*alpha_0.1.exr: is the input"
+  verify --scene ${SCENE} ${images} --steps ${steps} --report ${OUT}/alpha_0.1.exr --no-cache)
+expect_bad_input(report_in_out "^vrv: error: --report: .*: lies in --out"
+  verify --scene ${SCENE} ${images} --steps ${steps} --out ${OUT}/v --report ${OUT}/v/r.html --no-cache)
+expect_bad_input(report_bad_image "small.exr: size 8 x 8 differs"
+  verify --scene ${SCENE} ${OUT}/alpha_0.1.exr ${OUT}/small.exr --steps 0.1,0.05 --report ${OUT}/never.html --no-cache)
+if(EXISTS ${OUT}/never.html)
+  message(FATAL_ERROR "report_bad_image: the report was written though the input was refused")
+endif()
+run_vrv(0 gate_report gate --bounds ${OUT}/gate_steps.toml --out ${OUT}/gate_report --report --cache-dir ${OUT}/cache
+        --no-diagnosis --quiet)
+file(READ ${OUT}/gate_report/c/report.html case_page)
+if(NOT case_page MATCHES "vrv gate: case c" OR NOT case_page MATCHES "<table id=\"bounds-table\">")
+  message(FATAL_ERROR "gate_report: OUT/c/report.html lacks the case or its bounds")
+endif()
+run_vrv(2 gate_report_needs_out gate --bounds ${OUT}/gate_steps.toml --report --quiet)

@@ -150,3 +150,21 @@ def test_out_is_published_whole(scene_and_rays, tmp_path):
     with pytest.raises(ValueError, match=r"^--out: "):
         vrv.verify(scene, images, STEPS, diagnose=False, out=str(mine), plots=False)
     assert [p.name for p in mine.iterdir()] == ["notes.txt"]
+
+
+def test_report_writes_one_self_contained_page(scene_and_rays, tmp_path):
+    """report= (`vrv verify --report`): one HTML page with the verdict and the named fault first,
+    every error map inline; a directory is refused before any work (ValueError, nothing written)."""
+    scene, origins, directions = scene_and_rays
+    images = [numpy_raycaster.render(origins, directions, h, offset=0.0) for h in STEPS]
+    page = tmp_path / "r.html"
+    report = vrv.verify(scene, images, STEPS, expected_order=2, report=str(page))
+    assert report["report"] == str(page)
+    text = page.read_text(encoding="utf-8")
+    assert text.startswith("<!DOCTYPE html>") and text.endswith("</body></html>\n")
+    verdict = text.index('<span id="verdict-text">' + report["verdict"])
+    assert verdict < text.index("<b>Fault: half-step offset</b>") < text.index('id="convergence-plot"')
+    assert text.count('<img class="error-map"') == len(STEPS)
+    assert "vrv.verify(scene, images, steps=[0.08, 0.04, 0.02, 0.01], expected_order=2, report=&quot;" in text
+    with pytest.raises(ValueError, match=r"^report: .*: is a directory"):
+        vrv.verify(scene, images, STEPS, report=str(tmp_path))
