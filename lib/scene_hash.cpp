@@ -69,6 +69,8 @@ void hash_scene(Hasher& h, const Scene& s) {
   hash_curve(h, s.transfer.second());
   h.text("background:");
   h.number(s.background);
+  // Only when there are files, so that every other scene's hash is as before.
+  if (!s.field_files.empty()) h.text("field files:" + s.field_files);
 }
 
 }  // namespace

@@ -315,7 +315,7 @@ void run_render(const RenderOptions& opt) {
     throw std::invalid_argument("--tol: applies to --reference only");
   check_tolerance(opt.tol);
   check_threads(opt.threads);
-  const Scene scene = load_scene_or_default(opt.scene);
+  const Scene scene = load_scene_or_default(opt.scene, memory_limit_bytes(opt.max_memory_gib));
   const auto discrete = discrete_config(opt.discrete, scene);
   const Camera camera = scene_camera(scene, opt.width, opt.height);  // --width/--height errors named
   check_render_memory(opt, camera);
