@@ -134,7 +134,12 @@ std::string data_bytes(const Header& h, std::string&& bytes, const std::filesyst
     volume_fail(file, "ElementDataFile", fmt::format("\"{}\": a list or pattern of files is not supported", name.substr(0, 80)));
   const std::filesystem::path data = file.parent_path() / name;
   v.files.push_back(data);
-  std::string d = read_file_bytes(data, max_bytes + kMaxHeaderBytes);
+  std::string d;
+  try {
+    d = read_file_bytes(data, max_bytes + kMaxHeaderBytes);
+  } catch (const VolumeFileError& e) {  // named from the header that points at it
+    volume_fail(file, "ElementDataFile", e.what());
+  }
   double skip = 0;
   if (const auto* s = find_any(h, {"HeaderSize"})) skip = numbers(file, "HeaderSize", *s, 1)[0];
   if (skip == -1) return d;  // resolved by the caller: the data end the file

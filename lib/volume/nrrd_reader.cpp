@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <string_view>
 #include <memory>
 #include <string>
 #include <vector>
@@ -90,6 +92,14 @@ void set_geometry(Volume& v, const Nrrd& n, const std::filesystem::path& file) {
 
 Volume read_nrrd(const std::filesystem::path& file, const VolumeReadOptions& options) {
   nrrdStateVerboseIO = 0;
+  // NRRD only: nrrdLoad would otherwise try its other formats (PNM, PNG, VTK, text), whose
+  // failure paths leak in Teem 1.12 (found by fuzz_nrrd_reader).
+  {
+    std::ifstream in(file, std::ios::binary);
+    char magic[7] = {};
+    if (!in.read(magic, sizeof magic) || std::string_view(magic, sizeof magic) != "NRRD000")
+      volume_fail(file, "(header)", "not a NRRD file (no NRRD000x magic on its first line)");
+  }
   std::vector<std::filesystem::path> data_files;
   const auto header = load(file, true, &data_files);
   if (header->dim != 3) {

@@ -24,3 +24,23 @@ TEST(MetaImageReader, TheDetachedDataFileIsOneOfTheVolumesFiles) {
 
 }  // namespace
 }  // namespace vrv
+
+namespace vrv {
+namespace {
+
+// A missing data file is named from the header that points at it (found by fuzz_metaimage_reader).
+TEST(MetaImageReader, AMissingDataFileIsNamedFromTheHeader) {
+  const auto path = std::filesystem::temp_directory_path() / "vrv_metaimage_missing.mhd";
+  std::ofstream(path) << "NDims = 3\nDimSize = 2 2 2\nElementType = MET_UCHAR\nElementDataFile = none.raw\n";
+  try {
+    read_metaimage(path);
+    ADD_FAILURE() << "read";
+  } catch (const VolumeFileError& e) {
+    const std::string data = (path.parent_path() / "none.raw").string();
+    EXPECT_EQ(std::string(e.what()), path.string() + ": ElementDataFile: " + data + ": (file): cannot open: No such file or directory");
+  }
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace vrv

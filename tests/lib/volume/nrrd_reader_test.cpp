@@ -43,3 +43,22 @@ TEST(NrrdReader, AMissingFileIsOneLine) {
 
 }  // namespace
 }  // namespace vrv
+
+namespace vrv {
+namespace {
+
+// Only NRRD: Teem's other formats (here a PNM) are not tried (their failure paths leak in Teem).
+TEST(NrrdReader, RefusesAFileWithoutTheNrrdMagic) {
+  const auto path = std::filesystem::temp_directory_path() / "vrv_nrrd_reader_pnm.nrrd";
+  std::ofstream(path, std::ios::binary) << "P5\n2 2\n255\nabcd";
+  try {
+    read_nrrd(path);
+    ADD_FAILURE() << "read";
+  } catch (const VolumeFileError& e) {
+    EXPECT_EQ(std::string(e.what()), path.string() + ": (header): not a NRRD file (no NRRD000x magic on its first line)");
+  }
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace vrv
