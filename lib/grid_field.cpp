@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -11,13 +12,7 @@ namespace vrv {
 GridField::GridField(const Box& box, Index3 resolution, GridLayout layout,
                      Interpolation interpolation, const std::function<double(const Vec3&)>& source)
     : box_(box), n_(resolution), layout_(layout), interpolation_(interpolation) {
-  const int min_n = layout == GridLayout::node ? 2 : 1;
-  for (int a = 0; a < 3; ++a)
-    if (n_[a] < min_n)
-      throw std::invalid_argument(fmt::format("grid resolution must be at least {} per axis", min_n));
-  offset_ = layout == GridLayout::node ? 0.0 : 0.5;
-  for (int a = 0; a < 3; ++a)
-    spacing_[a] = box.extent()[a] / (layout == GridLayout::node ? n_[a] - 1 : n_[a]);
+  init_geometry();
   values_.resize(static_cast<std::size_t>(n_[0]) * n_[1] * n_[2]);
   for (int k = 0; k < n_[2]; ++k)
     for (int j = 0; j < n_[1]; ++j)
@@ -25,6 +20,31 @@ GridField::GridField(const Box& box, Index3 resolution, GridLayout layout,
         values_[(static_cast<std::size_t>(k) * n_[1] + j) * n_[0] + i] =
             source(node_position(i, j, k));
   summarise();
+}
+
+GridField::GridField(const Box& box, Index3 resolution, GridLayout layout,
+                     Interpolation interpolation, std::vector<double> values)
+    : box_(box), n_(resolution), layout_(layout), interpolation_(interpolation),
+      values_(std::move(values)) {
+  init_geometry();
+  const std::size_t nodes = static_cast<std::size_t>(n_[0]) * n_[1] * n_[2];
+  if (values_.size() != nodes)
+    throw std::invalid_argument(fmt::format("{} node values for a {} x {} x {} grid", values_.size(),
+                                            n_[0], n_[1], n_[2]));
+  for (std::size_t n = 0; n < nodes; ++n)
+    if (!std::isfinite(values_[n]))
+      throw std::invalid_argument(fmt::format("node value {} is {}", n, values_[n]));
+  summarise();
+}
+
+void GridField::init_geometry() {
+  const int min_n = layout_ == GridLayout::node ? 2 : 1;
+  for (int a = 0; a < 3; ++a)
+    if (n_[a] < min_n)
+      throw std::invalid_argument(fmt::format("grid resolution must be at least {} per axis", min_n));
+  offset_ = layout_ == GridLayout::node ? 0.0 : 0.5;
+  for (int a = 0; a < 3; ++a)
+    spacing_[a] = box_.extent()[a] / (layout_ == GridLayout::node ? n_[a] - 1 : n_[a]);
 }
 
 void GridField::summarise() {

@@ -28,6 +28,11 @@ class GridField {
   GridField(const Box& box, Index3 resolution, GridLayout layout, Interpolation interpolation,
             const std::function<double(const Vec3&)>& source);
 
+  // The given node values, node (i, j, k) at values[(k * n[1] + j) * n[0] + i].  Throws
+  // std::invalid_argument as above, for a size other than the node count, or a non-finite value.
+  GridField(const Box& box, Index3 resolution, GridLayout layout, Interpolation interpolation,
+            std::vector<double> values);
+
   // The same grid with fn applied to every node value (pre-classification).
   GridField mapped(const std::function<double(double)>& fn) const;
 
@@ -55,6 +60,8 @@ class GridField {
   }
 
  private:
+  // Checks the resolution, sets spacing_ and offset_.
+  void init_geometry();
   // Continuous node coordinate along axis a, clamped to [0, n - 1].
   double coordinate(double x, int a) const {
     const double u = (x - box_.min[a]) / spacing_[a] - offset_;

@@ -24,6 +24,9 @@ struct Scene {
   Field field = MarschnerLobb{};
   TransferFunction transfer;
   double background = 0;
+  // For a field read from files (kind = "volume"): their names and CRC-64s (files_digest,
+  // lib/volume/volume_grid.h), which the scene hash covers; empty otherwise.
+  std::string field_files;
   // The [camera] table, if the scene file has one (vrv render falls back to default_camera).
   std::optional<Camera> camera;
 };

@@ -1,6 +1,8 @@
 #include "lib/scene_file.h"
 
 #include "lib/io/error_line.h"
+#include "lib/volume/volume_file.h"
+#include "lib/volume/volume_grid.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -70,7 +72,11 @@ std::string_view type_name(const toml::node& n) {
 // Reads typed values and reports every problem as "<source>: <path>: <reason>".
 class Reader {
  public:
-  explicit Reader(std::string_view source) : source_(source) {}
+  explicit Reader(std::string_view source, double volume_budget = 0)
+      : source_(source), volume_budget_(volume_budget) {}
+
+  // Bytes a volume file's samples and grid may take (0: only the grid cap).
+  double volume_budget() const { return volume_budget_; }
 
   // Keys, strings and file names may carry line breaks or be megabytes long: one short line.
   [[noreturn]] void fail(std::string_view path, std::string_view reason) const {
@@ -195,6 +201,7 @@ class Reader {
 
  private:
   std::string_view source_;
+  double volume_budget_ = 0;
 };
 
 Box read_box(const Reader& r, const toml::table& t) {
@@ -234,15 +241,15 @@ std::string_view read_kind(const Reader& r, const toml::table& t, std::string_vi
 
 [[noreturn]] void unknown_kind(const Reader& r, std::string_view path, std::string_view kind) {
   r.fail(child(path, "kind"),
-         fmt::format("unknown field kind \"{}\" (expected marschner_lobb, linear_ramp or grid)", kind));
+         fmt::format("unknown field kind \"{}\" (expected marschner_lobb, linear_ramp, grid or volume)", kind));
 }
 
 AnalyticField read_source(const Reader& r, const toml::table& t, std::string_view path) {
   const std::string_view kind = read_kind(r, t, path);
   if (kind == "marschner_lobb") return read_marschner_lobb(r, t, path);
   if (kind == "linear_ramp") return read_linear_ramp(r, t, path);
-  if (kind == "grid")
-    r.fail(child(path, "kind"), "nested grid: a grid source must be an analytic field");
+  if (kind == "grid" || kind == "volume")
+    r.fail(child(path, "kind"), fmt::format("nested {}: a grid source must be an analytic field", kind));
   unknown_kind(r, path, kind);
 }
 
@@ -270,11 +277,67 @@ GridField read_grid(const Reader& r, const toml::table& t, const Box& box) {
   }
 }
 
-Field read_field(const Reader& r, const toml::table& t, const Box& box) {
+// [field] kind = "volume": the file's samples as a grid (lib/volume/volume_grid.h); a relative
+// file is relative to the scene file's folder.  Errors of the volume file are its own line.
+GridField read_volume_field(const Reader& r, const toml::table& t, const Box& box,
+                            std::string_view source_name, std::string& files) {
+  r.check_keys(t, "field", {"kind", "file", "value", "placement", "layout", "interpolation"});
+  std::filesystem::path file(r.string(r.require(t, "file", "field"), "field.file"));
+  if (file.empty()) r.fail("field.file", "empty");
+  if (file.is_relative()) file = std::filesystem::path(source_name).parent_path() / file;
+  VolumeMapping mapping;
+  if (const toml::node* n = t.get("value"); n && n->is_table()) {
+    const toml::table& w = *n->as_table();
+    r.check_keys(w, "field.value", {"window"});
+    const toml::array& a = r.array(r.require(w, "window", "field.value"), "field.value.window", 2);
+    mapping = {VolumeValue::window, r.number(*a.get(0), "field.value.window[0]"),
+               r.number(*a.get(1), "field.value.window[1]")};
+    if (!(mapping.lo < mapping.hi) || !std::isfinite(mapping.hi - mapping.lo))
+      r.fail("field.value.window", fmt::format("[{}, {}] needs lo < hi (and a finite width)", mapping.lo, mapping.hi));
+  } else {
+    mapping.kind = r.choice<VolumeValue>(t, "value", "field",
+                                         {{"raw", VolumeValue::raw}, {"rescale", VolumeValue::rescale}});
+  }
+  const auto placement = r.choice<VolumePlacement>(
+      t, "placement", "field", {{"header", VolumePlacement::header}, {"box", VolumePlacement::box}});
+  const auto layout = r.choice<GridLayout>(t, "layout", "field",
+                                           {{"node", GridLayout::node}, {"cell", GridLayout::cell}});
+  const auto interpolation = r.choice<Interpolation>(
+      t, "interpolation", "field",
+      {{"trilinear", Interpolation::trilinear}, {"nearest", Interpolation::nearest}});
+  try {
+    // The grid's node cap (as for kind = "grid") and the memory budget, checked from the header
+    // before reading: the samples in their own type and the grid's doubles.
+    VolumeReadOptions options{std::int64_t{kMaxGridNodes} * 16, kMaxGridNodes, sizeof(double)};
+    if (r.volume_budget() > 0 && r.volume_budget() < static_cast<double>(options.max_bytes))
+      options.max_bytes = static_cast<std::int64_t>(r.volume_budget());
+    const Volume v = read_volume(file, options);
+    GridField grid = volume_grid(v, mapping, placement, box, layout, interpolation, file);
+    files = files_digest(v.files);
+    return grid;
+  } catch (const VolumeFileError& e) {
+    throw SceneFileError(e.what());
+  } catch (const std::invalid_argument& e) {
+    r.fail("field.file", fmt::format("{}: {}", file.string(), e.what()));
+  }
+}
+
+// A volume placed by its header brings its own box: [volume] min and max would contradict it.
+bool volume_places_itself(const Reader& r, const toml::table& field) {
+  const toml::node* kind = field.get("kind");
+  if (!kind || !kind->is_string() || kind->as_string()->get() != "volume") return false;
+  return r.choice<VolumePlacement>(field, "placement", "field",
+                                   {{"header", VolumePlacement::header}, {"box", VolumePlacement::box}}) ==
+         VolumePlacement::header;
+}
+
+Field read_field(const Reader& r, const toml::table& t, const Box& box, std::string_view source_name,
+                 std::string& files) {
   const std::string_view kind = read_kind(r, t, "field");
   if (kind == "marschner_lobb") return read_marschner_lobb(r, t, "field");
   if (kind == "linear_ramp") return read_linear_ramp(r, t, "field");
   if (kind == "grid") return read_grid(r, t, box);
+  if (kind == "volume") return read_volume_field(r, t, box, source_name, files);
   unknown_kind(r, "field", kind);
 }
 
@@ -456,20 +519,36 @@ toml::table parse_toml(const Reader& r, std::string_view text, std::string_view 
 }  // namespace
 
 Scene parse_scene(std::string_view toml_text, std::string_view source_name) {
-  const Reader r(source_name);
+  return parse_scene(toml_text, source_name, 0);
+}
+
+Scene parse_scene(std::string_view toml_text, std::string_view source_name, double max_volume_bytes) {
+  const Reader r(source_name, max_volume_bytes);
   const toml::table doc = parse_toml(r, toml_text, source_name);
   // Unknown keys first, so that a typo is reported as such and not as a missing key.
   r.check_keys(doc, "", {"volume", "field", "transfer", "background", "camera"});
-  const toml::table& volume = r.table(r.require(doc, "volume", ""), "volume");
+  const toml::node* field = doc.get("field");
+  const bool own_box = field && field->is_table() && volume_places_itself(r, *field->as_table());
+  const toml::table empty;
+  const toml::table& volume = own_box && !doc.contains("volume") ? empty : r.table(r.require(doc, "volume", ""), "volume");
   r.check_keys(volume, "volume", {"min", "max", "dims"});
 
   Scene scene;
-  scene.box = read_box(r, volume);
+  if (own_box) {
+    for (std::string_view key : {"min", "max"})
+      if (volume.contains(key))
+        r.fail(child("volume", key), "not with a volume placed by its header (field.placement = \"header\"): "
+                                     "the box is the file's; placement = \"box\" fills a stated box");
+  } else {
+    scene.box = read_box(r, volume);
+  }
   const toml::node* dims = volume.get("dims");
   if (dims) scene.dims = r.int3(*dims, "volume.dims");
-  scene.field = read_field(r, r.table(r.require(doc, "field", ""), "field"), scene.box);
+  scene.field = read_field(r, r.table(r.require(doc, "field", ""), "field"), scene.box, source_name,
+                           scene.field_files);
   if (const auto* grid = std::get_if<GridField>(&scene.field); grid && !dims)
     scene.dims = grid->resolution();
+  if (own_box) scene.box = std::get<GridField>(scene.field).box();
   scene.transfer = read_transfer(r, r.table(r.require(doc, "transfer", ""), "transfer"));
   scene.background = read_background(r, r.optional_table(doc, "background", ""));
   scene.camera = read_camera(r, r.optional_table(doc, "camera", ""));
@@ -496,6 +575,10 @@ std::string read_scene_text(const std::filesystem::path& path) {
 }
 
 Scene load_scene(const std::filesystem::path& path) { return parse_scene(read_scene_text(path), path.string()); }
+
+Scene load_scene(const std::filesystem::path& path, double max_volume_bytes) {
+  return parse_scene(read_scene_text(path), path.string(), max_volume_bytes);
+}
 
 std::string scene_toml(std::string_view toml_text, std::string_view source_name) {
   parse_scene(toml_text, source_name);  // a scene first: its errors, not the printer's

@@ -1,6 +1,8 @@
 #include "lib/scene_hash.h"
 
+#include <string_view>
 #include <type_traits>
+#include <vector>
 
 #include <boost/uuid/detail/sha1.hpp>
 #include <fmt/format.h>
@@ -57,9 +59,21 @@ void hash_scene(Hasher& h, const Scene& s) {
                              static_cast<int>(f.interpolation())));
           h.vec(f.box().min);
           h.vec(f.box().max);
-          for (int k = 0; k < n[2]; ++k)
-            for (int j = 0; j < n[1]; ++j)
-              for (int i = 0; i < n[0]; ++i) h.number(f.node(i, j, k));
+          if (s.field_files.empty()) {
+            for (int k = 0; k < n[2]; ++k)
+              for (int j = 0; j < n[1]; ++j)
+                for (int i = 0; i < n[0]; ++i) h.number(f.node(i, j, k));
+          } else {
+            // A volume's nodes as bytes: formatting 2^24 doubles one by one took ~19 s for a
+            // 256^3 scan.  Only volume scenes (new) hash this way; every other hash is unchanged.
+            // Row by row (this machine's byte order: little-endian on x86-64 and arm64).
+            std::vector<double> row(static_cast<std::size_t>(n[0]));
+            for (int k = 0; k < n[2]; ++k)
+              for (int j = 0; j < n[1]; ++j) {
+                for (int i = 0; i < n[0]; ++i) row[i] = f.node(i, j, k);
+                h.text(std::string_view(reinterpret_cast<const char*>(row.data()), row.size() * sizeof(double)));
+              }
+          }
         }
       },
       s.field);
@@ -69,6 +83,8 @@ void hash_scene(Hasher& h, const Scene& s) {
   hash_curve(h, s.transfer.second());
   h.text("background:");
   h.number(s.background);
+  // Only when there are files, so that every other scene's hash is as before.
+  if (!s.field_files.empty()) h.text("field files:" + s.field_files);
 }
 
 }  // namespace

@@ -47,7 +47,9 @@ ReferenceImage reference_image(const Scene& scene, const Camera& camera, const V
   std::string key;
   fs::path file;
   if (cache) {
-    key = reference_cache_key(opt.scene_text, camera, opt.reference_tol);
+    // A volume's files change behind the same scene text: their digest joins the key (empty,
+    // and the key as before, for every other scene).
+    key = reference_cache_key(opt.scene_text + scene.field_files, camera, opt.reference_tol);
     file = opt.cache_dir / reference_cache_name(key);
     if (auto r = read_reference_cache(file, key, camera.width, camera.height)) return *r;
   }

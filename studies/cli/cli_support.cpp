@@ -45,6 +45,10 @@ Scene load_scene_or_default(const std::string& path) {
   return path.empty() ? default_scene() : load_scene(path);
 }
 
+Scene load_scene_or_default(const std::string& path, double max_volume_bytes) {
+  return path.empty() ? default_scene() : load_scene(path, max_volume_bytes);
+}
+
 std::string scene_text_or_default(const std::string& path) {
   if (path.empty()) return std::string(default_scene_toml());
   std::ifstream in(path, std::ios::binary);

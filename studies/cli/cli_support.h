@@ -35,6 +35,9 @@ class CommandFailed : public std::runtime_error {
 Vec3 parse_vec3(const std::string& text, const std::string& option);
 // The scene file, or the embedded default when `path` is empty.
 Scene load_scene_or_default(const std::string& path);
+// The same, with a volume field's file refused above max_volume_bytes (--max-memory) from its
+// header, before its data are read.
+Scene load_scene_or_default(const std::string& path, double max_volume_bytes);
 // Its TOML text (the reference cache's key): the file's bytes, or the embedded default's.
 std::string scene_text_or_default(const std::string& path);
 // Every field of the result; value and error estimate are null when not finite.

@@ -337,7 +337,7 @@ void run_render(const RenderOptions& opt) {
     throw std::invalid_argument("--tol: applies to --reference only");
   check_tolerance(opt.tol);
   check_threads(opt.threads);
-  const Scene scene = load_scene_or_default(opt.scene);
+  const Scene scene = load_scene_or_default(opt.scene, memory_limit_bytes(opt.max_memory_gib));
   const auto projection = projection_setup(opt.mode, opt.discrete, scene);
   // A projection's work is estimated as the emission-absorption cast's of the same sampling.
   const auto discrete = projection ? projection->work : discrete_config(opt.discrete, scene);

@@ -1,0 +1,175 @@
+#include "lib/volume/volume.h"
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <zlib.h>
+
+#include "lib/io/error_line.h"
+
+namespace vrv {
+
+void volume_fail(const std::filesystem::path& file, std::string_view what, std::string_view reason) {
+  throw VolumeFileError(error_line(file.string(), what, reason));
+}
+
+std::string_view to_string(ScalarType t) {
+  constexpr std::string_view names[] = {"uint8", "int8", "uint16", "int16",
+                                        "uint32", "int32", "float32", "float64"};
+  return names[static_cast<int>(t)];
+}
+
+std::size_t scalar_bytes(ScalarType t) {
+  constexpr std::size_t bytes[] = {1, 1, 2, 2, 4, 4, 4, 8};
+  return bytes[static_cast<int>(t)];
+}
+
+Eigen::Matrix3d Volume::steps() const {
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  for (int a = 0; a < 3; ++a) m(axis[a], a) = sign[a] * spacing[a];
+  return m;
+}
+
+std::array<int, 3> checked_dims(const std::filesystem::path& file, std::string_view what,
+                                const std::array<std::int64_t, 3>& dims) {
+  std::array<int, 3> out{};
+  std::int64_t total = 1;
+  for (int a = 0; a < 3; ++a) {
+    if (dims[a] < 1 || dims[a] > kMaxVolumeSamples)
+      volume_fail(file, what, fmt::format("size {} on axis {} (expected 1 to {})", dims[a], a, kMaxVolumeSamples));
+    total *= dims[a];
+    if (total > kMaxVolumeSamples)
+      volume_fail(file, what, fmt::format("{} x {} x {} samples: more than {}", dims[0], dims[1], dims[2],
+                                          kMaxVolumeSamples));
+    out[a] = static_cast<int>(dims[a]);
+  }
+  return out;
+}
+
+void check_budget(const std::filesystem::path& file, std::string_view what,
+                  const std::array<int, 3>& dims, ScalarType t, const VolumeReadOptions& options) {
+  const std::int64_t samples = std::int64_t{dims[0]} * dims[1] * dims[2];
+  if (samples > options.max_samples)
+    volume_fail(file, what, fmt::format("{} x {} x {} samples: more than {}", dims[0], dims[1], dims[2],
+                                        options.max_samples));
+  const std::int64_t bytes = samples * (static_cast<std::int64_t>(scalar_bytes(t)) + options.extra_bytes_per_sample);
+  if (bytes > options.max_bytes)
+    volume_fail(file, what, fmt::format("{} x {} x {} {} samples take {} bytes{}, more than the {} allowed "
+                                        "(--max-memory)", dims[0], dims[1], dims[2], to_string(t), bytes,
+                                        options.extra_bytes_per_sample ? " with the grid's doubles" : "",
+                                        options.max_bytes));
+}
+
+void set_axis_aligned(Volume& v, const Eigen::Matrix3d& steps, const std::filesystem::path& file,
+                      std::string_view what) {
+  constexpr double kOffAxis = 1e-6;
+  bool used[3] = {false, false, false};
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::Vector3d c = steps.col(a);
+    if (!c.allFinite()) volume_fail(file, what, fmt::format("index axis {} has a non-finite direction", a));
+    const double length = c.norm();
+    if (!(length > 0) || !std::isfinite(length))
+      volume_fail(file, what, fmt::format("index axis {} has a zero or overflowing step", a));
+    int w = 0;
+    c.cwiseAbs().maxCoeff(&w);
+    for (int b = 0; b < 3; ++b)
+      if (b != w && std::abs(c[b]) > kOffAxis * length)
+        volume_fail(file, what,
+                    fmt::format("oblique direction [{}, {}, {}] of index axis {} not supported "
+                                "(only axis-aligned volumes)", c[0], c[1], c[2], a));
+    if (used[w]) volume_fail(file, what, fmt::format("index axes share world axis {}", w));
+    used[w] = true;
+    v.axis[a] = w;
+    v.sign[a] = c[w] < 0 ? -1 : 1;
+    v.spacing[a] = std::abs(c[w]);  // the header's own number (not the norm) when axis-aligned
+  }
+}
+
+namespace {
+
+template <class T>
+std::vector<T> decode(const unsigned char* bytes, std::size_t count, bool big_endian) {
+  std::vector<T> out(count);
+  if (count > 0) std::memcpy(out.data(), bytes, count * sizeof(T));
+  if (sizeof(T) > 1 && big_endian != (std::endian::native == std::endian::big)) {
+    auto* raw = reinterpret_cast<unsigned char*>(out.data());
+    for (std::size_t n = 0; n < count; ++n) std::reverse(raw + n * sizeof(T), raw + (n + 1) * sizeof(T));
+  }
+  return out;
+}
+
+}  // namespace
+
+VolumeSamples samples_from_bytes(ScalarType t, const unsigned char* bytes, std::size_t count,
+                                 bool big_endian) {
+  switch (t) {
+    case ScalarType::u8: return decode<std::uint8_t>(bytes, count, big_endian);
+    case ScalarType::i8: return decode<std::int8_t>(bytes, count, big_endian);
+    case ScalarType::u16: return decode<std::uint16_t>(bytes, count, big_endian);
+    case ScalarType::i16: return decode<std::int16_t>(bytes, count, big_endian);
+    case ScalarType::u32: return decode<std::uint32_t>(bytes, count, big_endian);
+    case ScalarType::i32: return decode<std::int32_t>(bytes, count, big_endian);
+    case ScalarType::f32: return decode<float>(bytes, count, big_endian);
+    case ScalarType::f64: return decode<double>(bytes, count, big_endian);
+  }
+  return {};
+}
+
+std::vector<unsigned char> inflate_exactly(const unsigned char* data, std::size_t size,
+                                           std::size_t expected, const std::filesystem::path& file,
+                                           std::string_view what) {
+  z_stream z{};
+  // 15 + 32: zlib or gzip header, detected (MetaImage and VTK write zlib, NRRD gzip).
+  if (inflateInit2(&z, 15 + 32) != Z_OK) volume_fail(file, what, "zlib initialisation failed");
+  // Grown as output arrives, so that a header claiming gigabytes costs nothing until they inflate.
+  std::vector<unsigned char> out(std::min<std::size_t>(expected, std::size_t{1} << 20) + 1);
+  std::size_t done = 0;
+  z.next_in = const_cast<unsigned char*>(data);
+  int rc = Z_OK;
+  std::size_t left_in = size;
+  while (rc == Z_OK) {
+    if (done == out.size()) out.resize(std::min(expected + 1, 2 * out.size()));
+    if (done == out.size()) break;  // more than expected
+    const uInt in_chunk = static_cast<uInt>(std::min<std::size_t>(left_in, 1u << 30));
+    const uInt out_chunk = static_cast<uInt>(std::min<std::size_t>(out.size() - done, 1u << 30));
+    z.avail_in = in_chunk;
+    z.next_out = out.data() + done;
+    z.avail_out = out_chunk;
+    rc = inflate(&z, Z_NO_FLUSH);
+    left_in -= in_chunk - z.avail_in;
+    done += out_chunk - z.avail_out;
+    if (rc == Z_BUF_ERROR && left_in == 0) break;  // input ended early
+    if (rc == Z_BUF_ERROR) rc = Z_OK;
+  }
+  inflateEnd(&z);
+  if (rc != Z_STREAM_END && rc != Z_OK && rc != Z_BUF_ERROR)
+    volume_fail(file, what, fmt::format("damaged compressed data ({})", z.msg ? z.msg : "zlib error"));
+  if (done > expected)
+    volume_fail(file, what, fmt::format("compressed data inflate to more than the {} bytes expected", expected));
+  if (rc != Z_STREAM_END || done != expected)
+    volume_fail(file, what, fmt::format("compressed data end after {} of {} bytes", done, expected));
+  out.resize(expected);
+  return out;
+}
+
+std::string read_file_bytes(const std::filesystem::path& file, std::size_t max_bytes) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) volume_fail(file, "(file)", "is a directory");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) volume_fail(file, "(file)", fmt::format("cannot open: {}", std::strerror(errno)));
+  std::string bytes;
+  char buffer[1 << 16];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    bytes.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (bytes.size() > max_bytes) volume_fail(file, "(file)", fmt::format("larger than {} bytes", max_bytes));
+  }
+  if (in.bad()) volume_fail(file, "(file)", "read error");
+  return bytes;
+}
+
+}  // namespace vrv

@@ -1,0 +1,113 @@
+#pragma once
+// A volume read from a user's file (NRRD, NIfTI, MetaImage, VTI): samples in their own scalar
+// type, index order (i fastest), and an axis-aligned placement in the file's world frame.
+//
+// World position of sample (i, j, k): origin + sum over index axes a of
+//   sign[a] * spacing[a] * index[a] along world axis axis[a]
+// (axis is a permutation of 0, 1, 2).  Oblique directions, several components per sample and
+// time series are refused by the readers (VolumeFileError).
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "analytic/vec3.h"
+
+namespace vrv {
+
+// One line: "<file>: <what>: <reason>" (lib/io/error_line), e.g.
+// "head.nii.gz: dim: 4-D (time series of 20 frames) not supported".
+class VolumeFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+[[noreturn]] void volume_fail(const std::filesystem::path& file, std::string_view what,
+                              std::string_view reason);
+
+enum class ScalarType { u8, i8, u16, i16, u32, i32, f32, f64 };
+std::string_view to_string(ScalarType t);
+std::size_t scalar_bytes(ScalarType t);
+
+// The variant's alternatives are in ScalarType's order (index() == the enum's value).
+using VolumeSamples = std::variant<std::vector<std::uint8_t>, std::vector<std::int8_t>,
+                                   std::vector<std::uint16_t>, std::vector<std::int16_t>,
+                                   std::vector<std::uint32_t>, std::vector<std::int32_t>,
+                                   std::vector<float>, std::vector<double>>;
+
+// Largest volume a reader accepts, checked from the header before any data is read (2^31
+// samples: an 8 GiB float volume); the scene's own, smaller cap is the grid's (scene_file).
+inline constexpr std::int64_t kMaxVolumeSamples = std::int64_t{1} << 31;
+
+struct Volume {
+  std::array<int, 3> dims{1, 1, 1};
+  Vec3 spacing{1, 1, 1};  // positive, world length per index step
+  Vec3 origin{0, 0, 0};   // world position of sample (0, 0, 0)
+  std::array<int, 3> axis{0, 1, 2};
+  std::array<int, 3> sign{1, 1, 1};
+  VolumeSamples samples;
+  // value = slope * stored + intercept where the header states it (NIfTI scl_slope/scl_inter).
+  bool has_rescale = false;
+  double slope = 1, intercept = 0;
+  // Every file the samples came from (a detached header's data file too): what the scene hash
+  // covers.
+  std::vector<std::filesystem::path> files;
+
+  ScalarType type() const { return static_cast<ScalarType>(samples.index()); }
+  std::size_t count() const {
+    return std::visit([](const auto& v) { return v.size(); }, samples);
+  }
+  double sample(std::size_t n) const {
+    return std::visit([n](const auto& v) { return static_cast<double>(v[n]); }, samples);
+  }
+  double sample(int i, int j, int k) const {
+    return sample((static_cast<std::size_t>(k) * dims[1] + j) * dims[0] + i);
+  }
+  // The 3x3 matrix whose column a is index axis a's step in world coordinates.
+  Eigen::Matrix3d steps() const;
+};
+
+// What a reader may allocate for the samples, checked from the header before any data is read
+// (`vrv --max-memory`, the fuzz harnesses' small budget).
+struct VolumeReadOptions {
+  std::int64_t max_bytes = std::int64_t{16} << 30;
+  std::int64_t max_samples = kMaxVolumeSamples;
+  // Bytes per sample the caller adds (the scene's grid holds each as a double), in the budget.
+  std::int64_t extra_bytes_per_sample = 0;
+};
+// Refuses more than options.max_samples samples, or dims x (bytes per sample + extra) above
+// options.max_bytes, naming `what`.
+void check_budget(const std::filesystem::path& file, std::string_view what,
+                  const std::array<int, 3>& dims, ScalarType t, const VolumeReadOptions& options);
+
+// Dims from a header: each in [1, 2^31) and their product at most kMaxVolumeSamples.
+std::array<int, 3> checked_dims(const std::filesystem::path& file, std::string_view what,
+                                const std::array<std::int64_t, 3>& dims);
+
+// Spacing, axis and sign of `v` from index-axis steps (columns of `steps`, world units): each
+// column must lie along one world axis (off-axis parts below 1e-6 of its length are rounding of
+// the header's own arithmetic, e.g. NIfTI's quaternion) and the columns along different axes.
+// Refuses oblique, zero or non-finite steps naming `what`.
+void set_axis_aligned(Volume& v, const Eigen::Matrix3d& steps, const std::filesystem::path& file,
+                      std::string_view what);
+
+// `count` samples of type t from raw bytes in the given byte order.
+VolumeSamples samples_from_bytes(ScalarType t, const unsigned char* bytes, std::size_t count,
+                                 bool big_endian);
+
+// zlib or gzip stream (auto-detected) inflated to exactly `expected` bytes; fewer, more or a
+// damaged stream are refused naming `what`.
+std::vector<unsigned char> inflate_exactly(const unsigned char* data, std::size_t size,
+                                           std::size_t expected, const std::filesystem::path& file,
+                                           std::string_view what);
+
+// The whole file (refused beyond `max_bytes`).
+std::string read_file_bytes(const std::filesystem::path& file, std::size_t max_bytes);
+
+}  // namespace vrv

@@ -1,0 +1,135 @@
+// lib/scene_file's [field] kind = "volume" (lib/volume/): a user's volume file as the scene's
+// field, and the scene hash covering the file.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "lib/reference_integrator.h"
+#include "lib/scene_file.h"
+#include "lib/scene_hash.h"
+
+namespace vrv {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kTransfer =
+    "[transfer]\nemission = [[0.0, 0.0], [1.0, 1.0]]\nextinction = [[0.0, 0.0], [1.0, 0.5]]\n";
+const std::string kBox = "[volume]\nmin = [-1.0, -1.0, -1.0]\nmax = [1.0, 1.0, 1.0]\n";
+
+fs::path scratch() {
+  const fs::path d = fs::temp_directory_path() / ("vrv_scene_volume_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+// A little-endian float64 NRRD of the grid's node values, placed where the grid's nodes are
+// (origin -1, step 2 / (n - 1): exact for n = 9).
+void write_nrrd(const fs::path& file, const GridField& g, const std::string& comment = "") {
+  const auto n = g.resolution();
+  std::ofstream out(file, std::ios::binary);
+  out << "NRRD0004\n" << comment << "type: double\ndimension: 3\nsizes: " << n[0] << " " << n[1] << " " << n[2]
+      << "\nspace dimension: 3\nspace directions: (0.25,0,0) (0,0.25,0) (0,0,0.25)\n"
+         "space origin: (-1,-1,-1)\nendian: little\nencoding: raw\n\n";
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        const double v = g.node(i, j, k);
+        out.write(reinterpret_cast<const char*>(&v), sizeof v);
+      }
+}
+
+Scene grid_scene() {
+  return parse_scene(kBox + "[field]\nkind = \"grid\"\nresolution = [9, 9, 9]\n[field.source]\nkind = "
+                            "\"marschner_lobb\"\n" + kTransfer, "grid.toml");
+}
+
+Scene volume_scene(const fs::path& dir, const std::string& field, bool box = true) {
+  const std::string text = (box ? kBox : "") + "[field]\nkind = \"volume\"\nfile = \"ml.nrrd\"\n" + field + kTransfer;
+  return parse_scene(text, (dir / "scene.toml").string());
+}
+
+// A volume written from a sampled analytic field is that grid: the same reference, bit for bit,
+// placed by the scene's box or by the file's header.
+TEST(SceneFileVolume, AVolumeOfASampledFieldIntegratesAsTheGrid) {
+  const fs::path dir = scratch();
+  const Scene grid = grid_scene();
+  write_nrrd(dir / "ml.nrrd", std::get<GridField>(grid.field));
+  const Scene by_box = volume_scene(dir, "placement = \"box\"\n");
+  const Scene by_header = volume_scene(dir, "", false);
+  EXPECT_EQ(by_header.box.min, grid.box.min);
+  EXPECT_EQ(by_header.box.max, grid.box.max);
+  EXPECT_EQ(by_header.dims, grid.dims);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n = 0; n < 50; ++n) {
+    const Ray ray = make_ray(Vec3(u(rng), u(rng), -3), Vec3(0.3 * u(rng), 0.3 * u(rng), 1));
+    const ReferenceResult a = integrate_reference(grid, ray);
+    for (const Scene* s : {&by_box, &by_header}) {
+      const ReferenceResult b = integrate_reference(*s, ray);
+      EXPECT_EQ(a.value, b.value);
+      EXPECT_EQ(a.error_estimate, b.error_estimate);
+      EXPECT_EQ(a.evaluations, b.evaluations);
+    }
+  }
+  fs::remove_all(dir);
+}
+
+TEST(SceneFileVolume, TheSceneHashCoversTheFilesBytes) {
+  const fs::path dir = scratch();
+  const Scene grid = grid_scene();
+  const GridField& g = std::get<GridField>(grid.field);
+  write_nrrd(dir / "ml.nrrd", g);
+  const std::string before = scene_hash(volume_scene(dir, "", false));
+  EXPECT_EQ(scene_hash(volume_scene(dir, "", false)), before);
+  // Same samples and geometry, other bytes (a comment): another file, another hash.
+  write_nrrd(dir / "ml.nrrd", g, "# edited\n");
+  const Scene edited = volume_scene(dir, "", false);
+  EXPECT_NE(scene_hash(edited), before);
+  EXPECT_EQ(std::get<GridField>(edited.field).node(3, 4, 5), g.node(3, 4, 5));
+  EXPECT_FALSE(edited.field_files.empty());
+  EXPECT_TRUE(grid_scene().field_files.empty());  // every other scene hashes as before
+  fs::remove_all(dir);
+}
+
+std::string error_of(const std::string& text, const std::string& source) {
+  try {
+    parse_scene(text, source);
+  } catch (const SceneFileError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+TEST(SceneFileVolume, BadVolumeScenesAreOneLine) {
+  const fs::path dir = scratch();
+  write_nrrd(dir / "ml.nrrd", std::get<GridField>(grid_scene().field));
+  const std::string src = (dir / "scene.toml").string();
+  const std::string field = "[field]\nkind = \"volume\"\nfile = \"ml.nrrd\"\n";
+  EXPECT_EQ(error_of(kBox + field + kTransfer, src),
+            src + ": volume.min: not with a volume placed by its header (field.placement = \"header\"): the box is "
+                  "the file's; placement = \"box\" fills a stated box");
+  EXPECT_EQ(error_of("[field]\nkind = \"volume\"\nfile = \"none.nrrd\"\n" + kTransfer, src),
+            (dir / "none.nrrd").string() + ": (file): cannot open: No such file or directory");
+  EXPECT_EQ(error_of(field + "value = { window = [2.0, 1.0] }\n" + kTransfer, src),
+            src + ": field.value.window: [2, 1] needs lo < hi (and a finite width)");
+  EXPECT_EQ(error_of(field + "value = \"log\"\n" + kTransfer, src),
+            src + ": field.value: unknown value \"log\" (expected raw or rescale)");
+  EXPECT_EQ(error_of(field + "value = \"rescale\"\n" + kTransfer, src),
+            (dir / "ml.nrrd").string() + ": value: rescale: the file's header has no slope and intercept (use raw or a window)");
+  EXPECT_EQ(error_of(field + "frame = 2\n" + kTransfer, src),
+            src + ": field.frame: unknown key (allowed: kind, file, value, placement, layout, interpolation)");
+  EXPECT_EQ(error_of(kBox + "[field]\nkind = \"grid\"\nresolution = [2, 2, 2]\nsource = { kind = \"volume\" }\n" + kTransfer, src),
+            src + ": field.source.kind: nested volume: a grid source must be an analytic field");
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace vrv

@@ -1,0 +1,89 @@
+#!/usr/bin/python3
+"""End to end: a volume file written from a sampled analytic field (`vrv export`'s float64 NRRD
+and VTI of a Marschner-Lobb grid) renders, as a scene's [field] kind = "volume" placed by its
+header, the same reference image as the grid scene it came from (`vrv render --reference`),
+pixel for pixel in double (node spacings that are exact binary fractions, so that the header's
+origin + (n - 1) spacing is the grid's box exactly); and the images' scene hashes differ (they name other fields).
+
+    volume_render_test.py VRV OUT_DIR
+"""
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import OpenImageIO as oiio
+
+vrv, out = sys.argv[1], Path(sys.argv[2])
+shutil.rmtree(out, ignore_errors=True)
+out.mkdir(parents=True)
+
+TRANSFER = """[transfer]
+emission = [[0.0, 0.0], [1.0, 1.0]]
+extinction = [[0.0, 0.0], [1.0, 2.5]]
+[camera]
+eye = [0.4, 0.7, -3.5]
+target = [0.0, 0.1, 0.0]
+width = 24
+height = 20
+"""
+(out / "grid.toml").write_text("""[volume]
+min = [-1.0, -1.0, -1.0]
+max = [1.0, 1.0, 1.0]
+[field]
+kind = "grid"
+resolution = [17, 9, 5]
+source = { kind = "marschner_lobb" }
+""" + TRANSFER)
+
+
+def run(*args):
+    r = subprocess.run([vrv, *args], capture_output=True, text=True)
+    assert r.returncode == 0, f"{args}: exit {r.returncode}: {r.stderr}"
+    return json.loads(r.stdout.splitlines()[-1])
+
+
+def pixels(path):
+    im = oiio.ImageInput.open(str(path))
+    assert im, oiio.geterror()
+    data = im.read_image(oiio.DOUBLE)
+    im.close()
+    return np.asarray(data)
+
+
+run("export", "--scene", str(out / "grid.toml"), "--out", str(out / "export"))
+grid = run("render", "--scene", str(out / "grid.toml"), "--reference", "--quiet", "-o", str(out / "grid.exr"))
+reference = pixels(out / "grid.f64.tiff")
+assert reference.max() > 0.1, reference.max()
+for name in ["field_f64.nrrd", "field_f64.vti"]:
+    stem = name.replace(".", "_")
+    (out / f"{stem}.toml").write_text(f'[field]\nkind = "volume"\nfile = "export/{name}"\n' + TRANSFER)
+    r = run("render", "--scene", str(out / f"{stem}.toml"), "--reference", "--quiet", "-o", str(out / f"{stem}.exr"))
+    image = pixels(out / f"{stem}.f64.tiff")
+    assert image.shape == reference.shape
+    assert np.array_equal(image, reference), f"{name}: max |diff| {np.max(np.abs(image - reference))}"
+    assert r["evaluations"] == grid["evaluations"], (r["evaluations"], grid["evaluations"])
+    assert r["scene_camera_hash"] != grid["scene_camera_hash"]
+    print(f"{name}: {image.size} pixels identical to the grid scene's reference image")
+
+# A refused volume: exit 2 and one line on stderr naming the file and what is unsupported.
+bad = Path(__file__).resolve().parent / "data" / "bad_nifti_4d.nii.gz"
+(out / "bad.toml").write_text(f'[field]\nkind = "volume"\nfile = "{bad}"\n' + TRANSFER)
+r = subprocess.run([vrv, "render", "--scene", str(out / "bad.toml"), "--reference", "--quiet", "-o",
+                    str(out / "bad.exr")], capture_output=True, text=True)
+assert r.returncode == 2, r.returncode
+lines = r.stderr.strip().splitlines()
+assert len(lines) == 1 and f"{bad}: dim[4]: 4-D (time series of 2) not supported" in lines[0], r.stderr
+assert not (out / "bad.exr").exists()
+print("a 4-D NIfTI: exit 2,", lines[0])
+
+# --max-memory: the volume (765 float64 samples and the grid's doubles, 12240 bytes) refused from
+# its header, before its data are read, in one line naming the file.
+r = subprocess.run([vrv, "render", "--scene", str(out / "field_f64_nrrd.toml"), "--reference", "--quiet",
+                    "--max-memory", "0.00001", "-o", str(out / "small.exr")], capture_output=True, text=True)
+assert r.returncode == 2, (r.returncode, r.stderr)
+lines = r.stderr.strip().splitlines()
+assert len(lines) == 1 and "field_f64.nrrd: sizes: 17 x 9 x 5 float64 samples take 12240 bytes with the grid's doubles, more than the 10737 allowed (--max-memory)" in lines[0], r.stderr
+print("--max-memory:", lines[0])
