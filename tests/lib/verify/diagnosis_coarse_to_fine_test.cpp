@@ -103,7 +103,9 @@ TEST(DiagnosisCoarseToFine, LeadersCarryTheNumbersOfEveryDiagnosisPixel) {
   // The leaders first (nearest first), then the rest by their ranking RMS.
   for (std::size_t i = 0; i < report.size(); ++i) {
     EXPECT_EQ(report[i].pixels, i < kMinLeaders ? all_pixels : ranking) << report[i].name;
-    if (i > 0 && report[i].pixels == report[i - 1].pixels) EXPECT_GE(report[i].rms, report[i - 1].rms);
+    if (i > 0 && report[i].pixels == report[i - 1].pixels) {
+      EXPECT_GE(report[i].rms, report[i - 1].rms);
+    }
   }
   // A leader's RMS is the one over every diagnosis pixel, bit for bit.
   const std::vector<Model> models = distinct_models(scene, kSteps, {});
