@@ -5,7 +5,7 @@
     python3 studies/benchmarks/verify_speed.py BUILD_DIR [--before OTHER_BUILD_DIR]
                                                [--rounds N] [--size N] [--keep DIR]
                                                [--images N] [--first-run] [--threads T]
-                                               [--scenes default,grid] [--no-plot-rows]
+                                               [--scenes default,grid] [--no-plot-rows] [--floor]
 
 For each scene (the embedded default, and a 64^3 trilinear grid of the Marschner-Lobb field with
 an opacity/colour transfer function whose opacity is per unit distance) it renders 5 images with
@@ -14,11 +14,13 @@ BUILD_DIR's own `vrv render --method alpha --strategy inviwo --step H` (the grid
 `vrv verify --out` on them ROUNDS times, alternating the builds when --before is given so that
 both see the same load, with and without the plot (`--plots`; `--no-plots` for builds before it).  It prints a Markdown table of
 the median CPU seconds (user + system of vrv and its children, as /usr/bin/time counts them) and
-wall seconds, and each build's nearest model.  --keep DIR keeps every build's last --out folder
+wall seconds, each build's nearest model and the faults it names.  --keep DIR keeps every build's last --out folder
 (DIR/<build>/<scene>/) for diffing.  --images N takes the N coarsest of 0.04, 0.02, ..., 0.00125
 (default 5); --first-run times verify with an empty reference cache (the reference computed in the
 timed run, as a user's first verify); --threads T passes `--threads T` to verify (default: all
-cores); --scenes picks scenes; --no-plot-rows times only the runs without the plot.
+cores); --scenes picks scenes; --no-plot-rows times only the runs without the plot; --floor
+renders the images with the field of view 2 % wider than the scene's camera (issue 24's floor: the
+fitted fault catalogue runs, and names "field of view 2.0 % wider"; the default scene only).
 
 Python 3 standard library only; writes nothing but a scratch directory it removes.
 """
@@ -77,6 +79,14 @@ def timed(cmd, what):
     return cpu, wall, proc
 
 
+# The default camera (lib/camera.cpp default_camera: the box's centre seen from 2.5 box diagonals
+# down -z) with the field of view 2 % wider than its 40 degrees: a step-independent floor.
+def floor_scene(vrv, size):
+    text = subprocess.run([vrv, "scene"], capture_output=True, text=True, check=True).stdout
+    return text + (f"\n[camera]\neye = [0.0, 0.0, {-2.5 * 12 ** 0.5!r}]\ntarget = [0.0, 0.0, 0.0]\n"
+                   f"up = [0.0, 1.0, 0.0]\nfov = 40.8\nwidth = {size}\nheight = {size}\n")
+
+
 def make_images(vrv, scene_args, render_args, size, folder):
     images = []
     for h in STEPS:
@@ -107,10 +117,13 @@ def main():
     ap.add_argument("--threads", type=int, help="verify's --threads (default: all cores)")
     ap.add_argument("--scenes", default="default,grid", help="comma-separated: default, grid")
     ap.add_argument("--no-plot-rows", action="store_true", help="time only the runs without the plot")
+    ap.add_argument("--floor", action="store_true", help="images with the field of view 2 %% wide (default scene)")
     args = ap.parse_args()
     global STEPS
     STEPS = ALL_STEPS[:args.images]
     wanted = set(args.scenes.split(","))
+    if args.floor:
+        wanted = {"default"}
     if not wanted <= {spec["key"] for spec in SCENES.values()}:
         sys.exit(f"verify_speed: --scenes: unknown scene in {args.scenes!r} (default, grid)")
     plot_rows = (False,) if args.no_plot_rows else (True, False)
@@ -131,9 +144,13 @@ def main():
             scene_args = ["--scene", str(scratch / spec["file"])] if spec["file"] else []
             folder = scratch / scene.replace(" ", "_").replace("^", "")
             folder.mkdir()
-            images = make_images(str(Path(args.build_dir) / "vrv"), scene_args, spec["render"], args.size, folder)
+            render_args = spec["render"]
+            if args.floor:
+                (scratch / "floor.toml").write_text(floor_scene(str(Path(args.build_dir) / "vrv"), args.size))
+                render_args = render_args + ["--scene", str(scratch / "floor.toml")]
+            images = make_images(str(Path(args.build_dir) / "vrv"), scene_args, render_args, args.size, folder)
             results = {(name, plots): [] for name, _ in builds for plots in plot_rows}
-            nearest = {}
+            nearest, named = {}, {}
             for name, d in builds if not args.first_run else []:  # warm the cache (shared: same key)
                 run([str(Path(d) / "vrv"), "verify", *scene_args, *images, "--steps", steps,
                      "--cache-dir", str(cache), "--quiet", "--no-diagnosis"], "warm the cache")
@@ -155,6 +172,8 @@ def main():
                                      f"{'read from' if args.first_run else 'not read from'} the cache")
                         results[(name, plots)].append((cpu, wall))
                         nearest[name] = report["diagnosis"][0]["name"] if report["diagnosis"] else "none"
+                        named[name] = "; ".join(f.get("behaves_like") or f["name"]
+                                                for f in report.get("faults", [])) or "none"
                         if args.keep and not plots:
                             keep = Path(args.keep) / name.replace(" ", "_") / folder.name
                             shutil.rmtree(keep, ignore_errors=True)
@@ -162,14 +181,15 @@ def main():
             for (name, plots), times in results.items():
                 cpu = statistics.median(t[0] for t in times)
                 wall = statistics.median(t[1] for t in times)
-                rows.append((scene, name, "yes" if plots else "no", cpu, wall, nearest[name]))
+                rows.append((scene, name, "yes" if plots else "no", cpu, wall, nearest[name], named[name]))
     cached = "computed in each run (first run)" if args.first_run else "cached"
-    print(f"`vrv verify`, {len(STEPS)} images of {args.size}² (alpha, inviwo, steps {steps}), the reference "
+    floor = ", rendered with the field of view 2 % wide (a floor)" if args.floor else ""
+    print(f"`vrv verify`, {len(STEPS)} images of {args.size}²{floor} (alpha, inviwo, steps {steps}), the reference "
           f"{cached}, median of {args.rounds} rounds; CPU = user + system of vrv and its children.\n")
-    print("| scene | build | plot | CPU s | wall s | nearest model |")
-    print("|---|---|---|---|---|---|")
-    for scene, name, plots, cpu, wall, near in rows:
-        print(f"| {scene} | {name} | {plots} | {cpu:.2f} | {wall:.2f} | {near} |")
+    print("| scene | build | plot | CPU s | wall s | nearest model | faults named |")
+    print("|---|---|---|---|---|---|---|")
+    for scene, name, plots, cpu, wall, near, faults in rows:
+        print(f"| {scene} | {name} | {plots} | {cpu:.2f} | {wall:.2f} | {near} | {faults} |")
     if args.before:
         print()
         for scene in sorted({r[0] for r in rows}):

@@ -77,6 +77,13 @@ namespace {
 // A correct renderer of each common placement (tests/lib/toy_raycaster.h, not vrv's raycaster),
 // verified at the order it is meant to have: matched by vrv's model of that placement to within
 // 1e-6 of its own error, and no fault named.
+// The images' own RMS error against the reference, over every image.
+double own_rms(const VerifyReport& r) {
+  double sum = 0;
+  for (const ChannelReport& ch : r.channels) sum += ch.all().rms * ch.all().rms;
+  return std::sqrt(sum / static_cast<double>(r.channels.size()));
+}
+
 struct PlacementCase {
   toy::Placement placement;
   double expected_order;
@@ -96,9 +103,7 @@ TEST_P(CorrectPlacements, AreMatchedExactlyAndNoFaultIsNamed) {
   const Candidate& best = r.diagnosis.front();
   EXPECT_EQ(best.placement, c.model) << best.name;
   EXPECT_EQ(best.rule, "alpha") << best.name;
-  double own = 0;  // the images' own RMS error against the reference, over every image
-  for (const ChannelReport& ch : r.channels) own += ch.all().rms * ch.all().rms;
-  own = std::sqrt(own / static_cast<double>(r.channels.size()));
+  const double own = own_rms(r);
   const double ratio = best.rms / own;
   EXPECT_LE(ratio, 1e-6) << best.name << ": " << best.rms << " against its own error " << own;
   std::cout << c.model << ": nearest model " << best.rms << " RMS, own error " << own << " RMS, ratio " << ratio
@@ -111,6 +116,24 @@ INSTANTIATE_TEST_SUITE_P(Toy, CorrectPlacements,
                                            PlacementCase{toy::Placement::exit_anchored, 2, "exit_anchored"},
                                            PlacementCase{toy::Placement::one_step_in, 1, "vtk"}),
                          [](const auto& info) { return info.param.model; });
+
+// Pre-integration (exact segments between the midpoints, tests/lib/toy_raycaster.h's own
+// quadrature): matched by vrv's exact_linear rule at the rounded placement, no fault named.
+TEST_F(VerifyToy, PreIntegrationIsMatchedExactlyAndNoFaultIsNamed) {
+  const auto images = images_in_memory(
+      scene, [&](double h) { return toy::render_preintegrated(scene, *scene.camera, h); }, "preintegrated");
+  const VerifyReport r = verify_images(scene, images, expecting(2));
+  EXPECT_TRUE(r.pass) << r.verdict.reason;
+  for (const Fault& f : r.faults) ADD_FAILURE() << f.name() << ": " << f.evidence;
+  ASSERT_FALSE(r.diagnosis.empty());
+  const Candidate& best = r.diagnosis.front();
+  EXPECT_EQ(best.placement, "inviwo") << best.name;
+  EXPECT_EQ(best.rule, "exact_linear") << best.name;
+  const double own = own_rms(r);
+  EXPECT_LE(best.rms / own, 1e-6) << best.name << ": " << best.rms << " against its own error " << own;
+  std::cout << "pre-integration: nearest model " << best.rms << " RMS, own error " << own << " RMS, ratio "
+            << best.rms / own << "\n";
+}
 
 }  // namespace
 }  // namespace vrv::verify_toy
