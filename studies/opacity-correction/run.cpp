@@ -12,6 +12,7 @@
 #include "lib/work_estimate.h"
 #include "studies/engine/study_rays.h"
 #include "lib/io/table.h"
+#include "studies/engine/study_outputs.h"
 #include "studies/opacity-correction/opacity_correction.h"
 
 namespace vrv {
@@ -19,10 +20,8 @@ namespace {
 
 constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
 
-void write_table(const std::filesystem::path& dir, const std::string& stem, const Table& t, const std::string& caption) {
-  write_file_atomically(dir / (stem + ".csv"), t.to_csv());
-  write_file_atomically(dir / (stem + ".md"), t.to_markdown());
-  write_file_atomically(dir / (stem + ".tex"), t.to_latex({caption, "tab:opacity-" + stem, {}}));
+void write_captioned(const std::filesystem::path& dir, const std::string& stem, const Table& t, const std::string& caption) {
+  write_table(dir, stem, t, {caption, "tab:opacity-" + stem, {}});
 }
 
 StudyCheck at_most(CheckKind kind, std::string name, double value, double bound, std::string detail) {
@@ -67,7 +66,7 @@ void voxel_part(const OpacityStudy& s, const StudyRun& run, StudyOutcome& out) {
     const bool lee = c == Correction::lee_newman || c == Correction::lee_newman_quadratic;
     t.add_row({name_of(c), static_cast<long>(N), r[c].opacity, r[c].intensity, lee ? r[c].p : kMissing});
   }
-  write_table(run.dir, "voxel", t, "Fig.~4: one voxel, resultant opacity and intensity ($\\alpha = C = D/255$)");
+  write_captioned(run.dir, "voxel", t, "Fig.~4: one voxel, resultant opacity and intensity ($\\alpha = C = D/255$)");
   out.checks.push_back(at_most(CheckKind::identity, "Fig. 4: lee_newman opacity = unit opacity", std::fabs(r[Correction::lee_newman].opacity - unit),
                                s.b_identity, "|composited opacity - D_unit/255|: eq. 9 by construction"));
   out.checks.push_back(holds(CheckKind::derived, "Fig. 4: none over-composites", r[Correction::none].opacity > unit && r[Correction::none].intensity > unit * unit,
@@ -166,7 +165,7 @@ void fit_part(const OpacityStudy& s, const StudyRun& run, StudyOutcome& out) {
   const FitErrorStats rendered = fit_error_stats(render_groups(s.scenes, cam, s.render_N, false), s.render_N, s.threshold);
   add_fit_row(t, fmt::format("ML render groups ({}x{})", cam.width, cam.height), s.render_N, rendered);
   t.add_row({std::string("paper: lobster CT 120x120x34"), 5L, kMissing, 0.0031, 0.012, 0.0009, kMissing});
-  write_table(run.dir, "fit", t, "Sec.~4.4: $|p_\\mathrm{quadratic} - p_\\mathrm{exact}|$");
+  write_captioned(run.dir, "fit", t, "Sec.~4.4: $|p_\\mathrm{quadratic} - p_\\mathrm{exact}|$");
   out.checks.push_back(holds(CheckKind::derived, "fit: every p_quadratic in [0, 1]", in_unit && ramps.all_in_unit && rendered.all_in_unit,
                              "finite and in [0, 1] on every set"));
   if (!std::isnan(mean5))
@@ -233,7 +232,7 @@ std::map<Correction, double> render_part(const OpacityStudy& s, const StudyRun& 
     write_png_preview(to_image(v.methods[k], cam.width, cam.height), run.dir / fmt::format("render_{}.png", stem), 0, 1);
     write_error_map_png(to_image(diff[k], cam.width, cam.height), run.dir / fmt::format("render_{}_error.png", stem), scale);
   }
-  write_table(run.dir, "render", t,
+  write_captioned(run.dir, "render", t,
               fmt::format("Fig.~7: mean $|I_\\mathrm{{discrete}} - I_\\mathrm{{analytic}}|$ over {}$\\times${} pixels",
                           cam.width, cam.height));
   // One scanline through the middle: intensity per pixel, the reference as its own series.
@@ -307,7 +306,7 @@ void sweep_part(const OpacityStudy& s, const StudyRun& run, StudyOutcome& out) {
                                    fmt::format("|e(N = {}) / e(N = {}) - 1|: the (N-1)H/(2N) shift of the oversamples", last, prev)));
     }
   }
-  write_table(run.dir, "sweep", t, fmt::format("Mean $|I_N - I|$ over {} rays against the continuous integral", rays.size()));
+  write_captioned(run.dir, "sweep", t, fmt::format("Mean $|I_N - I|$ over {} rays against the continuous integral", rays.size()));
   out.checks.push_back(holds(CheckKind::derived, "sweep: values finite", finite, "every correction, placement and N"));
   out.checks.push_back(at_most(CheckKind::identity, "sweep: N = 1 changes nothing", n1, 0, "max |value - value uncorrected| at N = 1"));
   out.parameters["sweep_rays"] = static_cast<long>(rays.size());
@@ -347,7 +346,7 @@ std::map<Correction, double> timing_part(const OpacityStudy& s, const StudyRun& 
   for (Correction c : s.corrections)
     t.add_row({fmt::format("whole render {}x{}", cam.width, cam.height), name_of(c), whole[c],
                whole[Correction::lacroute] / whole[c], c == q ? s.paper_overall : kMissing});
-  write_table(run.dir, "timing", t, "Table~1 (machine-dependent): time and Lacroute's time over each correction's");
+  write_captioned(run.dir, "timing", t, "Table~1 (machine-dependent): time and Lacroute's time over each correction's");
   const std::string load_after = read_loadavg();
   out.parameters["timing"] = {{"machine_dependent", true}, {"loadavg_before", load_before},
                               {"loadavg_after", load_after}, {"N", N}, {"groups", groups.size() / N},

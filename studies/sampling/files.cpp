@@ -11,18 +11,12 @@
 #include "lib/io/atomic_file.h"
 #include "lib/io/image_io.h"
 #include "lib/io/table.h"
+#include "studies/engine/study_outputs.h"
 
 namespace vrv::sampling_study {
 namespace {
 
 constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
-
-void write_table(const std::filesystem::path& dir, const std::string& stem, const Table& t,
-                 const LatexStyle& style) {
-  write_file_atomically(dir / (stem + ".csv"), t.to_csv());
-  write_file_atomically(dir / (stem + ".md"), t.to_markdown());
-  write_file_atomically(dir / (stem + ".tex"), t.to_latex(style));
-}
 
 std::string rate_text(double rate) { return fmt::format("{:g}", rate); }
 

@@ -13,6 +13,7 @@
 #include "lib/io/table.h"
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/study_driver.h"
+#include "studies/engine/study_outputs.h"
 #include "studies/segment-rules/segment_rules.h"
 
 namespace vrv {
@@ -211,13 +212,6 @@ Image unit_error_image(const std::vector<UnitCell>& cells, int model, int q) {
   return img;
 }
 
-void write_error_image(const Image& img, const std::filesystem::path& stem) {
-  double max_abs = 0;
-  for (float v : img.pixels) max_abs = std::max(max_abs, std::abs(static_cast<double>(v)));
-  write_exr(img, stem.string() + ".exr");
-  write_error_map_png(img, stem.string() + ".png", max_abs);
-}
-
 // ---- Outputs ----
 
 constexpr const char* kUnitPlots[][4] = {
@@ -250,13 +244,6 @@ std::string plots_json(const SegmentRulesStudy& st) {
   return nlohmann::json{{"plots", plots}}.dump(2) + "\n";
 }
 
-void write_table(const Table& t, const std::filesystem::path& dir, const std::string& stem,
-                 const LatexStyle& style) {
-  write_file_atomically(dir / (stem + ".csv"), t.to_csv());
-  write_file_atomically(dir / (stem + ".md"), t.to_markdown());
-  write_file_atomically(dir / (stem + ".tex"), t.to_latex(style));
-}
-
 StudyOutcome run_study(const SegmentRulesStudy& st, const StudyRun& run) {
   StudyOutcome out;
   const UnitSpec& u = st.unit;
@@ -287,7 +274,7 @@ StudyOutcome run_study(const SegmentRulesStudy& st, const StudyRun& run) {
       if (model == 0)
         write_error_image(unit_error_image(cells, model, q), run.dir / fmt::format("{}_error_map", kQuantities[q]));
     }
-  write_table(max_table, run.dir, "unit_segment_max",
+  write_table(run.dir, "unit_segment_max", max_table,
               {"Largest error of the average-opacity approximation on a unit segment", "tab:segment-rules-max", {}});
   const long bad = non_finite(cells);
   out.checks.push_back({"non-finite unit-segment values", static_cast<double>(bad), 0, bad == 0,
@@ -314,10 +301,7 @@ StudyOutcome run_study(const SegmentRulesStudy& st, const StudyRun& run) {
     out.checks.push_back({"finite image errors " + spec.name, static_cast<double>(bad_rows), 0, bad_rows == 0,
                           "(rule, step) rows whose mean or max image error is not finite", CheckKind::derived});
     const std::filesystem::path stem = run.dir / "images" / spec.name;
-    write_exr(res.reference, stem.string() + "_reference.exr");
-    float hi = 0;
-    for (float v : res.reference.pixels) hi = std::max(hi, v);
-    write_png_preview(res.reference, stem.string() + "_reference.png", 0, hi > 0 ? hi : 1);
+    write_value_image(res.reference, stem.string() + "_reference");
     for (std::size_t r = 0; r < st.rules.size(); ++r) {
       const std::string rule(segment_rule_name(st.rules[r].rule));
       const OrderEstimate& fit = res.fits[r];
@@ -329,17 +313,15 @@ StudyOutcome run_study(const SegmentRulesStudy& st, const StudyRun& run) {
         out.checks.push_back(order_check(fmt::format("order {} {}", spec.name, rule), fit, expected, st.order_tolerance));
       const std::string file = fmt::format("images/{}_{}_error", spec.name, rule);
       write_error_image(res.error_maps[r], run.dir / file);
-      double max_abs = 0;
-      for (float v : res.error_maps[r].pixels) max_abs = std::max(max_abs, std::abs(static_cast<double>(v)));
-      maps.add_row({spec.name, rule, spec.map_step, max_abs, file + ".png"});
+      maps.add_row({spec.name, rule, spec.map_step, max_abs_pixel(res.error_maps[r]), file + ".png"});
     }
     renders.push_back({{"name", spec.name}, {"width", res.width}, {"height", res.height},
                        {"hit_pixels", res.hit_pixels}, {"steps", run.quick ? spec.quick_steps : spec.steps},
                        {"map_step", spec.map_step}, {"scene", spec.scene_toml}});
   }
   write_file_atomically(run.dir / "image_errors.csv", errors.to_csv());
-  write_table(orders, run.dir, "orders", {"Observed order of the image error per segment rule", "tab:segment-rules-orders", {}});
-  write_table(maps, run.dir, "error_maps", {});
+  write_table(run.dir, "orders", orders, {"Observed order of the image error per segment rule", "tab:segment-rules-orders", {}});
+  write_table(run.dir, "error_maps", maps, {});
   write_file_atomically(run.dir / "plots.json", plots_json(st));
 
   const long n = run.quick ? u.quick_points : u.points;

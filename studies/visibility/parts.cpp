@@ -16,6 +16,7 @@
 #include "lib/reference_integrator.h"
 #include "lib/work_estimate.h"
 #include "studies/engine/checkpoint.h"
+#include "studies/engine/study_outputs.h"
 #include "studies/engine/study_rays.h"
 #include "studies/engine/reference_audit.h"
 #include "lib/io/table.h"
@@ -23,13 +24,8 @@
 namespace vrv {
 namespace {
 
-void write_table(const StudyRun& run, const std::string& stem, const Table& t, const std::string& caption) {
-  write_file_atomically(run.dir / (stem + ".csv"), t.to_csv());
-  write_file_atomically(run.dir / (stem + ".md"), t.to_markdown());
-  LatexStyle style;
-  style.caption = caption;
-  style.label = "tab:visibility-" + stem;
-  write_file_atomically(run.dir / (stem + ".tex"), t.to_latex(style));
+void write_captioned(const StudyRun& run, const std::string& stem, const Table& t, const std::string& caption) {
+  write_table(run.dir, stem, t, {caption, "tab:visibility-" + stem, {}});
 }
 
 StudyCheck at_most(CheckKind kind, std::string name, double value, double bound, std::string detail) {
@@ -168,7 +164,7 @@ IdentityResult run_identity(const VisibilityStudy& s, const StudyRun& run) {
     sum_t.set_format(col, "{:.2e}");
   sum_t.add_row({std::string("continuous (reference)"), n, worst[0], worst_alpha[0], worst_t[0], s.identity.max_error});
   sum_t.add_row({std::string("discrete (alpha rule)"), n, worst[1], worst_alpha[1], worst_t[1], s.identity.max_error});
-  write_table(run, "identity_summary", sum_t,
+  write_captioned(run, "identity_summary", sum_t,
               "$\\alpha' = 1-(1-\\alpha)^k$ and eq.~(3): largest difference over all rays");
 
   IdentityResult out;
@@ -211,7 +207,7 @@ SamplesResult run_threshold_samples(const VisibilityStudy& s, const StudyRun& ru
              scaled_opacity(alpha, double(expected - 1)), std::nan("")});
   t.add_row({fmt::format("opacity after {} samples", expected), scaled_opacity(alpha, double(expected)),
              std::nan("")});
-  write_table(run, "threshold_samples", t,
+  write_captioned(run, "threshold_samples", t,
               fmt::format("Samples of opacity {} until the accumulated opacity reaches {}", alpha, A));
 
   SamplesResult out;
@@ -318,7 +314,7 @@ TerminationResult run_termination(const VisibilityStudy& s, const StudyRun& run)
   if (total(m + 1) > full) ++violations;
   out.checks.push_back(at_most(CheckKind::derived, "termination samples monotone", double(violations), 0,
                                "samples never fall as the threshold rises, and never exceed no termination"));
-  write_table(run, "termination", t, "Early ray termination: image error and samples saved");
+  write_captioned(run, "termination", t, "Early ray termination: image error and samples saved");
   write_file_atomically(run.dir / "termination_plot.csv", plot.to_csv());
 
   // Images: the reference, and the error of termination at the study's threshold (or the nearest).
@@ -435,7 +431,7 @@ CullingResult run_culling(const VisibilityStudy& s, const StudyRun& run) {
   for (int m = 0; m < kCullMethods; ++m)
     sum_t.add_row({label[m], long(nv), nonempty, culled[m] / ne, share[m], 1 - double(used[m]) / double(used_all),
                    err[m], out.bound, min_front[m]});
-  write_table(run, "culling_summary", sum_t,
+  write_captioned(run, "culling_summary", sum_t,
               fmt::format("Block culling at threshold {} over {} views (non-empty blocks summed over views)",
                           c.threshold, nv));
 
