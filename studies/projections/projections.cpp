@@ -41,8 +41,9 @@ ProjectionsMethod read_method(const StudyReader& r, const toml::table& m, const 
   if (!(out.expected_order > 0)) r.fail(path + ".expected_order", "must be positive");
   if (m.contains("maxima")) {
     out.maxima = r.string(*m.get("maxima"), path + ".maxima");
-    if (out.maxima != "interior" && out.maxima != "face" && out.maxima != "all")
-      r.fail(path + ".maxima", fmt::format("unknown value '{}' (interior, face or all)", out.maxima));
+    const std::vector<std::string> classes{"interior", "face", "entry", "exit", "all"};
+    if (std::find(classes.begin(), classes.end(), out.maxima) == classes.end())
+      r.fail(path + ".maxima", fmt::format("unknown value '{}' (interior, face, entry, exit or all)", out.maxima));
     if (!is_mip(*parsed) && out.maxima != "all") r.fail(path + ".maxima", "applies to the MIP modes only");
   }
   out.label = fmt::format("{} {} {}{}", mode, method, strategy, out.maxima == "all" ? "" : " (" + out.maxima + " maxima)");
@@ -55,7 +56,7 @@ ProjectionsStudy read_projections_study(const StudyInput& in) {
   const StudyReader& r = in.reader;
   const toml::table& doc = in.doc;
   r.check_keys(doc, "", {"name", "kind", "description", "order_tolerance", "reference_tol", "rays", "quick_rays",
-                         "seed", "steps", "scene", "method"});
+                         "seed", "steps", "scene", "method", "image_size", "quick_image_size"});
   ProjectionsStudy s;
   s.name = in.name;
   if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
@@ -65,6 +66,8 @@ ProjectionsStudy read_projections_study(const StudyInput& in) {
   s.rays = r.integer_or(doc, "rays", "", 1, 100000, s.rays);
   s.quick_rays = r.integer_or(doc, "quick_rays", "", 1, 100000, s.quick_rays);
   s.seed = static_cast<std::uint64_t>(r.integer_or(doc, "seed", "", 0, 1L << 40, 26));
+  s.image_size = static_cast<int>(r.integer_or(doc, "image_size", "", 1, 4096, s.image_size));
+  s.quick_image_size = static_cast<int>(r.integer_or(doc, "quick_image_size", "", 1, 4096, s.quick_image_size));
   s.steps = r.numbers(doc, "steps", "", 1e-6, 1.0);
   if (s.steps.size() < 3) r.fail("steps", "at least three steps (an order and its spread)");
   std::string scene_toml;
@@ -87,9 +90,12 @@ ProjectionsResult run_projections(const ProjectionsStudy& study, bool quick) {
   // The references, once per mode and ray.
   std::map<ProjectionMode, std::vector<ProjectionResult>> refs;
   for (const ProjectionsMethod& m : study.methods) refs[m.config.mode];
-  for (auto& [mode, values] : refs) {
+  for (auto& [mode_key, values_of_mode] : refs) {
+    // Named copies: clang 14 (the fuzz build) cannot capture structured bindings in a lambda.
+    const ProjectionMode mode = mode_key;
+    std::vector<ProjectionResult>& values = values_of_mode;
     values.resize(rays.size());
-    parallel_for_index(out.rays, [&, mode = mode](long i) {
+    parallel_for_index(out.rays, [&](long i) {
       values[i] = projection_reference(study.scene, rays[i], mode, {study.reference_tol});
     });
     for (const ProjectionResult& v : values) {
@@ -107,6 +113,8 @@ ProjectionsResult run_projections(const ProjectionsStudy& study, bool quick) {
       const double inside = std::min(ref.position - ref.t_entry, ref.t_exit - ref.position);
       if (m.maxima == "interior") in[i] = inside > 2 * largest;
       if (m.maxima == "face") in[i] = inside == 0;
+      if (m.maxima == "entry") in[i] = ref.position == ref.t_entry;
+      if (m.maxima == "exit") in[i] = ref.position == ref.t_exit && ref.position != ref.t_entry;
       count += in[i] && ref.hit;
     }
     std::vector<double> errors;
@@ -199,6 +207,7 @@ StudyWork projections_work(const ProjectionsStudy& study, bool quick) {
       const double factor = m.config.rule == XrayRule::simpson && !is_mip(m.config.mode) ? 2 : 1;
       work.add(fmt::format("{} at step {:g}", m.label, h), rays, factor * discrete_samples(c, study.scene));
     }
+  add_images_work(study, quick, work);
   return work;
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "lib/io/image_io.h"
 #include "lib/order_estimate.h"
 #include "lib/projection/discrete_projection.h"
 #include "lib/scene.h"
@@ -19,7 +20,7 @@ struct ProjectionsMethod {
   DiscreteProjectionConfig config;  // sampling.step set per step
   double expected_order = 0;
   // MIP only: the rays whose reference maximum lies where the order is expected: "interior" (more
-  // than twice the largest step inside), "face" (at the entry or exit), or "all".
+  // than twice the largest step inside), "face" (at the entry or exit), "entry", "exit", or "all".
   std::string maxima = "all";
 };
 
@@ -32,6 +33,7 @@ struct ProjectionsStudy {
   std::uint64_t seed = 26;
   double reference_tol = 1e-13;
   OrderTolerance order_tolerance;
+  int image_size = 128, quick_image_size = 32;  // the images' side in pixels (scene's camera)
 };
 
 struct ProjectionsRow {
@@ -52,11 +54,33 @@ struct ProjectionsResult {
   long references_missed = 0;         // references whose estimate missed reference_tol
 };
 
+// The images (images.cpp): each mode's reference image, each method's error map at the coarsest step.
+struct ProjectionsErrorMap {
+  std::string method, file_stem;
+  double step = 0, rms_error = 0, max_error = 0;
+  Image error;  // discrete - reference per pixel
+};
+struct ProjectionsImages {
+  int width = 0, height = 0;
+  std::vector<std::pair<std::string, Image>> references;  // (mode name, image)
+  std::vector<ProjectionsErrorMap> error_maps;  // one per distinct cast (mode, method, strategy)
+  double max_reference_estimate = 0;
+  long references_missed = 0;
+};
+
 ProjectionsStudy read_projections_study(const StudyInput& in);
 ProjectionsResult run_projections(const ProjectionsStudy& study, bool quick);
 // errors.{csv,md,tex}, orders.{csv,md,tex} and plots.json in `dir`.
 void write_projections(const std::filesystem::path& dir, const ProjectionsStudy& study, const ProjectionsResult& result);
+ProjectionsImages run_projections_images(const ProjectionsStudy& study, bool quick);
+// images/<mode>_reference.{exr,png}, images/<method>_error.{exr,png}, error_maps.{csv,md,tex}.
+void write_projections_images(const std::filesystem::path& dir, const ProjectionsImages& images);
+// "finite image errors" (every error map's RMS and largest error finite: a NaN is never silent) and
+// "image references within reference_tol".
+std::vector<StudyCheck> images_checks(const ProjectionsStudy& study, const ProjectionsImages& images);
 std::vector<StudyCheck> projections_checks(const ProjectionsStudy& study, const ProjectionsResult& result);
 StudyWork projections_work(const ProjectionsStudy& study, bool quick);
+// The images' share of it.
+void add_images_work(const ProjectionsStudy& study, bool quick, StudyWork& work);
 
 }  // namespace vrv

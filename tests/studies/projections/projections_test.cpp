@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -22,15 +23,35 @@ ProjectionsStudy parse(const std::string& text, const std::string& name) {
 TEST(ProjectionsStudy, QuickRunMeetsTheExpectedOrders) {
   const std::filesystem::path file = std::filesystem::path(VRV_SOURCE_DIR) / "studies/projections/projections.toml";
   const ProjectionsStudy study = parse(read_study_text(file), file.string());
-  ASSERT_EQ(study.methods.size(), 7u);
+  ASSERT_EQ(study.methods.size(), 8u);
   const ProjectionsResult r = run_projections(study, /*quick=*/true);
   EXPECT_EQ(r.rays, study.quick_rays);
   EXPECT_EQ(r.references_missed, 0);
   EXPECT_LE(r.max_reference_estimate, study.reference_tol);
-  ASSERT_EQ(r.orders.size(), 7u);
+  ASSERT_EQ(r.orders.size(), 8u);
   for (const ProjectionsOrder& o : r.orders)
     EXPECT_TRUE(order_matches(o.fit, o.expected, study.order_tolerance)) << o.method << ": " << o.fit.order;
   for (const StudyCheck& c : projections_checks(study, r)) EXPECT_TRUE(c.pass) << c.name << " " << c.value;
+}
+
+// The images: one error map per distinct cast, a sampled MIP never above the exact maximum (by
+// more than the reference's estimate), finite errors, and the references within reference_tol.
+TEST(ProjectionsStudy, QuickImagesAreConsistent) {
+  const std::filesystem::path file = std::filesystem::path(VRV_SOURCE_DIR) / "studies/projections/projections.toml";
+  const ProjectionsStudy study = parse(read_study_text(file), file.string());
+  const ProjectionsImages im = run_projections_images(study, /*quick=*/true);
+  EXPECT_EQ(im.width, study.quick_image_size);
+  EXPECT_EQ(im.height, study.quick_image_size);
+  ASSERT_EQ(im.references.size(), 3u);  // mip, mip_classified, xray
+  ASSERT_EQ(im.error_maps.size(), 6u);  // the three `mip max step` methods cast one image
+  for (const ProjectionsErrorMap& m : im.error_maps) {
+    ASSERT_EQ(m.error.pixels.size(), static_cast<std::size_t>(im.width) * im.height) << m.method;
+    EXPECT_TRUE(std::isfinite(m.rms_error)) << m.method;
+    EXPECT_GT(m.max_error, 0) << m.method;  // the coarsest step is not exact anywhere it matters
+    if (m.method.rfind("mip", 0) == 0)
+      for (float e : m.error.pixels) ASSERT_LE(e, 1e-6f) << m.method << ": a sample above the maximum";
+  }
+  for (const StudyCheck& c : images_checks(study, im)) EXPECT_TRUE(c.pass) << c.name << " " << c.value;
 }
 
 TEST(ProjectionsStudy, BadMethodIsRefusedNamingTheKey) {
