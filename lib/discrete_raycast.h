@@ -10,6 +10,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "lib/util/force_inline.h"
 #include "lib/field.h"
 #include "lib/grid_field.h"
 #include "lib/opacity_correction.h"
@@ -101,7 +102,7 @@ class Classifier {
   Classifier(const TransferFunction& tf, double unit_step, bool with_color = true, TransferLookup lookup = {})
       : tf_(tf), unit_step_(unit_step), with_color_(with_color), lookup_(lookup) {}
   template <class Real>
-  Classified<Real> from_value(double v) const {
+  VRV_FORCE_INLINE Classified<Real> from_value(double v) const {
     if (lookup_.first) {
       const double a = (*lookup_.first)(v), b = (*lookup_.second)(v);
       return tf_.convention() == Convention::opacity_color ? from_opacity_color<Real>(a, b)
@@ -110,11 +111,16 @@ class Classifier {
     if (tf_.convention() == Convention::opacity_color)
       return from_opacity_color<Real>(tf_.first()(v), tf_.second()(v));
     // Consecutive samples mostly stay on one branch: look it up only when v leaves it.
-    if (!(v >= lo_ && v < hi_)) segment_ = tf_.segment(v, lo_, hi_);
+    if (!(v >= lo_ && v < hi_)) {
+      // Through locals: the members' addresses never escape, so the loop keeps them in registers.
+      double lo, hi;
+      segment_ = tf_.segment(v, lo, hi);
+      lo_ = lo, hi_ = hi;
+    }
     return from_emission_extinction<Real>(segment_.g(v), segment_.tau(v));
   }
   template <class Real>
-  Classified<Real> from_emission_extinction(double g, double tau) const {
+  VRV_FORCE_INLINE Classified<Real> from_emission_extinction(double g, double tau) const {
     Classified<Real> c{Real(g), Real(tau), 0, 0, 0};
     if (with_color_) {
       c.alpha_unit = c.alpha_stored = Real(-std::expm1(-tau * unit_step_));

@@ -8,30 +8,38 @@ namespace detail {
 
 // Front to back (with early termination and skipping) or back to front (eq. 1 and 2 of Lee &
 // Newman): both combine the same (emission, transparency) pairs.
+// The configuration's options are copied in, not read through a reference, so that the sample
+// loop keeps them in registers (a store to the running value could otherwise alias them).
 template <class Real>
 class Compositor {
  public:
-  explicit Compositor(const DiscreteConfig& c) : config_(c) {}
-  void add(Composite<Real> c) {
-    if (config_.skip_below && Real(1) - c.transparency < Real(*config_.skip_below)) return;
-    if (config_.compositing == Compositing::back_to_front) {
+  explicit Compositor(const DiscreteConfig& c)
+      : skip_(c.skip_below.has_value()),
+        terminate_(c.termination.has_value()),
+        back_to_front_(c.compositing == Compositing::back_to_front),
+        skip_below_(c.skip_below ? Real(*c.skip_below) : Real(0)),
+        termination_(c.termination ? Real(*c.termination) : Real(0)) {}
+  VRV_FORCE_INLINE void add(Composite<Real> c) {
+    if (skip_ && Real(1) - c.transparency < skip_below_) return;
+    if (back_to_front_) {
       stack_.push_back(c);
       return;
     }
     value_ += transmittance_ * c.emission;
     transmittance_ *= c.transparency;
-    if (config_.termination && Real(1) - transmittance_ >= Real(*config_.termination)) done_ = true;
+    if (terminate_ && Real(1) - transmittance_ >= termination_) done_ = true;
   }
   bool done() const { return done_; }
   Real finish(Real background) const {
-    if (config_.compositing == Compositing::front_to_back) return value_ + transmittance_ * background;
+    if (!back_to_front_) return value_ + transmittance_ * background;
     Real value = background;
     for (auto it = stack_.rbegin(); it != stack_.rend(); ++it) value = it->emission + it->transparency * value;
     return value;
   }
 
  private:
-  const DiscreteConfig& config_;
+  bool skip_, terminate_, back_to_front_;
+  Real skip_below_, termination_;
   Real value_ = 0, transmittance_ = 1;
   bool done_ = false;
   std::vector<Composite<Real>> stack_;
@@ -107,7 +115,7 @@ DiscreteRaycaster<F>::DiscreteRaycaster(const F& field, const Box& box, const Tr
 
 template <ScalarField F>
 template <class Real>
-detail::Classified<Real> DiscreteRaycaster<F>::classify(const Ray& ray, Real t,
+VRV_FORCE_INLINE detail::Classified<Real> DiscreteRaycaster<F>::classify(const Ray& ray, Real t,
                                                         const detail::Classifier& classes) const {
   Vec3 p;
   if constexpr (std::is_same_v<Real, float>) {
@@ -149,7 +157,7 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
                                       table_second_ ? &*table_second_ : nullptr};
   const detail::Classifier classes(tf_, unit_step, with_color, lookup);
   long samples = 0;
-  auto sample = [&](Real t) {
+  auto sample = [&](Real t) VRV_FORCE_INLINE_LAMBDA {
     ++samples;
     return classify<Real>(ray, t, classes);
   };

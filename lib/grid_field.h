@@ -12,6 +12,7 @@
 #include <limits>
 #include <vector>
 
+#include "lib/util/force_inline.h"
 #include "lib/geometry.h"
 
 namespace vrv {
@@ -63,7 +64,7 @@ class GridField {
   // Checks the resolution, sets spacing_ and offset_.
   void init_geometry();
   // Continuous node coordinate along axis a, clamped to [0, n - 1].
-  double coordinate(double x, int a) const {
+  VRV_FORCE_INLINE double coordinate(double x, int a) const {
     const double u = (x - box_.min[a]) / spacing_[a] - offset_;
     return std::clamp(u, 0.0, static_cast<double>(n_[a] - 1));
   }
@@ -84,7 +85,7 @@ class GridField {
   double max_abs_ = 0;             // largest |node value|
 };
 
-inline double GridField::value(const Vec3& p) const {
+VRV_FORCE_INLINE double GridField::value(const Vec3& p) const {
   const double u[3] = {coordinate(p.x(), 0), coordinate(p.y(), 1), coordinate(p.z(), 2)};
   return interpolation_ == Interpolation::nearest ? nearest_value(u) : trilinear_value(u);
 }
@@ -99,7 +100,7 @@ inline double GridField::nearest_value(const double u[3]) const {
   return node(idx[0], idx[1], idx[2]);
 }
 
-inline double GridField::trilinear_value(const double u[3]) const {
+VRV_FORCE_INLINE double GridField::trilinear_value(const double u[3]) const {
   // The cell's lower corner (capped at n - 2) and the step to its upper corner per axis, 0 on an
   // axis of one node; the node array addressed by strides from one base (8 loads, no index products).
   const std::size_t stride[3] = {1, static_cast<std::size_t>(n_[0]),

@@ -9,6 +9,8 @@
 #include <optional>
 #include <vector>
 
+#include "lib/util/force_inline.h"
+
 namespace vrv {
 
 struct ControlPoint {
@@ -58,12 +60,12 @@ struct TransferSegment {
 
   // Clamped at 0 so that a rounding excursion past a zero-crossing never gives negative values.
   // Inline: the discrete raycaster classifies every sample through them.
-  double tau(double v) const {
+  VRV_FORCE_INLINE double tau(double v) const {
     if (convention == Convention::emission_extinction) return std::max(0.0, second(v));
     const double a = std::max(0.0, first(v));
     return -std::log1p(-a) / unit_length;
   }
-  double g(double v) const {
+  VRV_FORCE_INLINE double g(double v) const {
     if (convention == Convention::emission_extinction) return std::max(0.0, first(v));
     return std::max(0.0, second(v)) * tau(v);
   }
