@@ -65,7 +65,9 @@ def test_reference_and_render_modes_match_vrv_ray(scene_and_rays, tmp_path):
     assert r["position"][0] == j["position"]
     image = scene.render(width=SIZE, height=SIZE, mode="xray")
     rays = scene.reference(origins, directions, mode="xray")
-    assert np.array_equal(image, rays["value"])
+    # Both are references to 1e-12 (the rays rebuilt from arrays may differ in their last bits).
+    assert np.max(np.abs(image - rays["value"])) <= 2e-12
+    assert np.max(image) > 0
     assert not np.array_equal(image, scene.render(width=SIZE, height=SIZE))  # not emission-absorption
 
 
