@@ -11,18 +11,10 @@
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "lib/verify/diagnosis.h"
+#include "lib/verify/model_catalogue.h"
 
 namespace vrv {
 namespace {
-
-// The placements the emission-absorption diagnosis lists (lib/verify/model_catalogue.cpp).
-constexpr std::pair<Strategy, const char*> kPlacements[] = {
-    {Strategy::step, "step (first sample half a step in)"},
-    {Strategy::vtk, "vtk (first sample one step in, last partial step dropped)"},
-    {Strategy::inviwo, "inviwo (step rounded to fit, samples at midpoints)"},
-    {Strategy::partial, "partial (midpoints of whole steps, the last partial step at its own midpoint)"},
-    {Strategy::exit_anchored, "exit_anchored (midpoints of whole steps back from the exit, the partial "
-                              "step at the entry at its own midpoint)"}};
 
 std::string rule_text(ProjectionMode mode, XrayRule rule) {
   if (is_mip(mode)) return "the largest sample";
@@ -87,7 +79,7 @@ ReferenceImage projection_reference_image(const Scene& scene, const Camera& came
 std::vector<ProjectionModel> projection_models(const Scene& scene, ProjectionMode mode,
                                                const std::vector<double>& steps) {
   std::vector<ProjectionModel> out;
-  for (auto [strategy, placement] : kPlacements) {
+  for (auto [strategy, placement] : diagnosis_placements()) {
     if (is_mip(mode)) {
       out.push_back(model(scene, mode, strategy, placement, XrayRule::trapezoid, steps));
       continue;
