@@ -11,6 +11,7 @@
 
 #include "lib/projection/projection_reference.h"
 #include "lib/verify/reference_cache.h"
+#include "lib/verify/verify_report_html.h"
 #include "tests/lib/verify/verify_toy.h"
 
 namespace vrv {
@@ -85,6 +86,20 @@ TEST_F(ProjectionVerify, IndependentMipPassesAtOrderTwoWithTheProjectionDiagnosi
   EXPECT_EQ(r.diagnosis.front().rule, "max");
   EXPECT_NE(r.diagnosis.front().name.find("mip"), std::string::npos);
   EXPECT_LE(r.diagnosis.front().rms, r.diagnosis.back().rms);
+}
+
+// The page says the mode and what was not run; an emission-absorption page says neither.
+TEST_F(ProjectionVerify, ReportPageNamesTheModeAndWhatWasNotRun) {
+  VerifyOptions o = mode_options(ProjectionMode::mip);
+  o.diagnose = false;
+  const VerifyReport r = verify_images(scene, images(scene, true, Planted::none), o);
+  const std::string page = verify_report_html(r, {});
+  EXPECT_NE(page.find("mode <b>mip</b>"), std::string::npos);
+  EXPECT_NE(page.find(html_escape(kProjectionSkipNote)), std::string::npos);
+  VerifyReport ea = r;
+  ea.mode.reset();
+  ea.notes.clear();
+  EXPECT_EQ(verify_report_html(ea, {}).find("id=\"mode\""), std::string::npos);
 }
 
 TEST_F(ProjectionVerify, MipMissingItsEntrySampleIsFlagged) {
