@@ -66,7 +66,9 @@ VerificationWork verification_work(const Scene& scene, const VerifyOptions& opt,
   const Camera camera = verify_camera(scene, opt, w, h);
   VerificationWork work;
   work.reference = camera_work(scene, camera, opt.reference_tol);
-  if (opt.diagnose && !steps.empty()) work.diagnosis = diagnosis_work(scene, camera, steps, opt);
+  if (opt.diagnose && !steps.empty())
+    work.diagnosis = opt.mode ? projection_diagnosis_work(scene, camera, *opt.mode, steps)
+                              : diagnosis_work(scene, camera, steps, opt);
   return work;
 }
 

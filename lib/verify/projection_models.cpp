@@ -12,6 +12,7 @@
 #include "lib/util/progress.h"
 #include "lib/verify/diagnosis.h"
 #include "lib/verify/model_catalogue.h"
+#include "lib/work_estimate.h"
 
 namespace vrv {
 namespace {
@@ -126,6 +127,21 @@ std::vector<Candidate> diagnose_projection(const Scene& scene, const Camera& cam
   }
   std::stable_sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) { return a.rms < b.rms; });
   return out;
+}
+
+double projection_diagnosis_work(const Scene& scene, const Camera& camera, ProjectionMode mode,
+                                 const std::vector<double>& steps) {
+  const double pixels = static_cast<double>(camera.width) * camera.height;
+  const double fine = static_cast<double>(diagnosis_pixels(camera.width, camera.height).size());
+  double work = 0;
+  for (const ProjectionModel& m : projection_models(scene, mode, steps))
+    for (const DiscreteProjectionConfig& c : m.per_step) {
+      DiscreteConfig cast;  // the same placement's samples
+      cast.sampling = c.sampling;
+      const double factor = !is_mip(mode) && c.rule == XrayRule::simpson ? 2 : 1;
+      work += factor * camera_work(scene, camera, 0, &cast) / pixels * fine;
+    }
+  return work;
 }
 
 }  // namespace vrv

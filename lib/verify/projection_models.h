@@ -46,6 +46,12 @@ std::vector<Candidate> diagnose_projection(const Scene& scene, const Camera& cam
                                            const std::vector<const ImageWithStep*>& sorted, int channel,
                                            const VerifyOptions& options);
 
+// Field samples diagnose_projection takes for images of `camera` at `steps`: every model at every
+// step on the diagnosis pixels, from each placement's camera_work (lib/work_estimate.h); Simpson's
+// rule counted at twice its placement's samples (its midpoints).
+double projection_diagnosis_work(const Scene& scene, const Camera& camera, ProjectionMode mode,
+                                 const std::vector<double>& steps);
+
 // The report's line saying what is skipped for a projection.
 inline constexpr const char* kProjectionSkipNote =
     "projection: the emission-absorption fault catalogue and conventions are not run (they model compositing "

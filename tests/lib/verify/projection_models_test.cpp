@@ -162,6 +162,24 @@ TEST_F(ProjectionVerify, CacheKeysDifferPerModeAndEmissionAbsorptionKeepsItsKey)
   EXPECT_EQ(again.value, xray.value);
 }
 
+// The estimate before a projection's diagnosis: its models' samples, not the EA catalogue's.
+TEST_F(ProjectionVerify, DiagnosisWorkIsTheProjectionModelsSamples) {
+  const std::vector<double> steps{0.1, 0.05};
+  VerifyOptions o = mode_options(ProjectionMode::mip);
+  const Camera cam = verify_camera(scene, o, 32, 32);
+  const double mip = verification_work(scene, o, 32, 32, steps).diagnosis;
+  o.mode = ProjectionMode::xray;
+  const double xray = verification_work(scene, o, 32, 32, steps).diagnosis;
+  o.mode.reset();
+  const double ea = verification_work(scene, o, 32, 32, steps).diagnosis;
+  // 32 x 32 pixels, rays of at most the box's diagonal: at most 35 samples a ray at h = 0.1 and 70 at 0.05.
+  EXPECT_GT(mip, 0);
+  EXPECT_LE(mip, 5 * 1024 * (35 + 70) * 1.05);
+  EXPECT_DOUBLE_EQ(xray, mip * (1 + 1 + 2));  // riemann, trapezoid, simpson (twice)
+  EXPECT_LT(mip, ea);
+  EXPECT_DOUBLE_EQ(mip, projection_diagnosis_work(scene, cam, ProjectionMode::mip, steps));
+}
+
 TEST(ProjectionModels, ExpectedOrderIsTwoForEveryMode) {
   for (ProjectionMode m : {ProjectionMode::xray, ProjectionMode::xray_classified, ProjectionMode::mip,
                            ProjectionMode::mip_classified})
