@@ -1,6 +1,7 @@
 #include "lib/scene_file.h"
 
 #include "lib/io/error_line.h"
+#include "lib/projection/projection_mode.h"
 #include "lib/volume/volume_file.h"
 #include "lib/volume/volume_grid.h"
 
@@ -526,7 +527,10 @@ Scene parse_scene(std::string_view toml_text, std::string_view source_name, doub
   const Reader r(source_name, max_volume_bytes);
   const toml::table doc = parse_toml(r, toml_text, source_name);
   // Unknown keys first, so that a typo is reported as such and not as a missing key.
-  r.check_keys(doc, "", {"volume", "field", "transfer", "background", "camera"});
+  r.check_keys(doc, "", {"volume", "field", "transfer", "background", "camera", "mode"});
+  // mode = "xray" | "mip" | ...: the default of the commands' --mode (lib/scene_mode.h).
+  if (const toml::node* mode = doc.get("mode"); mode && !parse_projection_mode(r.string(*mode, "mode")))
+    r.fail("mode", fmt::format("unknown value \"{}\" (expected {})", r.string(*mode, "mode"), projection_mode_list()));
   const toml::node* field = doc.get("field");
   const bool own_box = field && field->is_table() && volume_places_itself(r, *field->as_table());
   const toml::table empty;

@@ -11,6 +11,7 @@
 #include "lib/verify/fault_fit.h"
 #include "lib/verify/fault_hints.h"
 #include "lib/verify/pixel_geometry.h"
+#include "lib/verify/projection_models.h"
 #include "lib/work_estimate.h"
 
 namespace vrv {
@@ -65,12 +66,16 @@ VerificationWork verification_work(const Scene& scene, const VerifyOptions& opt,
   const Camera camera = verify_camera(scene, opt, w, h);
   VerificationWork work;
   work.reference = camera_work(scene, camera, opt.reference_tol);
-  if (opt.diagnose && !steps.empty()) work.diagnosis = diagnosis_work(scene, camera, steps, opt);
+  if (opt.diagnose && !steps.empty())
+    work.diagnosis = opt.mode ? projection_diagnosis_work(scene, camera, *opt.mode, steps)
+                              : diagnosis_work(scene, camera, steps, opt);
   return work;
 }
 
 VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>& images,
-                           const VerifyOptions& opt) {
+                           const VerifyOptions& given) {
+  VerifyOptions opt = given;
+  if (opt.mode && !opt.expected_order) opt.expected_order = expected_projection_order(*opt.mode);
   check_inputs(images, opt);
   const std::vector<const ImageWithStep*> sorted = sorted_by_step(images);
   const ChannelImage& first = images.front().image;
@@ -80,6 +85,7 @@ VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>&
   rep.camera = verify_camera(scene, opt, rep.width, rep.height);
   rep.threshold = opt.threshold;
   rep.order_metric = opt.order_metric;
+  if (opt.mode) rep.mode = std::string(projection_mode_name(*opt.mode));
 
   const ReferenceImage ref = reference_image(scene, rep.camera, opt);
   check_reference(ref, opt.reference_tol, rep.width, rep);
@@ -88,11 +94,19 @@ VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>&
   count_regions(geo, rep.reference);
 
   const int nc = static_cast<int>(first.planes.size());
+  const double background = opt.mode ? 0.0 : scene.background;  // a projection has none
   for (const ImageWithStep* im : sorted)
-    for (int c = 0; c < nc; ++c) rep.channels.push_back(channel_report(*im, c, ref, geo, scene.background, opt));
-  judge_orders(rep, sorted, first.names, scene.background, opt);
+    for (int c = 0; c < nc; ++c) rep.channels.push_back(channel_report(*im, c, ref, geo, background, opt));
+  judge_orders(rep, sorted, first.names, background, opt);
 
   const int colour = first_colour_channel(first);
+  if (opt.mode) {
+    if (opt.diagnose && colour < nc) rep.diagnosis = diagnose_projection(scene, rep.camera, *opt.mode, sorted, colour, opt);
+    rep.expected_order = opt.expected_order;
+    rep.notes.push_back(kProjectionSkipNote);
+    rep.pass = rep.failures.empty();
+    return rep;
+  }
   if (opt.diagnose && colour < nc) rep.diagnosis = diagnose(scene, rep.camera, sorted, colour, opt);
   rep.faults = find_faults(rep, geo, nc, opt);
   if (colour < nc) decompose_floor(rep, scene, sorted, colour, opt);

@@ -36,6 +36,12 @@ constexpr std::pair<Strategy, const char*> kPlacements[] = {
     {Strategy::exit_anchored, "exit_anchored (midpoints of whole steps back from the exit, the partial "
                               "step at the entry at its own midpoint)"}};
 
+}  // namespace
+
+std::span<const std::pair<Strategy, const char*>> diagnosis_placements() { return kPlacements; }
+
+namespace {
+
 std::string_view placement_text(Strategy s) {
   for (auto [strategy, text] : kPlacements)
     if (strategy == s) return text;

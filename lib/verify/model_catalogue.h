@@ -5,7 +5,9 @@
 // distance), also with premultiplied colour; that corrected alpha rule with the transfer function
 // read from N-entry tables, with and without half-texel centring; and, for
 // emission/extinction, the opacity of a fixed unit distance left uncorrected.
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lib/discrete_raycast.h"
@@ -19,6 +21,10 @@ struct Model {
   Candidate label;                       // what the report says of it (rms and max still 0)
   std::vector<DiscreteConfig> per_step;  // its configuration at each of the images' steps
 };
+
+// The sample placements the diagnosis casts (step-based: they take the images' steps), each with
+// the words the report names it by.
+std::span<const std::pair<Strategy, const char*>> diagnosis_placements();
 
 // The catalogue for images at `steps` (in the images' order), in the order the report lists ties.
 std::vector<Model> model_catalogue(const Scene& scene, const std::vector<double>& steps, const VerifyOptions& options);

@@ -6,6 +6,7 @@
 
 #include "lib/reference_pixels.h"
 #include "lib/util/progress.h"
+#include "lib/verify/projection_models.h"
 #include "lib/verify/reference_cache.h"
 
 namespace vrv {
@@ -49,11 +50,14 @@ ReferenceImage reference_image(const Scene& scene, const Camera& camera, const V
   if (cache) {
     // A volume's files change behind the same scene text: their digest joins the key (empty,
     // and the key as before, for every other scene).
-    key = reference_cache_key(opt.scene_text + scene.field_files, camera, opt.reference_tol);
+    // A projection's mode joins it too (nothing joins it for emission-absorption).
+    const std::string mode = opt.mode ? projection_cache_tag(*opt.mode) : std::string();
+    key = reference_cache_key(opt.scene_text + scene.field_files + mode, camera, opt.reference_tol);
     file = opt.cache_dir / reference_cache_name(key);
     if (auto r = read_reference_cache(file, key, camera.width, camera.height)) return *r;
   }
-  ReferenceImage r = render_reference(scene, camera, opt.reference_tol, opt.progress);
+  ReferenceImage r = opt.mode ? projection_reference_image(scene, camera, *opt.mode, opt.reference_tol, opt.progress)
+                              : render_reference(scene, camera, opt.reference_tol, opt.progress);
   if (cache) try_to_cache(opt.cache_dir, file, key, r);
   return r;
 }

@@ -9,6 +9,7 @@
 
 #include "lib/camera.h"
 #include "lib/metrics.h"
+#include "lib/projection/projection_mode.h"
 
 namespace vrv {
 
@@ -48,6 +49,9 @@ struct VerifyOptions {
   // NaN or infinite pixels: false refuses them (VerifyInputError naming the first); true counts
   // them (ChannelReport::nan_count, for a gate that bounds it) and leaves them out of every statistic.
   bool allow_nan = false;
+  // A projection instead of emission-absorption (lib/verify/projection_models.h): the reference,
+  // the expected order when none is given, and the diagnosis are the mode's.
+  std::optional<ProjectionMode> mode;
 };
 
 // What `vrv verify`'s options and vrv.verify's keywords set alike, from their text, checked in

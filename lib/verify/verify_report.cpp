@@ -122,6 +122,10 @@ nlohmann::ordered_json to_json(const VerifyReport& rep) {
     conventions.push_back({{"name", fault_name(f.kind)}, {"behaves_like", f.behaviour},
                            {"implied_order", number(f.implied_order)}, {"evidence", f.evidence}});
   j["conventions"] = conventions;
+  if (rep.mode) {  // projections only: an emission-absorption report's JSON is as before
+    j["mode"] = *rep.mode;
+    j["notes"] = rep.notes;
+  }
   return j;
 }
 

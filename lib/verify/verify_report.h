@@ -135,6 +135,8 @@ struct VerifyReport {
   bool pass = true;  // reference within tolerance and, with an expected order, convergence at it
   std::vector<std::string> failures;  // why not, one line each
   std::vector<float> reference_image;  // the reference values (for writing), row-major
+  std::optional<std::string> mode;     // a projection's mode (VerifyOptions::mode); none for EA
+  std::vector<std::string> notes;      // what was not run, and why (projections)
 };
 
 nlohmann::ordered_json to_json(const VerifyReport& report);

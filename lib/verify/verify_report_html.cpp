@@ -211,6 +211,9 @@ std::string verdict_section(const VerifyReport& rep, const HtmlReportContext& ct
     for (const std::string& f : rep.failures) s += "<li>FAIL: " + html_escape(f) + "</li>";
     s += "</ul>\n";
   }
+  // Projections: their mode, and what was not run (lib/verify/projection_models.h).
+  if (rep.mode) s += "<p id=\"mode\">Projection images: mode <b>" + html_escape(*rep.mode) + "</b>.</p>\n";
+  for (const std::string& n : rep.notes) s += "<p class=\"note\">" + html_escape(n) + "</p>\n";
   if (!rep.diagnosis.empty())
     s += fmt::format("<p id=\"behaves-like\">Behaves like <b>{}</b> to {} RMS.</p>\n",
                      html_escape(rep.diagnosis.front().name), g3(rep.diagnosis.front().rms));

@@ -18,6 +18,7 @@
 #include "lib/verify/verify_output.h"
 #include "lib/util/parallel.h"
 #include "lib/scene_file.h"
+#include "lib/scene_mode.h"
 #include "lib/work_estimate.h"
 #include "studies/cli/verify_run.h"
 #include "studies/cli/cli_support.h"
@@ -190,6 +191,9 @@ int run_gate(const GateOptions& o) {
     }
     scenes.push_back(load_scene_or_default(c->scene.string()));
     steps.push_back(case_steps(*c, o.bounds));
+    if (c->render && scene_mode(scene_text_or_default(c->scene.string())))
+      throw std::invalid_argument(fmt::format("{}: case {}: render: the scene has a projection mode, which a render "
+                                              "case does not render; give the renderer's images", o.bounds, c->name));
     if (c->render) {
       try {
         discrete_config(discrete_options(*c->render, c->steps.front()), scenes.back());
@@ -227,6 +231,7 @@ int run_gate(const GateOptions& o) {
     VerifyOptions opt;
     opt.scene_text = scene_text_or_default(c.scene.string());
     opt.expected_order = c.expected_order;
+    opt.mode = scene_mode(opt.scene_text);  // projection images: the scene's mode
     opt.threshold = c.bounds.threshold;
     opt.allow_nan = c.bounds.limits.count(Bound::max_nan) > 0;
     opt.diagnose = !o.no_diagnosis;

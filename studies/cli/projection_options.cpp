@@ -11,6 +11,7 @@ namespace vrv::cli {
 void add_mode_option(CLI::App& cmd, std::string& mode) {
   cmd.add_option("--mode", mode,
                  "Projection instead of emission-absorption: xray | xray_classified | mip | mip_classified "
+                 "(default: the scene's `mode`; emission_absorption overrides it) "
                  "(classified: of the transfer function's extinction); with --method, riemann | trapezoid | "
                  "simpson (X-ray) or max (MIP)");
 }

@@ -20,6 +20,7 @@
 #include "studies/cli/commands.h"
 #include "studies/cli/discrete_options.h"
 #include "studies/cli/projection_options.h"
+#include "lib/scene_mode.h"
 #include "lib/projection/projection_reference.h"
 
 namespace vrv::cli {
@@ -232,7 +233,7 @@ void run_ray(RayOptions& opt) {
   if (!opt.rays.empty() && (!opt.origin.empty() || !opt.direction.empty()))
     throw std::invalid_argument("--rays: give either --rays or --origin/--direction, not both");
   const Scene scene = load_scene_or_default(opt.scene);
-  opt.projection = projection_setup(opt.mode, opt.discrete, scene);
+  opt.projection = projection_setup(chosen_mode(opt.mode, scene_text_or_default(opt.scene)), opt.discrete, scene);
   // A projection's work is estimated as the emission-absorption cast's of the same sampling.
   const auto discrete = opt.projection ? opt.projection->work : discrete_config(opt.discrete, scene);
   if (!opt.rays.empty()) run_rays(scene, opt, discrete);

@@ -36,6 +36,7 @@
 #include "studies/cli/memory_limit.h"
 #include "studies/cli/discrete_options.h"
 #include "studies/cli/projection_options.h"
+#include "lib/scene_mode.h"
 #include "lib/projection/projection_reference.h"
 
 namespace vrv::cli {
@@ -338,7 +339,7 @@ void run_render(const RenderOptions& opt) {
   check_tolerance(opt.tol);
   check_threads(opt.threads);
   const Scene scene = load_scene_or_default(opt.scene, memory_limit_bytes(opt.max_memory_gib));
-  const auto projection = projection_setup(opt.mode, opt.discrete, scene);
+  const auto projection = projection_setup(chosen_mode(opt.mode, scene_text_or_default(opt.scene)), opt.discrete, scene);
   // A projection's work is estimated as the emission-absorption cast's of the same sampling.
   const auto discrete = projection ? projection->work : discrete_config(opt.discrete, scene);
   const Camera camera = scene_camera(scene, opt.width, opt.height);  // --width/--height errors named

@@ -12,6 +12,7 @@
 #include "lib/io/output_paths.h"
 #include "lib/util/parallel.h"
 #include "lib/scene_file.h"
+#include "lib/scene_mode.h"
 #include "lib/verify/verify_output.h"
 #include "studies/cli/verify_run.h"
 #include "studies/engine/interrupt.h"
@@ -36,6 +37,7 @@ struct VerifyCliOptions {
   double tol = 1e-10;
   double order_tolerance = 0.25;
   std::string order_metric = "rms";
+  std::string mode;  // --mode: projection images (default: the scene's mode)
   std::string cache_dir;
   bool no_cache = false, no_diagnosis = false, plots = false, quiet = false;
   double unit_distance = 0;
@@ -64,6 +66,12 @@ int run_verify(const VerifyCliOptions& o) {
   opt.scene_text = scene_text_or_default(o.scene);
   apply(VerifySettings{o.tol, o.order_tolerance, o.order_metric, o.unit_distance, o.alpha}, opt);
   opt.expected_order = o.expected_order;
+  if (const std::string mode = chosen_mode(o.mode, opt.scene_text); !mode.empty()) {
+    opt.mode = parse_projection_mode(mode);
+    if (!opt.mode)
+      throw std::invalid_argument(fmt::format("--mode: unknown value '{}' (one of {}, {})", mode,
+                                              projection_mode_list(), kEmissionAbsorption));
+  }
   opt.diagnose = !o.no_diagnosis;
   opt.progress = !o.quiet;
   std::optional<BoundSet> bounds;
@@ -94,7 +102,8 @@ int run_verify(const VerifyCliOptions& o) {
   const nlohmann::json parameters = {{"command", "verify"}, {"scene", o.scene}, {"images", o.images},
                                      {"steps", o.steps.value_or("")}, {"expected_order", o.expected_order ? nlohmann::json(*o.expected_order) : nlohmann::json(nullptr)},
                                      {"bounds", o.bounds}, {"case", o.case_name}, {"alpha", o.alpha},
-                                     {"threshold", opt.threshold}, {"tol", o.tol}, {"order_metric", o.order_metric}};
+                                     {"threshold", opt.threshold}, {"tol", o.tol}, {"order_metric", o.order_metric},
+                                     {"mode", opt.mode ? std::string(projection_mode_name(*opt.mode)) : std::string()}};
   const VerifyRun run = run_verification(scene, images, opt, bounds, o.case_name.empty() ? "verify" : o.case_name,
                                          out ? &*out : nullptr, parameters, o.plots);
   if (!o.report.empty()) {
@@ -136,7 +145,10 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("images", o->images, "The renderer's images, one per step")->required();
   cmd->add_option("--steps", o->steps, "Sample distances (world units), one per image: H1,H2,...; "
                                        "default: each image's provenance (vrv:step metadata)");
-  cmd->add_option("--expected-order", o->expected_order, "Fail unless the error converges at this order");
+  cmd->add_option("--expected-order", o->expected_order, "Fail unless the error converges at this order "
+                                                          "(with --mode: 2 unless given)");
+  cmd->add_option("--mode", o->mode, "Projection images: xray | xray_classified | mip | mip_classified (default: the "
+                                     "scene's `mode`; emission_absorption overrides it); see docs/projections.md");
   cmd->add_option("--order-tolerance", o->order_tolerance, "Observed >= K - this converges at K")->capture_default_str();
   cmd->add_option("--order-metric", o->order_metric, "Statistic the orders fit: rms, max, mean, p99")->capture_default_str();
   cmd->add_option("--bounds", o->bounds, "Bounds file (TOML): gate on its [defaults] (or --case)");

@@ -197,6 +197,7 @@ std::string summary_text(const VerifyRun& run) {
     s += f.kind == FaultKind::fitted ? fmt::format("; fault: {} (fitted: explains {:.0f} % of the error)", f.behaviour,
                                                    100 * r.fault_fits.front().confirmed)
                                      : fmt::format("; fault: {}", f.name());
+  for (const std::string& n : r.notes) s += fmt::format("; {}", n);
   for (const std::string& f : r.failures) s += fmt::format("; FAIL: {}", f);
   for (const BoundRow& b : run.rows)
     if (b.verdict != BoundVerdict::pass)

@@ -30,11 +30,14 @@
 #include "lib/io/npy.h"
 #include "lib/io/output_paths.h"
 #include "lib/verify/verify_output.h"
+#include "lib/verify/projection_models.h"
 #include "lib/verify/verify_report_html.h"
 #include "lib/util/parallel.h"
 #include "lib/verify_work.h"
 #include "lib/vrv.h"
 #include "lib/option_error.h"
+#include "lib/projection/projection_reference.h"
+#include "lib/scene_mode.h"
 #include "studies/cli/discrete_options.h"
 #include "lib/io/image_module.h"
 #include "studies/cli/published_folder.h"
@@ -169,9 +172,57 @@ std::unique_ptr<DiscreteKeywords> discrete_keywords(const Scene& scene, const py
   return k;
 }
 
+// mode=...: a projection (lib/projection/projection_mode.h), the command line's vocabulary;
+// none or "emission_absorption": emission-absorption.  ValueError naming the keyword otherwise.
+std::optional<ProjectionMode> mode_keyword(const std::optional<std::string>& mode) {
+  if (!mode || *mode == kEmissionAbsorption) return std::nullopt;
+  if (const auto m = parse_projection_mode(*mode)) return m;
+  throw std::invalid_argument(
+      fmt::format("mode: unknown value '{}' (one of {}, {})", *mode, projection_mode_list(), kEmissionAbsorption));
+}
+
+// Projection references along rays: value, error_estimate, evaluations, hit, t_entry, t_exit,
+// position and ambiguous (MIP) and tolerance_met, as `vrv ray --mode` prints them.
+py::dict projection_values(const Scene& scene, const Points& origins, const std::vector<Ray>& rays,
+                           ProjectionMode mode, double tol) {
+  const ProjectionOptions options{tol};
+  validate(options);
+  const std::vector<ProjectionResult> r = interruptible([&] {
+    std::vector<ProjectionResult> values(rays.size());
+    parallel_for_index(static_cast<long>(rays.size()),
+                       [&](long i) { values[i] = projection_reference(scene, rays[i], mode, options); });
+    return values;
+  });
+  const auto shape = leading_shape(origins, "origins");
+  const std::size_t n = r.size();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  py::dict out;
+  out["mode"] = std::string(projection_mode_name(mode));
+  out["value"] = filled<double>(shape, n, [&](auto i) { return r[i].value; });
+  out["error_estimate"] = filled<double>(shape, n, [&](auto i) { return r[i].error_estimate; });
+  out["evaluations"] = filled<long>(shape, n, [&](auto i) { return r[i].evaluations; });
+  out["hit"] = filled<bool>(shape, n, [&](auto i) { return r[i].hit; });
+  out["t_entry"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_entry : nan; });
+  out["t_exit"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_exit : nan; });
+  if (is_mip(mode)) {
+    out["position"] = filled<double>(shape, n, [&](auto i) { return r[i].position; });
+    out["ambiguous"] = filled<bool>(shape, n, [&](auto i) { return r[i].ambiguous; });
+  }
+  out["tolerance_met"] = filled<bool>(shape, n, [&](auto i) { return r[i].tolerance_met; });
+  return out;
+}
+
 py::dict reference(const Scene& scene, const Points& origins, const Points& directions, double tol,
-                   double max_work) {
+                   double max_work, const std::optional<std::string>& mode_name) {
+  const std::optional<ProjectionMode> mode = mode_keyword(mode_name);
   const std::vector<Ray> rays = make_rays(origins, directions);
+  if (mode) {
+    // A projection's work is estimated as the emission-absorption reference's (as vrv ray --mode).
+    const auto keywords = discrete_keywords(scene, py::dict(py::arg("max_work") = max_work));
+    cli::check_work(keywords->options, std::nullopt, tol, scene, static_cast<long>(rays.size()),
+                    [&](long i) { return rays[i]; });
+    return projection_values(scene, origins, rays, *mode, tol);
+  }
   const ReferenceOptions options{tol};
   validate(options);
   const auto keywords = discrete_keywords(scene, py::dict(py::arg("max_work") = max_work));
@@ -215,7 +266,20 @@ py::dict discrete(const Scene& scene, const Points& origins, const Points& direc
 // (height, width) values of the scene's camera: the reference without `method`, else the
 // discrete raycast the keywords describe.
 py::array_t<double> render(const Scene& scene, double tol, std::optional<int> width,
-                           std::optional<int> height, const py::kwargs& kw) {
+                           std::optional<int> height, const py::kwargs& given) {
+  py::dict kw;
+  std::optional<std::string> mode_name;
+  for (const auto& [key, value] : given) {
+    if (py::str(key).cast<std::string>() == "mode") {
+      if (!value.is_none()) mode_name = py::cast<std::string>(value);
+    } else {
+      kw[key] = value;
+    }
+  }
+  const std::optional<ProjectionMode> mode = mode_keyword(mode_name);
+  if (mode && kw.contains("method") && !kw["method"].is_none())
+    throw std::invalid_argument("mode: a discrete projection (mode with method) is `vrv render --mode M --method R`; "
+                                "the module renders the projection's reference only");
   const auto keywords = discrete_keywords(scene, kw);
   const auto& config = keywords->config;
   const Camera camera = scene_camera(scene, width, height);
@@ -223,6 +287,12 @@ py::array_t<double> render(const Scene& scene, double tol, std::optional<int> wi
   if (!config) validate(options);
   cli::check_work(keywords->options, config, tol, scene, static_cast<long>(camera.width) * camera.height,
                   [&](long i) { return pixel_ray(camera, i); });
+  if (mode) {
+    const ReferenceImage ref = interruptible([&] { return projection_reference_image(scene, camera, *mode, tol, false); });
+    py::array_t<double> a({camera.height, camera.width});
+    std::copy(ref.value.begin(), ref.value.end(), a.mutable_data());
+    return a;
+  }
   const ValueImage image = interruptible([&] {
     return config ? render_discrete_image(scene, camera, *config) : render_reference_image(scene, camera, options);
   });
@@ -367,8 +437,9 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
                      bool diagnose, double unit_distance, std::optional<std::filesystem::path> bounds,
                      std::optional<std::string> case_name, std::optional<std::filesystem::path> out,
                      bool plots, double max_work, const std::string& alpha,
-                     std::optional<std::filesystem::path> report) {
+                     std::optional<std::filesystem::path> report, const std::optional<std::string>& mode) {
   VerifyOptions options;
+  options.mode = mode_keyword(mode);
   apply(VerifySettings{tol, order_tolerance, order_metric, unit_distance, alpha}, options);
   options.expected_order = expected_order;
   options.diagnose = diagnose;
@@ -454,9 +525,11 @@ PYBIND11_MODULE(vrv, m) {
       .def_property_readonly("dims", [](const Scene& s) { return s.dims; })
       .def_property_readonly("background", [](const Scene& s) { return s.background; })
       .def("reference", &reference, py::arg("origins"), py::arg("directions"), py::arg("tol") = 1e-12,
-           py::kw_only(), py::arg("max_work") = 1e9,
+           py::kw_only(), py::arg("max_work") = 1e9, py::arg("mode") = py::none(),
            "Reference values along rays (arrays of shape (..., 3)): a dict of arrays value, "
-           "error_estimate, evaluations, hit, t_entry, t_exit (NaN on a miss), optical_depth, tolerance_met")
+           "error_estimate, evaluations, hit, t_entry, t_exit (NaN on a miss), optical_depth, tolerance_met; "
+           "mode='xray' | 'xray_classified' | 'mip' | 'mip_classified': the projection's reference instead "
+           "(no optical_depth; MIP adds position and ambiguous)")
       .def("discrete", &discrete, py::arg("origins"), py::arg("directions"),
            "A discrete raycast along rays: method=..., and the options of `vrv ray` "
            "(strategy, rate, step, oversample, correction, ...) and max_work (default 1e9 samples, "
@@ -464,7 +537,8 @@ PYBIND11_MODULE(vrv, m) {
       .def("render", &render, py::arg("tol") = 1e-12, py::arg("width") = py::none(),
            py::arg("height") = py::none(),
            "The scene camera's image as a (height, width) float64 array: the reference, or with "
-           "method=... the discrete raycast (options as for `discrete`); max_work=1e9 as --max-work")
+           "method=... the discrete raycast (options as for `discrete`); max_work=1e9 as --max-work; "
+           "mode=... (as `reference`) the projection's reference image")
       .def("rays", &rays, py::arg("width") = py::none(), py::arg("height") = py::none(),
            "The scene camera's rays: (origins, directions), each (height, width, 3)");
   m.def("verify", &verify_py, py::arg("scene"), py::arg("images"), py::arg("steps"), py::kw_only(),
@@ -473,7 +547,7 @@ PYBIND11_MODULE(vrv, m) {
         py::arg("diagnose") = true, py::arg("unit_distance") = 0.0, py::arg("bounds") = py::none(),
         py::arg("case") = py::none(), py::arg("out") = py::none(), py::arg("plots") = false,
         py::arg("max_work") = kDefaultVerifyWorkLimit, py::arg("alpha") = "premultiplied",
-        py::arg("report") = py::none(),
+        py::arg("report") = py::none(), py::arg("mode") = py::none(),
         "`vrv verify` in-process: a renderer's images of the scene's camera ((height, width) arrays, "
         "or (height, width, 3 or 4) for RGB and RGBA as `vrv verify` reads them; one per sample "
         "distance in `steps`) against the reference; above `max_work` field evaluations (as "

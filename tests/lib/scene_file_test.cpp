@@ -1,4 +1,5 @@
 #include "lib/scene_file.h"
+#include "lib/scene_mode.h"
 
 #include <gtest/gtest.h>
 
@@ -437,6 +438,35 @@ TEST(SceneFile, LoadSceneReportsErrorsWithThePath) {
                                          ": transfer.extinction: missing (emission needs extinction)");
   }
   std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace vrv
+
+namespace vrv {
+namespace {
+
+// mode = "...": a projection's name, checked here; anything else is one line naming file and key.
+TEST(SceneFile, ModeKeyTakesAProjectionNameAndRefusesAnyOther) {
+  for (const char* m : {"xray", "xray_classified", "mip", "mip_classified"})
+    EXPECT_NO_THROW(parse_scene(std::string("mode = \"") + m + "\"\n" + kVolume + kField + kTransfer, "m.toml")) << m;
+  for (const char* bad : {"mode = \"MIP\"\n", "mode = \"\"\n", "mode = 3\n"}) {
+    try {
+      parse_scene(bad + kVolume + kField + kTransfer, "m.toml");
+      FAIL() << bad;
+    } catch (const SceneFileError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind("m.toml: mode: ", 0), 0u) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos);
+    }
+  }
+}
+
+TEST(SceneFile, ExportKeepsTheMode) {
+  const std::string text = "mode = \"mip\"\n" + kVolume + kField + kTransfer;
+  const std::string exported = exported_scene_toml(text, "m.toml", std::array<int, 3>{4, 4, 4}, std::nullopt);
+  EXPECT_EQ(scene_mode(exported), ProjectionMode::mip) << exported;
+  EXPECT_NO_THROW(parse_scene(exported, "exported.toml"));
 }
 
 }  // namespace
