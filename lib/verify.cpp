@@ -75,7 +75,7 @@ VerificationWork verification_work(const Scene& scene, const VerifyOptions& opt,
 VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& given) {
   VerifyOptions opt = given;
-  if (opt.mode && !opt.expected_order) opt.expected_order = expected_projection_order(*opt.mode);
+  if (opt.mode && !opt.expected_order) opt.expected_order = expected_projection_order(*opt.mode, scene.transfer);
   check_inputs(images, opt);
   const std::vector<const ImageWithStep*> sorted = sorted_by_step(images);
   const ChannelImage& first = images.front().image;

@@ -48,7 +48,25 @@ ProjectionModel model(const Scene& scene, ProjectionMode mode, Strategy strategy
 
 }  // namespace
 
-double expected_projection_order(ProjectionMode) { return 2; }
+namespace {
+
+// Whether tau's largest value over the transfer function's breakpoints is a corner: an interior
+// breakpoint where tau rises on the left and falls on the right (or jumps down).
+bool extinction_peaks_at_a_corner(const TransferFunction& tf) {
+  const std::vector<double>& b = tf.breakpoints();
+  std::size_t top = 0;
+  for (std::size_t i = 1; i < b.size(); ++i)
+    if (tf.extinction(b[i]) > tf.extinction(b[top])) top = i;
+  if (top == 0 || top + 1 >= b.size()) return false;
+  const double peak = tf.extinction(b[top]);
+  return tf.extinction(0.5 * (b[top - 1] + b[top])) < peak && tf.extinction(0.5 * (b[top] + b[top + 1])) < peak;
+}
+
+}  // namespace
+
+double expected_projection_order(ProjectionMode mode, const TransferFunction& tf) {
+  return mode == ProjectionMode::mip_classified && extinction_peaks_at_a_corner(tf) ? 1 : 2;
+}
 
 std::string projection_cache_tag(ProjectionMode mode) {
   return fmt::format("\n# projection mode = {}\n", projection_mode_name(mode));

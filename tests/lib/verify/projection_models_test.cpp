@@ -180,10 +180,22 @@ TEST_F(ProjectionVerify, DiagnosisWorkIsTheProjectionModelsSamples) {
   EXPECT_DOUBLE_EQ(mip, projection_diagnosis_work(scene, cam, ProjectionMode::mip, steps));
 }
 
-TEST(ProjectionModels, ExpectedOrderIsTwoForEveryMode) {
+TEST(ProjectionModels, ExpectedOrderIsTwoExceptAClassifiedMipPeakingAtACorner) {
+  const TransferFunction rising = TransferFunction::emission_extinction(PiecewiseLinear({{0, 0}, {1, 1}}),
+                                                                        PiecewiseLinear({{0, 0}, {1, 0.5}}));
+  // The projections study's transfer function: tau peaks at the corner v = 0.4.
+  const TransferFunction peaked = TransferFunction::emission_extinction(
+      PiecewiseLinear({{0, 0}, {1, 1}}), PiecewiseLinear({{0, 0}, {0.4, 1}, {1, 0.5}}));
+  // A plateau at the top is no corner peak: the maximum is reached over an interval.
+  const TransferFunction plateau = TransferFunction::emission_extinction(
+      PiecewiseLinear({{0, 0}, {1, 1}}), PiecewiseLinear({{0, 0}, {0.4, 1}, {0.6, 1}, {1, 0.5}}));
   for (ProjectionMode m : {ProjectionMode::xray, ProjectionMode::xray_classified, ProjectionMode::mip,
-                           ProjectionMode::mip_classified})
-    EXPECT_EQ(expected_projection_order(m), 2);
+                           ProjectionMode::mip_classified}) {
+    EXPECT_EQ(expected_projection_order(m, rising), 2) << projection_mode_name(m);
+    EXPECT_EQ(expected_projection_order(m, plateau), 2) << projection_mode_name(m);
+    EXPECT_EQ(expected_projection_order(m, peaked), m == ProjectionMode::mip_classified ? 1 : 2)
+        << projection_mode_name(m);
+  }
 }
 
 }  // namespace
