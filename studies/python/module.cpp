@@ -39,6 +39,7 @@
 #include "lib/projection/projection_reference.h"
 #include "lib/scene_mode.h"
 #include "studies/cli/discrete_options.h"
+#include "studies/cli/projection_options.h"
 #include "lib/io/image_module.h"
 #include "studies/cli/published_folder.h"
 #include "studies/cli/verify_run.h"  // kVerifyOutMarker
@@ -151,7 +152,8 @@ struct DiscreteKeywords {
   std::optional<DiscreteConfig> config;  // none: the reference
 };
 
-std::unique_ptr<DiscreteKeywords> discrete_keywords(const Scene& scene, const py::dict& kw) {
+std::unique_ptr<DiscreteKeywords> discrete_keywords(const Scene& scene, const py::dict& kw,
+                                                    bool projection = false) {
   auto k = std::make_unique<DiscreteKeywords>();
   cli::add_discrete_options(k->app, k->options);
   std::vector<std::string> args;
@@ -164,12 +166,43 @@ std::unique_ptr<DiscreteKeywords> discrete_keywords(const Scene& scene, const py
   } catch (const CLI::ParseError& e) {
     throw std::invalid_argument(e.what());
   }
+  if (projection) return k;  // its method and options are read by projection_keywords
   try {
     k->config = cli::discrete_config(k->options, scene);
   } catch (const OptionError& e) {  // named by the keyword, as the caller wrote it
     throw std::invalid_argument(e.message(Spelling::key));
   }
   return k;
+}
+
+// The discrete projection that mode= and method= describe (cli::projection_setup, the command
+// line's rules), or none without method.  Its messages start with the flag (`--method: ...`);
+// they are re-spelled as the keyword the caller wrote (`method: ...`).
+std::optional<DiscreteProjectionConfig> projection_keywords(const Scene& scene, const std::string& mode,
+                                                            const DiscreteKeywords& keywords) {
+  try {
+    return cli::projection_setup(mode, keywords.options, scene)->discrete;
+  } catch (const std::invalid_argument& e) {
+    std::string m = e.what();
+    if (m.rfind("--", 0) == 0) {
+      m.erase(0, 2);
+      std::replace(m.begin(), m.begin() + static_cast<long>(std::min(m.find(':'), m.size())), '-', '_');
+    }
+    throw std::invalid_argument(m);
+  }
+}
+
+// Splits mode= from the other keywords (a scene's reference or raycast takes those).
+std::optional<std::string> take_mode(const py::kwargs& given, py::dict& rest) {
+  std::optional<std::string> mode;
+  for (const auto& [key, value] : given) {
+    if (py::str(key).cast<std::string>() == "mode") {
+      if (!value.is_none()) mode = py::cast<std::string>(value);
+    } else {
+      rest[key] = value;
+    }
+  }
+  return mode;
 }
 
 // mode=...: a projection (lib/projection/projection_mode.h), the command line's vocabulary;
@@ -248,8 +281,31 @@ py::dict reference(const Scene& scene, const Points& origins, const Points& dire
   return out;
 }
 
+// discrete(mode=...): the discrete projection along rays: value, samples and (MIP) position.
+py::dict discrete_projection(const Scene& scene, const Points& origins, const Points& directions, ProjectionMode mode,
+                             const py::dict& kw) {
+  const auto keywords = discrete_keywords(scene, kw, /*projection=*/true);
+  const auto config = projection_keywords(scene, std::string(projection_mode_name(mode)), *keywords);
+  if (!config) throw std::invalid_argument("method: required with mode (riemann, trapezoid, simpson; max for MIP)");
+  const std::vector<Ray> rays = make_rays(origins, directions);
+  DiscreteConfig work;
+  work.sampling = config->sampling;
+  cli::check_work(keywords->options, work, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; });
+  const std::vector<DiscreteProjectionResult> r =
+      interruptible([&] { return discrete_projection_values(scene, rays, *config); });
+  const auto shape = leading_shape(origins, "origins");
+  py::dict out;
+  out["value"] = filled<double>(shape, r.size(), [&](auto i) { return r[i].value; });
+  out["samples"] = filled<long>(shape, r.size(), [&](auto i) { return r[i].samples; });
+  if (is_mip(mode)) out["position"] = filled<double>(shape, r.size(), [&](auto i) { return r[i].position; });
+  return out;
+}
+
 py::dict discrete(const Scene& scene, const Points& origins, const Points& directions,
-                  const py::kwargs& kw) {
+                  const py::kwargs& given) {
+  py::dict kw;
+  const std::optional<ProjectionMode> mode = mode_keyword(take_mode(given, kw));
+  if (mode) return discrete_projection(scene, origins, directions, *mode, kw);
   const auto keywords = discrete_keywords(scene, kw);
   const auto& config = keywords->config;
   if (!config) throw std::invalid_argument("--method: required (riemann, alpha, trapezoid, exact_linear, moreland)");
@@ -263,23 +319,30 @@ py::dict discrete(const Scene& scene, const Points& origins, const Points& direc
   return out;
 }
 
+// render(mode=..., method=...): the discrete projection of the camera's pixels.
+py::array_t<double> render_projection(const Scene& scene, ProjectionMode mode, const Camera& camera,
+                                      const py::dict& kw) {
+  const std::vector<Ray> rays = camera_rays(camera);
+  const auto keywords = discrete_keywords(scene, kw, /*projection=*/true);
+  const auto config = projection_keywords(scene, std::string(projection_mode_name(mode)), *keywords);
+  DiscreteConfig work;
+  work.sampling = config->sampling;
+  cli::check_work(keywords->options, work, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; });
+  const std::vector<DiscreteProjectionResult> r =
+      interruptible([&] { return discrete_projection_values(scene, rays, *config); });
+  py::array_t<double> a({camera.height, camera.width});
+  std::transform(r.begin(), r.end(), a.mutable_data(), [](const DiscreteProjectionResult& v) { return v.value; });
+  return a;
+}
+
 // (height, width) values of the scene's camera: the reference without `method`, else the
-// discrete raycast the keywords describe.
+// discrete raycast the keywords describe; with mode=, the projection's reference or discrete version.
 py::array_t<double> render(const Scene& scene, double tol, std::optional<int> width,
                            std::optional<int> height, const py::kwargs& given) {
   py::dict kw;
-  std::optional<std::string> mode_name;
-  for (const auto& [key, value] : given) {
-    if (py::str(key).cast<std::string>() == "mode") {
-      if (!value.is_none()) mode_name = py::cast<std::string>(value);
-    } else {
-      kw[key] = value;
-    }
-  }
-  const std::optional<ProjectionMode> mode = mode_keyword(mode_name);
+  const std::optional<ProjectionMode> mode = mode_keyword(take_mode(given, kw));
   if (mode && kw.contains("method") && !kw["method"].is_none())
-    throw std::invalid_argument("mode: a discrete projection (mode with method) is `vrv render --mode M --method R`; "
-                                "the module renders the projection's reference only");
+    return render_projection(scene, *mode, scene_camera(scene, width, height), kw);
   const auto keywords = discrete_keywords(scene, kw);
   const auto& config = keywords->config;
   const Camera camera = scene_camera(scene, width, height);
@@ -533,12 +596,15 @@ PYBIND11_MODULE(vrv, m) {
       .def("discrete", &discrete, py::arg("origins"), py::arg("directions"),
            "A discrete raycast along rays: method=..., and the options of `vrv ray` "
            "(strategy, rate, step, oversample, correction, ...) and max_work (default 1e9 samples, "
-           "as --max-work); a dict of arrays value, samples")
+           "as --max-work); a dict of arrays value, samples; with mode='xray' | ... | 'mip_classified' "
+           "the discrete projection (method riemann, trapezoid, simpson; max for MIP; strategy, rate, "
+           "step), MIP adding position")
       .def("render", &render, py::arg("tol") = 1e-12, py::arg("width") = py::none(),
            py::arg("height") = py::none(),
            "The scene camera's image as a (height, width) float64 array: the reference, or with "
            "method=... the discrete raycast (options as for `discrete`); max_work=1e9 as --max-work; "
-           "mode=... (as `reference`) the projection's reference image")
+           "mode=... (as `reference`) the projection's reference image, with method=... its discrete "
+           "version (as `discrete`)")
       .def("rays", &rays, py::arg("width") = py::none(), py::arg("height") = py::none(),
            "The scene camera's rays: (origins, directions), each (height, width, 3)");
   m.def("verify", &verify_py, py::arg("scene"), py::arg("images"), py::arg("steps"), py::kw_only(),
