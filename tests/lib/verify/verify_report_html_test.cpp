@@ -62,7 +62,10 @@ class VerifyReportPage : public VerifyToy {
  protected:
   static constexpr const char* kHostile = "<script>alert(1)</script>&\"'.exr";
   void SetUp() override {
-    std::vector<ImageWithStep> images = toy_images(scene, toy::Fault::half_step_offset, "html");
+    // Files of their own per test: CTest runs this fixture's tests in parallel processes (a shared
+    // name raced: one test's rename found the other's temporary gone).
+    const std::string tag = std::string("html_") + ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::vector<ImageWithStep> images = toy_images(scene, toy::Fault::half_step_offset, tag);
     images[0].name = kHostile;  // the name shown for the coarsest image
     report = verify_images(scene, images, options());
     FaultFit fit;  // a ranking row with markup in its text
