@@ -11,13 +11,20 @@ def marschner_lobb(p, fM=6.0, alpha=0.25):
     return (1 - np.sin(np.pi * p[..., 2] / 2) + alpha * (1 + rho)) / (2 * (1 + alpha))
 
 
-def render(origins, directions, step, offset=0.5, rgba=False):
+def clip_to_box(origins, directions):
+    """Flat origins, unit directions, and each ray's entry and exit parameters on the box [-1, 1]^3
+    by the slab method (t0 >= t1 where a ray misses)."""
     o, d = origins.reshape(-1, 3), directions.reshape(-1, 3)
     d = d / np.linalg.norm(d, axis=1, keepdims=True)
     with np.errstate(divide="ignore", invalid="ignore"):
         a, b = (-1.0 - o) / d, (1.0 - o) / d
     t0 = np.maximum(np.nanmax(np.minimum(a, b), axis=1), 0.0)
     t1 = np.nanmin(np.maximum(a, b), axis=1)
+    return o, d, t0, t1
+
+
+def render(origins, directions, step, offset=0.5, rgba=False):
+    o, d, t0, t1 = clip_to_box(origins, directions)
     hit = t1 > t0
     n = np.where(hit, np.ceil((t1 - t0) / step), 0)
     h = np.where(hit, (t1 - t0) / np.maximum(n, 1), 0.0)
@@ -40,12 +47,7 @@ def project(origins, directions, step, mode, planted=None):
     n + 1 nodes include entry and exit (second order for both).  Planted faults:
     "first_sample_dropped" (MIP without the entry node: first order at maxima on the entry face),
     "step_not_multiplied" (X-ray summing samples without the step: no convergence)."""
-    o, d = origins.reshape(-1, 3), directions.reshape(-1, 3)
-    d = d / np.linalg.norm(d, axis=1, keepdims=True)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a, b = (-1.0 - o) / d, (1.0 - o) / d
-    t0 = np.maximum(np.nanmax(np.minimum(a, b), axis=1), 0.0)
-    t1 = np.nanmin(np.maximum(a, b), axis=1)
+    o, d, t0, t1 = clip_to_box(origins, directions)
     hit = t1 > t0
     n = np.where(hit, np.maximum(np.ceil((t1 - t0) / step), 1), 0)
     h = np.where(hit, (t1 - t0) / np.maximum(n, 1), 0.0)

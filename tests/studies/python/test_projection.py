@@ -89,12 +89,8 @@ def test_discrete_mip_takes_the_largest_sample_at_the_step_placement(scene_and_r
     # computed here in numpy with the numpy renderer's own clipping and field.
     scene, origins, directions = scene_and_rays
     h = 0.05
-    o, d = origins.reshape(-1, 3), directions.reshape(-1, 3)
+    o, d, t0, t1 = numpy_raycaster.clip_to_box(origins, directions)
     r = scene.discrete(o, d, mode="mip", method="max", strategy="step", step=h)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a, b = (-1.0 - o) / d, (1.0 - o) / d
-    t0 = np.maximum(np.nanmax(np.minimum(a, b), axis=1), 0.0)
-    t1 = np.nanmin(np.maximum(a, b), axis=1)
     checked = 0
     for i in range(len(o)):
         if not t1[i] - t0[i] > h:
