@@ -4,6 +4,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "lib/util/error_free.h"
+
 namespace vrv {
 
 Ray make_ray(const Vec3& origin, const Vec3& direction) {
@@ -41,13 +43,6 @@ std::optional<Interval> clip_from(const Ray& ray, const Box& box, double t_min) 
   }
   if (!(t0 <= t1)) return std::nullopt;
   return Interval{t0, t1};
-}
-
-// Error-free transformations (Knuth's TwoSum; the product's error by one fma).
-void two_sum(double a, double b, double& s, double& e) {
-  s = a + b;
-  const double bb = s - a;
-  e = (a - (s - bb)) + (b - bb);
 }
 
 // A point as an unevaluated sum hi + lo per coordinate, |lo| <= ulp(hi) / 2.

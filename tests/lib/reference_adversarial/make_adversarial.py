@@ -38,8 +38,13 @@ Floors (what double precision can reach on a ray, used by the test's "not absurd
                 4 eps (|offset| + sum |g_a| |x_a|); grids: 4 eps max|node| + 2 eps sum slope_a
                 (|x_a| + |min_a|)): two more truths (at 22 digits) with the control values
                 shifted by -+eta.
+  pointwise   = eta int |g'(f) T - tau'(f) R| ds (T = e^{-Phi}, R(s) the light from behind s):
+                to first order the most a field wrong by at most eta at every point can change
+                I (values rounded independently per sample do not cancel as a uniform shift
+                does); at 20 digits (pointwise_floor; --add-pointwise adds it to an existing file).
   rounding    = 8 eps sum over pieces (1 + Phi) |contribution| (+ the background's): the
                 relative rounding of e^{-Phi} at depth Phi.
+  floor       = the largest of the three.
 
 Self-check (--check): a sample of rays recomputed at dps 50 with panels a third as long (a
 different split), asserted to agree to 1e-25; rays recomputed by nested tanh-sinh (mp.quad for
@@ -48,7 +53,7 @@ with a linear transfer function.
 
 Usage:
   /usr/bin/python3 tests/lib/reference_adversarial/make_adversarial.py [--quick] [--jobs 2]
-                   [--out FILE] [--check]
+                   [--out FILE] [--check] [--add-pointwise]
 Generation time: 325 rays take 1470 s of one core (header "ray_seconds_sum"; the 200-point
 transfer functions 45-165 s each, most rays 0.1-15 s), so about 12-13 minutes on two idle cores
 (--jobs 2, the default); --quick writes a smaller set (about 100 rays).  A run cut short leaves
@@ -177,6 +182,28 @@ class TF:
             return -mp.log1p(-max(mpf(0), lin(l1, u))) / unit
 
         return (lambda u: max(mpf(0), lin(l2, u)) * tau(u), tau)
+
+    def branch_slopes(self, v):
+        """(dg/du, dtau/du) of the branch holding v, as functions of u (0 where a line is clamped)."""
+        l1, l2 = self.c1.line(v), self.c2.line(v)
+        unit = self.unit
+
+        def lin(l, u):
+            return l[1] + l[2] * (u - l[0])
+
+        def slope(l, u):
+            return l[2] if lin(l, u) > 0 else mpf(0)
+
+        if self.conv == "ee":
+            return (lambda u: slope(l1, u), lambda u: slope(l2, u))
+
+        def tau(u):
+            return -mp.log1p(-max(mpf(0), lin(l1, u))) / unit
+
+        def dtau(u):
+            return slope(l1, u) / ((1 - max(mpf(0), lin(l1, u))) * unit)
+
+        return (lambda u: slope(l2, u) * tau(u) + max(mpf(0), lin(l2, u)) * dtau(u), dtau)
 
     def max_slope(self):
         m = mpf(0)
@@ -525,8 +552,10 @@ class Stats:
         self.unresolved = 0
 
 
-def integrate(rf, tf, background, shift=mpf(0), extrema_cache=None, panel_scale=1, rtol=None):
-    """Truth for the field f + shift (shift moves the field: control values move by -shift)."""
+def integrate(rf, tf, background, shift=mpf(0), extrema_cache=None, panel_scale=1, rtol=None, record=None):
+    """Truth for the field f + shift (shift moves the field: control values move by -shift).
+    record: a list that receives every accepted panel (its node values, depths, h and the
+    emission before it), for pointwise_floor."""
     if extrema_cache is None:
         extrema_cache = {}
     rtol = rtol if rtol is not None else mpf(10) ** (-mp.dps + 7)
@@ -541,7 +570,7 @@ def integrate(rf, tf, background, shift=mpf(0), extrema_cache=None, panel_scale=
     floor_tau = tiny * (max(tf.tau_scale(), mpf(1)) + tf.max_slope() * fsize)
     floor_h = tiny * (max(gmax, mpf(1)) * mpf(10) ** -10 + tf.max_slope() * fsize)
     st = Stats()
-    state = {"phi": mpf(0), "I": mpf(0), "rounding": mpf(0)}
+    state = {"phi": mpf(0), "I": mpf(0), "rounding": mpf(0), "branch": None}
     crossings = 0
 
     def panel(a, b, g, tau, depth):
@@ -571,6 +600,9 @@ def integrate(rf, tf, background, shift=mpf(0), extrema_cache=None, panel_scale=
         st.unresolved += not ok  # reported; the main pass must have none (the header counts them)
         st.panels += 1
         e = half * mp.fdot(Q[-1], hv)
+        if record is not None:
+            record.append({"v": v, "phis": phis, "hv": hv, "half": half, "Q": Q, "before": state["I"],
+                           "branch": state["branch"]})
         state["I"] += e
         state["phi"] = phi0 + half * mp.fdot(Q[-1], tv)
         state["rounding"] += (1 + phi0) * abs(e)
@@ -582,6 +614,7 @@ def integrate(rf, tf, background, shift=mpf(0), extrema_cache=None, panel_scale=
         crossings += 1
         m = (a + b) / 2
         g, tau = tf.branch(rf.f(m) + shift)
+        state["branch"] = rf.f(m) + shift
         h0 = rf.panel_length() * panel_scale
         n = max(1, int(mp.ceil((b - a) / h0)))
         for i in range(n):
@@ -593,8 +626,28 @@ def integrate(rf, tf, background, shift=mpf(0), extrema_cache=None, panel_scale=
     bg = I0 * mp.exp(-state["phi"])
     total = state["I"] + bg
     rounding = 8 * EPS * (state["rounding"] + (1 + state["phi"]) * bg)
+    if record is not None:
+        record.append({"total": total})
     return {"I": total, "phi": state["phi"], "stopped": stopped, "pieces": crossings,
             "panels": st.panels, "evals": st.evals, "unresolved": st.unresolved, "rounding": rounding, "cuts": cuts}
+
+
+def pointwise_floor(tf, record, eta):
+    """eta x int |g'(f) T(s) - tau'(f) R(s)| ds: to first order the largest change of I that a
+    field wrong by at most eta at every point can make (R(s): the light that reaches the eye from
+    behind s, which a change of tau at s scales).  A shift of the whole field by +-eta (the
+    sensitivity) is one such change; values rounded independently from point to point, as a
+    double computation's are, can be as bad as this, and no estimate from those values can
+    promise less.  A few digits suffice: the panels' Clenshaw-Curtis weights on |.|."""
+    total = record[-1]["total"]
+    acc = mpf(0)
+    for p in record[:-1]:
+        dg, dtau = tf.branch_slopes(p["branch"])
+        Q, half = p["Q"], p["half"]
+        for k, u in enumerate(p["v"]):
+            R = total - (p["before"] + half * mp.fdot(Q[k], p["hv"]))
+            acc += half * Q[-1][k] * abs(dg(u) * mp.exp(-p["phis"][k]) - dtau(u) * R)
+    return acc * eta
 
 
 # --------------------------------------------------------------------------------------------
@@ -984,6 +1037,7 @@ def truth_of(job):
         cache = _extrema_cache.setdefault(key, {})
         r = integrate(rf, tf, sc.get("background", 0.0), extrema_cache=cache)
         eta = field_noise(sc, rf, nodes)
+        pointwise = pointwise_of(ray, cache)
         sens = mpf(0)
         for sgn in (1, -1):
             with mp.workdps(SENS_DPS):
@@ -992,13 +1046,59 @@ def truth_of(job):
             sens = max(sens, abs(rs["I"] - r["I"]))
         out.update(truth=mp.nstr(r["I"], 34),
                    hit=True, length=float(rf.L), optical_depth=float(r["phi"]), stopped=r["stopped"],
-                   pieces=r["pieces"], structural=len(rf.pieces()), floor=float(max(sens, r["rounding"])),
-                   sensitivity=float(sens), rounding=float(r["rounding"]), eta=eta, truth_panels=r["panels"],
+                   pieces=r["pieces"], structural=len(rf.pieces()), floor=float(max(sens, r["rounding"], pointwise)),
+                   sensitivity=float(sens), rounding=float(r["rounding"]), pointwise=float(pointwise), eta=eta,
+                   truth_panels=r["panels"],
                    unresolved_panels=r["unresolved"])
     if nodes is not None:
         out["grid_nodes"] = [v.hex() for v in nodes]
     out["seconds"] = round(time.time() - t_start, 2)
     return out
+
+
+POINTWISE_DPS = 20  # the pointwise floor needs a few digits
+
+
+def pointwise_of(ray, extrema_cache=None):
+    """The ray's pointwise floor (pointwise_floor), at POINTWISE_DPS digits (+10 far away)."""
+    with mp.workdps(POINTWISE_DPS + (10 if ray["cls"] == "far_origin" else 0)):
+        sc = ray["scene"]
+        nodes = grid_nodes(sc) if sc["field"]["kind"] == "grid" else None
+        rf = ray_field(sc, ray["origin"], ray["direction"], nodes)
+        if rf is None:
+            return mpf(0)
+        tf = TF(sc["tf"])
+        record = []
+        integrate(rf, tf, sc.get("background", 0.0), extrema_cache={}, rtol=mpf(10) ** -12, record=record)
+        return pointwise_floor(tf, record, field_noise(sc, rf, nodes))
+
+
+def add_pointwise_job(ray):
+    t = time.time()
+    return ray["tag"], float(pointwise_of(ray)), time.time() - t
+
+
+def add_pointwise(path, rays, jobs):
+    """Adds the pointwise floor to an existing data file (its truths unchanged): floor becomes
+    the largest of sensitivity, rounding and pointwise."""
+    lines = [json.loads(line) for line in open(path)]
+    by_tag = {r["tag"]: r for r in rays}
+    todo = [by_tag[r["tag"]] for r in lines if "header" not in r and r.get("hit")]
+    found = {}
+    with multiprocessing.Pool(jobs) as pool:
+        for k, (tag, pw, sec) in enumerate(pool.imap_unordered(add_pointwise_job, todo)):
+            found[tag] = pw
+            print("  [%d/%d] %-50s %.3g %6.1fs" % (k + 1, len(todo), tag, pw, sec), file=sys.stderr)
+    for r in lines:
+        if "header" in r:
+            r["header"]["pointwise_dps"] = POINTWISE_DPS
+        elif r.get("hit"):
+            r["pointwise"] = found[r["tag"]]
+            r["floor"] = max(r["sensitivity"], r["rounding"], r["pointwise"])
+    with open(path + ".tmp", "w") as fh:
+        for r in lines:
+            fh.write(json.dumps(r) + "\n")
+    os.replace(path + ".tmp", path)
 
 
 # --------------------------------------------------------------------------------------------
@@ -1106,6 +1206,8 @@ def main():
     ap.add_argument("--out", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "adversarial_rays.jsonl"))
     ap.add_argument("--check", action="store_true", help="self-check the truth instead of writing data")
     ap.add_argument("--only", default="", help="only tags containing this string")
+    ap.add_argument("--add-pointwise", action="store_true", help="add the pointwise floor to --out's rays "
+                    "(truths unchanged) instead of recomputing them")
     ap.add_argument("--reuse", default="", help="a previous output (or its .partial): rays with the same tag, "
                     "scene and line are taken from it instead of recomputed")
     args = ap.parse_args()
@@ -1117,6 +1219,9 @@ def main():
     print("%d rays (%.0f s to set up)" % (len(rays), time.time() - t0), file=sys.stderr)
     if args.check:
         self_check(rays, args.jobs)
+        return
+    if args.add_pointwise:
+        add_pointwise(args.out, rays, args.jobs)
         return
     jobs = [(r, DPS) for r in rays]
     reused = {}
