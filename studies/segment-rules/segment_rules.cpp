@@ -65,6 +65,8 @@ UnitSpec read_unit(const StudyReader& r, const toml::table& doc) {
   return u;
 }
 
+}  // namespace
+
 std::vector<RuleSpec> read_rules(const StudyReader& r, const toml::table& images) {
   std::vector<RuleSpec> rules;
   const toml::array& arr = r.array(r.require(images, "rule", "images"), "images.rule");
@@ -104,6 +106,8 @@ RenderSpec read_render(const StudyReader& r, const toml::table& t, const std::st
   if (const toml::node* c = t.get("check_orders")) s.check_orders = r.boolean(*c, at + ".check_orders");
   return s;
 }
+
+namespace {
 
 SegmentRulesStudy read_study(const StudyInput& in) {
   const StudyReader& r = in.reader;

@@ -16,6 +16,7 @@
 #include "lib/sampling.h"
 #include "lib/scene.h"
 #include "lib/segment_rule.h"
+#include "lib/study_file.h"
 #include "studies/engine/study_work.h"
 
 namespace vrv {
@@ -83,6 +84,12 @@ struct RenderResult {
   long hit_pixels = 0;
   int width = 0, height = 0;
 };
+
+// Reading a study file's images (also the volume study's, studies/volume/): [[images.rule]] as
+// rule and expected_order, and one [[render]] table (name, steps, quick_steps, map_step,
+// quick_width, quick_height, check_orders, scene with a camera).  Throws StudyFileError.
+std::vector<RuleSpec> read_rules(const StudyReader& r, const toml::table& images);
+RenderSpec read_render(const StudyReader& r, const toml::table& t, const std::string& at);
 
 // Renders the reference image (integrate_reference at reference_tol per pixel) and every
 // (rule, step); means are over the pixels whose ray meets the box.  Deterministic for any
