@@ -10,7 +10,7 @@
 namespace vrv {
 namespace {
 
-constexpr NameTable<Option, 16> kKeys{{{Option::method, "method"},
+constexpr NameTable<Option, 18> kKeys{{{Option::method, "method"},
                                        {Option::strategy, "strategy"},
                                        {Option::rate, "rate"},
                                        {Option::step, "step"},
@@ -25,7 +25,9 @@ constexpr NameTable<Option, 16> kKeys{{{Option::method, "method"},
                                        {Option::opacity_unit, "opacity_unit"},
                                        {Option::color, "color"},
                                        {Option::table_size, "table_size"},
-                                       {Option::table_lookup, "table_lookup"}}};
+                                       {Option::table_lookup, "table_lookup"},
+                                       {Option::mode, "mode"},
+                                       {Option::max_work, "max_work"}}};
 
 // The flag is the key with '-' for '_' behind "--": derived, so the two can never disagree.
 std::string flag_of(std::string_view key) {
@@ -47,8 +49,26 @@ std::string_view option_name(Option option, Spelling spelling) {
   return flags[static_cast<std::size_t>(option)];
 }
 
+std::optional<Option> option_from_flag(std::string_view flag) {
+  for (const auto& [option, key] : kKeys)
+    if (option_name(option, Spelling::flag) == flag) return option;
+  return std::nullopt;
+}
+
+std::string literal(std::string_view text) {
+  std::string out;
+  for (char c : text) {
+    out += c;
+    if (c == '{' || c == '}') out += c;
+  }
+  return out;
+}
+
 std::string OptionError::spelled(const std::string& reason, const std::vector<Option>& mentioned,
                                  Spelling spelling) {
+  // Only a reason that mentions options is a format string: a value the user typed, such as
+  // '{', in a plain reason made "invalid format string" the whole message.
+  if (mentioned.empty()) return reason;
   fmt::dynamic_format_arg_store<fmt::format_context> names;
   for (Option o : mentioned) names.push_back(std::string(option_name(o, spelling)));
   return fmt::vformat(reason, names);

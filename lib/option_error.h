@@ -4,6 +4,7 @@
 // the option by id; each front end spells it as its user wrote it (`--table-size` on the command
 // line, `table_size` in a study file or a Python call), so no message names an option the user
 // never typed.
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -13,12 +14,17 @@ namespace vrv {
 
 enum class Option {
   method, strategy, rate, step, oversample, centred_oversamples, correction, termination, skip,
-  compositing, classification, precision, opacity_unit, color, table_size, table_lookup
+  compositing, classification, precision, opacity_unit, color, table_size, table_lookup, mode, max_work
 };
 
 enum class Spelling { flag, key };  // --table-size, table_size
 
 std::string_view option_name(Option option, Spelling spelling);
+// The option a command-line flag names ("--table-size"), if it is one of these.
+std::optional<Option> option_from_flag(std::string_view flag);
+// A user's text inside a reason that mentions options ({0}, ...): its braces doubled, so that
+// a value such as '{x}' is shown as typed (a reason without mentions is taken as it is).
+std::string literal(std::string_view text);
 
 class OptionError : public std::invalid_argument {
  public:

@@ -100,15 +100,23 @@ SamplingConfig sampling_config(const DiscreteOptions& opt, const Scene& scene) {
   return c;
 }
 
+Option given_option(const CLI::Option& o) {
+  const auto option = option_from_flag(o.get_name());
+  if (!option) throw std::logic_error(fmt::format("{}: a discrete option missing from lib/option_error.cpp", o.get_name()));
+  return *option;
+}
+
+void check_max_work(const DiscreteOptions& opt) {
+  if (!(opt.max_work > 0)) throw OptionError(Option::max_work, fmt::format("must be positive, got {}", opt.max_work));
+}
+
 std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene) {
-  if (!(opt.max_work > 0))
-    throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", opt.max_work));
+  check_max_work(opt);
   if (opt.method.empty()) {
     for (const CLI::Option* o : opt.given)
       if (o->count() > 0)
-        throw std::invalid_argument(fmt::format(
-            "{}: applies to a discrete raycast only; add --method (the reference ignores it)",
-            o->get_name()));
+        throw OptionError(given_option(*o), "applies to a discrete raycast only; add {0} (the reference ignores it)",
+                          {Option::method});
     return std::nullopt;
   }
   DiscreteConfig c;

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "lib/discrete_raycast.h"
+#include "lib/option_error.h"
 #include "lib/scene.h"
 #include "lib/work_estimate.h"
 
@@ -39,12 +40,16 @@ struct DiscreteOptions {
 
 void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt);
 // The configuration, or nothing when no --method asks for a discrete raycast.  Throws
-// std::invalid_argument naming the option for a bad value or combination, or for a discrete
-// option given without --method.
+// OptionError (a std::invalid_argument; each front end spells the option as its user wrote it)
+// for a bad value or combination, or for a discrete option given without --method.
 std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene);
+// The Option (lib/option_error.h) of one of DiscreteOptions::given.
+Option given_option(const CLI::Option& o);
+// OptionError(Option::max_work) unless positive.
+void check_max_work(const DiscreteOptions& opt);
 
 // The sample placement of --strategy, --rate and --step (shared by the projections' discrete
-// modes); throws std::invalid_argument naming the option.
+// modes); throws OptionError.
 SamplingConfig sampling_config(const DiscreteOptions& opt, const Scene& scene);
 
 // Throws the refusal: `discrete` says whether the work is samples or the reference's evaluations.

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "lib/option_error.h"
+
 #include "studies/cli/cli_support.h"
 
 namespace vrv::cli {
@@ -20,31 +22,33 @@ std::optional<ProjectionSetup> projection_setup(const std::string& mode, const D
   if (mode.empty()) return std::nullopt;
   const auto parsed = parse_projection_mode(mode);
   if (!parsed)
-    throw std::invalid_argument(fmt::format("--mode: unknown value '{}' (one of {})", mode, projection_mode_list()));
+    throw OptionError(Option::mode, fmt::format("unknown value '{}' (one of {})", mode, projection_mode_list()));
   ProjectionSetup s;
   s.mode = *parsed;
-  if (!(opt.max_work > 0))
-    throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", opt.max_work));
+  check_max_work(opt);
   for (const CLI::Option* o : opt.given) {
-    const std::string name = o->get_name();
     if (o->count() == 0) continue;
-    if (opt.method.empty())
-      throw std::invalid_argument(fmt::format("{}: applies to a discrete projection only; add --method", name));
-    if (name != "--strategy" && name != "--rate" && name != "--step")
-      throw std::invalid_argument(
-          fmt::format("{}: applies to emission-absorption raycasts, not to --mode {}", name, mode));
+    const Option option = given_option(*o);
+    if (opt.method.empty()) throw OptionError(option, "applies to a discrete projection only; add {0}", {Option::method});
+    if (option != Option::strategy && option != Option::rate && option != Option::step)
+      throw OptionError(option, fmt::format("applies to emission-absorption raycasts, not to {{0}} {}", literal(mode)),
+                        {Option::mode});
   }
   if (opt.method.empty()) return s;
   DiscreteProjectionConfig c;
   c.mode = s.mode;
   if (is_mip(s.mode)) {
     if (opt.method != "max")
-      throw std::invalid_argument(fmt::format("--method: unknown value '{}' for --mode {} (max)", opt.method, mode));
+      throw OptionError(Option::method,
+                        fmt::format("unknown value '{}' for {{0}} {} (max)", literal(opt.method), literal(mode)),
+                        {Option::mode});
   } else {
     const auto rule = parse_xray_rule(opt.method);
     if (!rule)
-      throw std::invalid_argument(
-          fmt::format("--method: unknown value '{}' for --mode {} (riemann, trapezoid, simpson)", opt.method, mode));
+      throw OptionError(Option::method,
+                        fmt::format("unknown value '{}' for {{0}} {} (riemann, trapezoid, simpson)",
+                                    literal(opt.method), literal(mode)),
+                        {Option::mode});
     c.rule = *rule;
   }
   c.sampling = sampling_config(opt, scene);

@@ -176,19 +176,13 @@ std::unique_ptr<DiscreteKeywords> discrete_keywords(const Scene& scene, const py
 }
 
 // The discrete projection that mode= and method= describe (cli::projection_setup, the command
-// line's rules), or none without method.  Its messages start with the flag (`--method: ...`);
-// they are re-spelled as the keyword the caller wrote (`method: ...`).
+// line's rules), or none without method; errors name the keywords the caller wrote.
 std::optional<DiscreteProjectionConfig> projection_keywords(const Scene& scene, const std::string& mode,
                                                             const DiscreteKeywords& keywords) {
   try {
     return cli::projection_setup(mode, keywords.options, scene)->discrete;
-  } catch (const std::invalid_argument& e) {
-    std::string m = e.what();
-    if (m.rfind("--", 0) == 0) {
-      m.erase(0, 2);
-      std::replace(m.begin(), m.begin() + static_cast<long>(std::min(m.find(':'), m.size())), '-', '_');
-    }
-    throw std::invalid_argument(m);
+  } catch (const OptionError& e) {
+    throw std::invalid_argument(e.message(Spelling::key));
   }
 }
 

@@ -15,7 +15,7 @@ namespace {
 
 TEST(OptionError, EveryOptionHasAKeyAndAFlagDerivedFromIt) {
   std::set<std::string> keys;
-  for (int i = 0; i <= static_cast<int>(Option::table_lookup); ++i) {
+  for (int i = 0; i <= static_cast<int>(Option::max_work); ++i) {
     const auto o = static_cast<Option>(i);
     const std::string key(option_name(o, Spelling::key)), flag(option_name(o, Spelling::flag));
     EXPECT_NE(key, "unknown");
@@ -36,6 +36,25 @@ TEST(OptionError, MessagesSpellTheOptionAndWhatItMentionsAsTheUserWrote) {
   EXPECT_EQ(e.message(Spelling::key), "table_lookup: needs table_size N (a table to read)");
   EXPECT_EQ(e.reason(Spelling::key), "needs table_size N (a table to read)");
   EXPECT_EQ(e.option(), Option::table_lookup);
+}
+
+// A user's value is shown as typed: with braces in a plain reason, and through literal() in a
+// reason that mentions options.
+TEST(OptionError, ValuesWithBracesAreShownAsTyped) {
+  const OptionError plain(Option::compositing, "unknown value '{' (front_to_back or back_to_front)");
+  EXPECT_EQ(std::string(plain.what()), "--compositing: unknown value '{' (front_to_back or back_to_front)");
+  const OptionError mentions(Option::method, "unknown value '" + literal("{0}}") + "' for {0} mip", {Option::mode});
+  EXPECT_EQ(std::string(mentions.what()), "--method: unknown value '{0}}' for --mode mip");
+  EXPECT_EQ(mentions.message(Spelling::key), "method: unknown value '{0}}' for mode mip");
+}
+
+TEST(OptionError, FlagsMapBackToTheirOption) {
+  for (int i = 0; i <= static_cast<int>(Option::max_work); ++i) {
+    const auto o = static_cast<Option>(i);
+    EXPECT_EQ(option_from_flag(option_name(o, Spelling::flag)), o);
+  }
+  EXPECT_FALSE(option_from_flag("--scene"));
+  EXPECT_FALSE(option_from_flag("table_size"));  // a key, not a flag
 }
 
 // The library's checks throw OptionError naming the option they refuse.

@@ -251,6 +251,10 @@ expect_failure(correction_needs_alpha "--correction" ray --origin 0,0,0 --direct
 expect_failure(unknown_method "--method" ray --origin 0,0,0 --direction 1,0,0 --method simpson)
 expect_failure(vtk_needs_step "--step" ray --origin 0,0,0 --direction 1,0,0 --method riemann --strategy vtk)
 expect_failure(pre_needs_grid "--classification" ray --origin 0,0,0 --direction 1,0,0 --method riemann --classification pre)
+# A value with braces is shown as typed, not taken as a format string ("vrv: error: invalid format
+# string" was the whole message).
+expect_failure(brace_value "^vrv: error: --compositing: unknown value '[{]' " ray --origin 0,0,-3 --direction 0,0,1 --method alpha --compositing "{")
+expect_failure(brace_value_mentions "--precision: unknown value '[{]x[}]' " ray --origin 0,0,-3 --direction 0,0,1 --method alpha --precision "{x}")
 
 # Renders do not depend on the thread count.
 expect_success(render_one_thread render --reference --width 16 --height 16 --threads 1 --quiet -o ${OUT}/t1.exr)

@@ -83,6 +83,7 @@ expect_error(bad_mode "^vrv: error: --mode: unknown value 'maximum' \\(one of xr
   ray --mode maximum --origin -3,0.5,0 --direction 1,0,0)
 expect_error(bad_method "--method: unknown value 'alpha' for --mode xray" ray --mode xray --method alpha --step 0.1 --origin -3,0.5,0 --direction 1,0,0)
 expect_error(bad_mip_method "--method: unknown value 'riemann' for --mode mip" ray --mode mip --method riemann --step 0.1 --origin -3,0.5,0 --direction 1,0,0)
+expect_error(brace_method "--method: unknown value '[{]0[}]' for --mode mip" ray --mode mip --method "{0}" --step 0.1 --origin -3,0.5,0 --direction 1,0,0)
 expect_error(ea_option "--oversample: applies to emission-absorption raycasts, not to --mode mip"
   ray --mode mip --method max --step 0.1 --oversample 2 --origin -3,0.5,0 --direction 1,0,0)
 expect_error(no_method "--step: applies to a discrete projection only" ray --mode mip --step 0.1 --origin -3,0.5,0 --direction 1,0,0)

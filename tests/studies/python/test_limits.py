@@ -47,7 +47,7 @@ def test_rays_refused(tmp_path):
     with pytest.raises(ValueError, match=r"^--max-work: about .* field evaluations of the reference on 64 rays, "
                                          r"above the work limit of 100; "):
         scene.reference(o, d, max_work=100)
-    with pytest.raises(ValueError, match=r"^--max-work: must be positive, got 0$"):
+    with pytest.raises(ValueError, match=r"^max_work: must be positive, got 0$"):  # the keyword, as written
         scene.reference(o, d, max_work=0)
     assert scene.reference(o, d, max_work=1e9)["value"].shape == (8, 8)
 

@@ -177,7 +177,7 @@ def test_bad_scene_text_and_rays_raise_value_error():
         scene.reference([np.nan, 0, 0], [1, 0, 0])
     with pytest.raises(ValueError, match=r"^--width: must be in \[1, 16384\], got 0$"):
         scene.render(width=0)
-    with pytest.raises(ValueError, match=r"^--rate: applies to a discrete raycast only"):
+    with pytest.raises(ValueError, match=r"^rate: applies to a discrete raycast only; add method "):
         scene.render(rate=2)
     with pytest.raises(TypeError):
         scene.render(method="riemann", sped=0.1)

@@ -123,8 +123,10 @@ def test_discrete_xray_render_converges_to_its_reference(scene_and_rays):
 
 
 @pytest.mark.parametrize("keywords,message", [
-    ({"method": "simpson"}, r"^method: unknown value 'simpson' for --mode mip \(max\)"),
-    ({"method": "max", "oversample": 2}, r"^oversample: applies to emission-absorption raycasts"),
+    ({"method": "simpson"}, r"^method: unknown value 'simpson' for mode mip \(max\)"),
+    ({"method": "max", "oversample": 2}, r"^oversample: applies to emission-absorption raycasts, not to mode mip"),
+    ({"method": "{max}"}, r"^method: unknown value '\{max\}' for mode mip"),
+    ({"method": "max", "max_work": -1}, r"^max_work: must be positive"),
 ])
 def test_bad_discrete_projection_keywords_name_the_keyword(scene_and_rays, keywords, message):
     scene, origins, directions = scene_and_rays
