@@ -1,19 +1,21 @@
 #include "lib/volume_export.h"
 
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <type_traits>
 
 #include <fmt/format.h>
+#include <nifti1.h>
 
 namespace vrv {
 namespace {
 
 constexpr int kMaxResolution = 2048;
 
-VolumeSamples on_box_nodes(const Scene& scene, std::array<int, 3> n) {
-  VolumeSamples v;
+ExportedNodes on_box_nodes(const Scene& scene, std::array<int, 3> n) {
+  ExportedNodes v;
   v.n = n;
   v.origin = scene.box.min;
   for (int a = 0; a < 3; ++a) v.spacing[a] = scene.box.extent()[a] / (n[a] - 1);
@@ -27,8 +29,8 @@ VolumeSamples on_box_nodes(const Scene& scene, std::array<int, 3> n) {
   return v;
 }
 
-VolumeSamples grid_nodes(const GridField& g) {
-  VolumeSamples v;
+ExportedNodes grid_nodes(const GridField& g) {
+  ExportedNodes v;
   v.n = g.resolution();
   v.origin = g.node_position(0, 0, 0);
   // The grid's own spacing: one node step along each axis (the extent when there is one node).
@@ -59,7 +61,7 @@ std::string vec(const Vec3& p) { return fmt::format("({:.17g},{:.17g},{:.17g})",
 
 }  // namespace
 
-VolumeSamples sample_volume(const Scene& scene, std::optional<std::array<int, 3>> resolution) {
+ExportedNodes sample_volume(const Scene& scene, std::optional<std::array<int, 3>> resolution) {
   if (resolution) {
     for (int r : *resolution)
       if (r < 2 || r > kMaxResolution)
@@ -79,14 +81,14 @@ VolumeSamples sample_volume(const Scene& scene, std::optional<std::array<int, 3>
 std::string nrrd_type_name(SampleType t) { return t == SampleType::float32 ? "float" : "double"; }
 std::string vtk_type_name(SampleType t) { return t == SampleType::float32 ? "Float32" : "Float64"; }
 
-std::string raw_bytes(const VolumeSamples& v, SampleType t) {
+std::string raw_bytes(const ExportedNodes& v, SampleType t) {
   std::string out;
   if (t == SampleType::float32) append_raw<float>(out, v.values);
   else append_raw<double>(out, v.values);
   return out;
 }
 
-std::string nrrd_header(const VolumeSamples& v, SampleType t, const std::string& data_file) {
+std::string nrrd_header(const ExportedNodes& v, SampleType t, const std::string& data_file) {
   std::string h = "NRRD0004\n";
   h += "# vrv export: the scene's field at grid nodes; node (i,j,k) at space origin + i,j,k space directions\n";
   h += fmt::format("type: {}\n", nrrd_type_name(t));
@@ -103,9 +105,9 @@ std::string nrrd_header(const VolumeSamples& v, SampleType t, const std::string&
   return h + "\n";
 }
 
-std::string nrrd_file(const VolumeSamples& v, SampleType t) { return nrrd_header(v, t) + raw_bytes(v, t); }
+std::string nrrd_file(const ExportedNodes& v, SampleType t) { return nrrd_header(v, t) + raw_bytes(v, t); }
 
-std::string vti_file(const VolumeSamples& v, SampleType t, VtiEncoding encoding) {
+std::string vti_file(const ExportedNodes& v, SampleType t, VtiEncoding encoding) {
   const std::string extent = fmt::format("0 {} 0 {} 0 {}", v.n[0] - 1, v.n[1] - 1, v.n[2] - 1);
   std::string x = "<?xml version=\"1.0\"?>\n";
   x += "<!-- vrv export: the scene's field at grid nodes; point (i,j,k) at Origin + (i,j,k) * Spacing -->\n";
@@ -140,6 +142,55 @@ std::string vti_file(const VolumeSamples& v, SampleType t, VtiEncoding encoding)
     x += "\n  </AppendedData>\n";
   }
   return x + "</VTKFile>\n";
+}
+
+std::string metaimage_file(const ExportedNodes& v, SampleType t) {
+  std::string h = "ObjectType = Image\n";
+  h += "NDims = 3\n";
+  h += "BinaryData = True\n";
+  h += "BinaryDataByteOrderMSB = False\n";
+  h += "CompressedData = False\n";
+  h += "TransformMatrix = 1 0 0 0 1 0 0 0 1\n";
+  h += fmt::format("Offset = {:.17g} {:.17g} {:.17g}\n", v.origin[0], v.origin[1], v.origin[2]);
+  h += "CenterOfRotation = 0 0 0\n";
+  h += fmt::format("ElementSpacing = {:.17g} {:.17g} {:.17g}\n", v.spacing[0], v.spacing[1], v.spacing[2]);
+  h += fmt::format("DimSize = {} {} {}\n", v.n[0], v.n[1], v.n[2]);
+  h += fmt::format("ElementType = {}\n", t == SampleType::float32 ? "MET_FLOAT" : "MET_DOUBLE");
+  h += "ElementDataFile = LOCAL\n";
+  return h + raw_bytes(v, t);
+}
+
+std::string nifti_file(const ExportedNodes& v, SampleType t) {
+  // niftilib's own header struct (348 bytes, the standard's layout), then the 4-byte extension
+  // flag (none) and the samples at vox_offset 352.
+  static_assert(sizeof(nifti_1_header) == 348);
+  nifti_1_header h{};
+  h.sizeof_hdr = 348;
+  h.dim[0] = 3;
+  for (int a = 0; a < 3; ++a) h.dim[a + 1] = static_cast<short>(v.n[a]);
+  for (int a = 4; a < 8; ++a) h.dim[a] = 1;
+  h.datatype = t == SampleType::float32 ? NIFTI_TYPE_FLOAT32 : NIFTI_TYPE_FLOAT64;
+  h.bitpix = t == SampleType::float32 ? 32 : 64;
+  h.pixdim[0] = 1;  // qfac
+  for (int a = 0; a < 3; ++a) h.pixdim[a + 1] = static_cast<float>(v.spacing[a]);
+  h.vox_offset = 352;
+  h.scl_slope = 1;
+  h.xyzt_units = NIFTI_UNITS_UNKNOWN;  // vrv's world units, whatever the scene's are
+  std::snprintf(h.descrip, sizeof h.descrip, "vrv export: the scene's field at grid nodes");
+  // The same placement twice: qform (identity rotation) and sform (diagonal), both float32.
+  h.qform_code = h.sform_code = NIFTI_XFORM_SCANNER_ANAT;
+  h.qoffset_x = static_cast<float>(v.origin[0]);
+  h.qoffset_y = static_cast<float>(v.origin[1]);
+  h.qoffset_z = static_cast<float>(v.origin[2]);
+  float* rows[3] = {h.srow_x, h.srow_y, h.srow_z};
+  for (int a = 0; a < 3; ++a) {
+    rows[a][a] = static_cast<float>(v.spacing[a]);
+    rows[a][3] = static_cast<float>(v.origin[a]);
+  }
+  std::memcpy(h.magic, "n+1", 4);
+  std::string out(reinterpret_cast<const char*>(&h), sizeof h);  // little-endian host (npy.cpp asserts it)
+  out.append(4, '\0');
+  return out + raw_bytes(v, t);
 }
 
 }  // namespace vrv

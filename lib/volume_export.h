@@ -1,7 +1,8 @@
 #pragma once
 // The scene's field at the nodes of a regular grid, written for other renderers: NRRD
-// (attached or detached header) and VTK XML image data (.vti, ascii or raw appended), in
-// float32 or float64, with the grid's origin and spacing in world units.
+// (attached or detached header), VTK XML image data (.vti, ascii or raw appended), MetaImage
+// (.mha) and NIfTI-1 (.nii), in float32 or float64, with the grid's origin and spacing in world
+// units.
 //
 // Node convention (what VTK image data and NRRD with "space origin"/"space directions" mean):
 // node (i, j, k) sits at origin + (i hx, j hy, k hz), values are stored with i fastest, then j,
@@ -16,7 +17,7 @@
 
 namespace vrv {
 
-struct VolumeSamples {
+struct ExportedNodes {
   Vec3 origin = Vec3::Zero();   // world position of node (0, 0, 0)
   Vec3 spacing = Vec3::Ones();  // node spacing per axis (world units)
   std::array<int, 3> n{0, 0, 0};  // nodes per axis
@@ -38,7 +39,7 @@ struct VolumeSamples {
 //    that many nodes on the box faces, each the scene's field at the node (a grid field
 //    through its own interpolation).
 // Node positions are box.min + i * extent / (n - 1), the same expression GridField uses.
-VolumeSamples sample_volume(const Scene& scene, std::optional<std::array<int, 3>> resolution);
+ExportedNodes sample_volume(const Scene& scene, std::optional<std::array<int, 3>> resolution);
 
 enum class SampleType { float32, float64 };
 enum class VtiEncoding { ascii, raw_appended };
@@ -48,18 +49,27 @@ std::string nrrd_type_name(SampleType t);
 std::string vtk_type_name(SampleType t);
 
 // The values as little-endian raw bytes of the type (float32 rounds to nearest).
-std::string raw_bytes(const VolumeSamples& v, SampleType t);
+std::string raw_bytes(const ExportedNodes& v, SampleType t);
 
 // A NRRD0004 header ending with the blank line.  data_file empty: an attached header (the raw
 // bytes follow directly, as nrrd_file writes); else "data file: <data_file>" (detached .nhdr).
 // Origin and directions are written with 17 significant digits (exact for double).
-std::string nrrd_header(const VolumeSamples& v, SampleType t, const std::string& data_file = "");
+std::string nrrd_header(const ExportedNodes& v, SampleType t, const std::string& data_file = "");
 // An attached .nrrd: header + raw bytes.
-std::string nrrd_file(const VolumeSamples& v, SampleType t);
+std::string nrrd_file(const ExportedNodes& v, SampleType t);
 
 // A VTKFile of type ImageData, one point-data array named "field"; ascii values are printed
 // to round trip (shortest representation of the stored type).  raw_appended stores a UInt64
 // byte count followed by the raw bytes (header_type="UInt64").
-std::string vti_file(const VolumeSamples& v, SampleType t, VtiEncoding encoding);
+std::string vti_file(const ExportedNodes& v, SampleType t, VtiEncoding encoding);
+
+// MetaImage (.mha): the text header (Offset, ElementSpacing, identity TransformMatrix, 17
+// digits: exact) and the raw little-endian samples after it.
+std::string metaimage_file(const ExportedNodes& v, SampleType t);
+
+// NIfTI-1 (.nii): niftilib's header struct, qform and sform both stating the placement (scanner
+// coordinates, units unknown: the scene's), the samples at offset 352.  NIfTI-1 stores spacing and
+// origin as float32, so its placement is the doubles rounded to float (relative 6e-8).
+std::string nifti_file(const ExportedNodes& v, SampleType t);
 
 }  // namespace vrv

@@ -4,6 +4,7 @@
 // See docs/export.md.
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -44,6 +46,7 @@ struct ExportOptions {
   int table_points = 64;
   std::string nrrd = "attached";
   std::string vti = "raw";
+  std::string formats = "nrrd,vti";  // any of nrrd, vti, metaimage, nifti
   double max_memory_gib = 0;  // 0: default_memory_limit(), as vrv study
 };
 
@@ -64,18 +67,41 @@ std::array<int, 3> parse_resolution(const std::string& text) {
   return n;
 }
 
-std::vector<OutputFile> field_files(const VolumeSamples& v, const ExportOptions& opt) {
+const std::vector<std::string> kFormats{"nrrd", "vti", "metaimage", "nifti"};
+
+// --formats as a set, in kFormats' order; refused in one line naming the value.
+std::vector<std::string> export_formats(const std::string& text) {
+  std::vector<std::string> given;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (std::find(kFormats.begin(), kFormats.end(), item) == kFormats.end())
+      throw std::invalid_argument(
+          fmt::format("--formats: unknown value '{}' (a comma-separated list of nrrd, vti, metaimage, nifti)", item));
+    given.push_back(item);
+  }
+  if (given.empty()) throw std::invalid_argument("--formats: empty (give at least one of nrrd, vti, metaimage, nifti)");
+  std::vector<std::string> formats;
+  for (const auto& f : kFormats)
+    if (std::find(given.begin(), given.end(), f) != given.end()) formats.push_back(f);
+  return formats;
+}
+
+std::vector<OutputFile> field_files(const ExportedNodes& v, const ExportOptions& opt) {
   std::vector<OutputFile> files;
   const VtiEncoding vti = opt.vti == "ascii" ? VtiEncoding::ascii : VtiEncoding::raw_appended;
+  const auto formats = export_formats(opt.formats);
+  const auto wanted = [&](const char* f) { return std::find(formats.begin(), formats.end(), f) != formats.end(); };
   for (const auto& [type, tag] : {std::pair{SampleType::float32, "f32"}, std::pair{SampleType::float64, "f64"}}) {
     const std::string stem = fmt::format("field_{}", tag);
-    if (opt.nrrd == "attached") {
+    if (wanted("nrrd") && opt.nrrd == "attached") {
       files.push_back({stem + ".nrrd", nrrd_file(v, type)});
-    } else {
+    } else if (wanted("nrrd")) {
       files.push_back({stem + ".nhdr", nrrd_header(v, type, stem + ".raw")});
       files.push_back({stem + ".raw", raw_bytes(v, type)});
     }
-    files.push_back({stem + ".vti", vti_file(v, type, vti)});
+    if (wanted("vti")) files.push_back({stem + ".vti", vti_file(v, type, vti)});
+    if (wanted("metaimage")) files.push_back({stem + ".mha", metaimage_file(v, type)});
+    if (wanted("nifti")) files.push_back({stem + ".nii", nifti_file(v, type)});
   }
   return files;
 }
@@ -92,7 +118,7 @@ struct ExportedScene {
   std::string why;     // why there is no scene file
 };
 
-ExportedScene exported_scene(const Scene& scene, const VolumeSamples& v, const ExportOptions& opt) {
+ExportedScene exported_scene(const Scene& scene, const ExportedNodes& v, const ExportOptions& opt) {
   const std::string name = opt.scene.empty() ? "<default scene>" : opt.scene;
   const std::string text = opt.scene.empty() ? std::string(default_scene_toml()) : read_scene_text(opt.scene);
   const bool grid = std::holds_alternative<GridField>(scene.field);
@@ -127,7 +153,7 @@ ExportedScene exported_scene(const Scene& scene, const VolumeSamples& v, const E
   return e;
 }
 
-nlohmann::ordered_json manifest(const Scene& scene, const Camera& camera, const VolumeSamples& v,
+nlohmann::ordered_json manifest(const Scene& scene, const Camera& camera, const ExportedNodes& v,
                                 const ExportOptions& opt, const std::vector<OutputFile>& files,
                                 const ExportedScene& exported) {
   nlohmann::ordered_json j;
@@ -157,19 +183,19 @@ nlohmann::ordered_json manifest(const Scene& scene, const Camera& camera, const 
 }
 
 // The export's peak memory, estimated before anything is sampled: per node, the samples (8 bytes),
-// the four field files held until written (f32 and f64, NRRD and VTI: 24 bytes; ASCII VTI about 32
-// more) and scene.toml's grid read back to check it (16 bytes); per pixel, rays.npy (48 bytes).
+// the field files held until written (f32 and f64: 12 bytes per format; ASCII VTI about 32 more)
+// and scene.toml's grid read back to check it (16 bytes); per pixel, rays.npy (48 bytes).
 // Measured: 128^3 nodes (2.1 M) peak at 121 MB resident, 48 bytes a node with the camera.
 struct ExportMemory {
   double nodes = 0, pixels = 0, node_bytes = 0, ray_bytes = 0;
   double total() const { return node_bytes + ray_bytes; }
 };
 
-ExportMemory export_memory(const std::array<int, 3>& n, const Camera& camera, bool ascii_vti) {
+ExportMemory export_memory(const std::array<int, 3>& n, const Camera& camera, bool ascii_vti, std::size_t formats) {
   ExportMemory m;
   m.nodes = double(n[0]) * n[1] * n[2];
   m.pixels = double(camera.width) * camera.height;
-  m.node_bytes = m.nodes * (48 + (ascii_vti ? 32 : 0));
+  m.node_bytes = m.nodes * (24 + 12 * static_cast<double>(formats) + (ascii_vti ? 32 : 0));
   m.ray_bytes = m.pixels * 48;
   return m;
 }
@@ -179,7 +205,7 @@ ExportMemory export_memory(const std::array<int, 3>& n, const Camera& camera, bo
 void check_export_memory(const ExportOptions& opt, const Scene& scene, const Camera& camera,
                          const std::array<int, 3>& n) {
   const double limit = memory_limit_bytes(opt.max_memory_gib);
-  const ExportMemory m = export_memory(n, camera, opt.vti == "ascii");
+  const ExportMemory m = export_memory(n, camera, opt.vti == "ascii", export_formats(opt.formats).size());
   const std::string scene_name = opt.scene.empty() ? "<default scene>" : opt.scene;
   const std::string who = m.ray_bytes > m.node_bytes ? scene_name + ": camera"
                           : !opt.resolution.empty()  ? std::string("--resolution")
@@ -213,6 +239,7 @@ void run_export(const ExportOptions& opt) {
     throw std::invalid_argument(fmt::format("--nrrd: unknown value '{}' (attached or detached)", opt.nrrd));
   if (opt.vti != "raw" && opt.vti != "ascii")
     throw std::invalid_argument(fmt::format("--vti: unknown value '{}' (raw or ascii)", opt.vti));
+  export_formats(opt.formats);  // refused before anything is read
   if (opt.table_points < 1 || opt.table_points > 1 << 20)
     throw std::invalid_argument(fmt::format("--table-points: must be in [1, 1048576], got {}", opt.table_points));
   const InterruptGuard interrupts;  // SIGINT leaves --out as it was (published_folder.h)
@@ -225,7 +252,7 @@ void run_export(const ExportOptions& opt) {
   // appear together: export.json never describes another export's field.
   check_parent_exists(opt.out);
   PublishedFolder out(opt.out, "export.json", "--out");
-  const VolumeSamples v = sample_volume(scene, resolution);
+  const ExportedNodes v = sample_volume(scene, resolution);
 
   std::vector<OutputFile> files = field_files(v, opt);
   files.push_back({"transfer_function.csv",
@@ -262,7 +289,7 @@ void add_export_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "export", "Write the scene for another renderer: field (NRRD, VTI), transfer function, camera, rays");
   cmd->footer(
-      "Writes into DIR: field_f32/field_f64 as .nrrd (or .nhdr + .raw) and .vti, "
+      "Writes into DIR: field_f32/field_f64 as .nrrd (or .nhdr + .raw) and .vti (--formats: also .mha, .nii), "
       "transfer_function.csv and .json (opacity per unit distance and colour), camera.json, "
       "The folder is replaced whole (it must be new, empty or an earlier export). "
       "rays.npy (float64, height x width x 2 x 3: origin, direction), scene.toml (the scene that "
@@ -281,6 +308,10 @@ void add_export_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--nrrd", opt->nrrd, "attached (.nrrd) | detached (.nhdr + .raw)")->capture_default_str();
   cmd->add_option("--vti", opt->vti, "raw (appended binary) | ascii")->capture_default_str();
+  cmd->add_option("--formats", opt->formats,
+                  "Field files to write, comma-separated: nrrd, vti, metaimage (.mha), nifti (.nii, NIfTI-1: "
+                  "its spacing and origin are float32)")
+      ->capture_default_str();
   cmd->add_option("--max-memory", opt->max_memory_gib,
                   "GiB the export may take, estimated before anything is sampled (default: 3/4 of physical memory)");
   cmd->callback([opt] { run_export(*opt); });

@@ -4,11 +4,14 @@
 
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
 
 #include "lib/scene_file.h"
+#include "lib/volume/volume_file.h"
 
 namespace vrv {
 namespace {
@@ -51,7 +54,7 @@ T read_at(const std::string& bytes, std::size_t at) {
 
 TEST(VolumeExport, AnalyticFieldOnDimsNodesOnTheBoxFaces) {
   const Scene s = ml_scene();
-  const VolumeSamples v = sample_volume(s, std::nullopt);
+  const ExportedNodes v = sample_volume(s, std::nullopt);
   EXPECT_EQ(v.n, (std::array<int, 3>{7, 5, 4}));
   EXPECT_EQ(v.position(0, 0, 0), s.box.min);
   EXPECT_NEAR((v.position(6, 4, 3) - s.box.max).norm(), 0, 1e-15);
@@ -65,7 +68,7 @@ TEST(VolumeExport, GridFieldKeepsItsOwnNodesBitForBit) {
   for (GridLayout layout : {GridLayout::node, GridLayout::cell}) {
     const Scene s = grid_scene(layout);
     const auto& g = std::get<GridField>(s.field);
-    const VolumeSamples v = sample_volume(s, std::nullopt);
+    const ExportedNodes v = sample_volume(s, std::nullopt);
     EXPECT_EQ(v.n, g.resolution());
     for (int k = 0; k < 3; ++k)
       for (int j = 0; j < 5; ++j)
@@ -76,13 +79,13 @@ TEST(VolumeExport, GridFieldKeepsItsOwnNodesBitForBit) {
   }
   // Resampled: the grid's interpolant at new nodes on the box faces.
   const Scene s = grid_scene(GridLayout::node);
-  const VolumeSamples r = sample_volume(s, std::array<int, 3>{3, 9, 2});
+  const ExportedNodes r = sample_volume(s, std::array<int, 3>{3, 9, 2});
   EXPECT_EQ(r.at(2, 8, 1), std::get<GridField>(s.field).value(r.position(2, 8, 1)));
   EXPECT_THROW(sample_volume(s, std::array<int, 3>{1, 9, 2}), std::invalid_argument);
 }
 
 TEST(VolumeExport, AttachedNrrdHeaderAndValuesReadBack) {
-  const VolumeSamples v = sample_volume(ml_scene(), std::nullopt);
+  const ExportedNodes v = sample_volume(ml_scene(), std::nullopt);
   for (SampleType t : {SampleType::float32, SampleType::float64}) {
     const std::string file = nrrd_file(v, t);
     std::size_t at = 0;
@@ -107,7 +110,7 @@ TEST(VolumeExport, AttachedNrrdHeaderAndValuesReadBack) {
 }
 
 TEST(VolumeExport, DetachedNrrdNamesItsDataFile) {
-  const VolumeSamples v = sample_volume(ml_scene(), std::nullopt);
+  const ExportedNodes v = sample_volume(ml_scene(), std::nullopt);
   const std::string h = nrrd_header(v, SampleType::float64, "field_f64.raw");
   std::size_t at = 0;
   EXPECT_EQ(nrrd_fields(h, at)["data file"], "field_f64.raw");
@@ -122,7 +125,7 @@ std::string attribute(const std::string& xml, const std::string& name) {
 }
 
 TEST(VolumeExport, VtiAsciiAndRawAppendedReadBack) {
-  const VolumeSamples v = sample_volume(ml_scene(), std::nullopt);
+  const ExportedNodes v = sample_volume(ml_scene(), std::nullopt);
   for (SampleType t : {SampleType::float32, SampleType::float64}) {
     const std::string ascii = vti_file(v, t, VtiEncoding::ascii);
     EXPECT_EQ(attribute(ascii, "WholeExtent"), "0 6 0 4 0 3");
@@ -153,6 +156,36 @@ TEST(VolumeExport, VtiAsciiAndRawAppendedReadBack) {
       else EXPECT_EQ(read_at<double>(raw, at + 8 + 8 * m), v.values[m]);
     }
   }
+}
+
+// MetaImage and NIfTI files read back through vrv's own readers (MetaImage by hand, NIfTI through
+// niftilib): the same nodes, values and placement (NIfTI-1's float32 spacing and origin rounded).
+TEST(VolumeExport, MetaImageAndNiftiReadBack) {
+  const ExportedNodes v = sample_volume(ml_scene(), std::nullopt);
+  const auto dir = std::filesystem::temp_directory_path() / "vrv_volume_export_formats";
+  std::filesystem::create_directories(dir);
+  for (SampleType t : {SampleType::float32, SampleType::float64}) {
+    for (const auto& [name, bytes] : {std::pair{std::string("field.mha"), metaimage_file(v, t)},
+                                      std::pair{std::string("field.nii"), nifti_file(v, t)}}) {
+      SCOPED_TRACE(name + (t == SampleType::float32 ? " float32" : " float64"));
+      const auto path = dir / name;
+      std::ofstream(path, std::ios::binary) << bytes;
+      const Volume back = read_volume(path);
+      EXPECT_EQ(back.dims, v.n);
+      EXPECT_EQ(back.axis, (std::array<int, 3>{0, 1, 2}));
+      EXPECT_EQ(back.sign, (std::array<int, 3>{1, 1, 1}));
+      const bool nifti = name == "field.nii";
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_EQ(back.spacing[a], nifti ? double(float(v.spacing[a])) : v.spacing[a]);
+        EXPECT_EQ(back.origin[a], nifti ? double(float(v.origin[a])) : v.origin[a]);
+      }
+      const auto values = std::visit([](const auto& x) { return std::vector<double>(x.begin(), x.end()); }, back.samples);
+      ASSERT_EQ(values.size(), v.values.size());
+      for (std::size_t m = 0; m < values.size(); ++m)
+        EXPECT_EQ(values[m], t == SampleType::float32 ? double(float(v.values[m])) : v.values[m]) << m;
+    }
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

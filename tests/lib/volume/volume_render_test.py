@@ -1,9 +1,11 @@
 #!/usr/bin/python3
-"""End to end: a volume file written from a sampled analytic field (`vrv export`'s float64 NRRD
-and VTI of a Marschner-Lobb grid) renders, as a scene's [field] kind = "volume" placed by its
+"""End to end: a volume file written from a sampled analytic field (`vrv export`'s float64 NRRD,
+VTI, MetaImage and NIfTI of a Marschner-Lobb grid) renders, as a scene's [field] kind = "volume" placed by its
 header, the same reference image as the grid scene it came from (`vrv render --reference`),
 pixel for pixel in double (node spacings that are exact binary fractions, so that the header's
-origin + (n - 1) spacing is the grid's box exactly); and the images' scene hashes differ (they name other fields).
+origin + (n - 1) spacing is the grid's box exactly, in NIfTI-1's float32 too); and the images'
+scene hashes differ (they name other fields).  nibabel, an independent reader, reads the exported
+NIfTI: its affine is the grid's placement and its data the NRRD's, in the same index order.
 
     volume_render_test.py VRV OUT_DIR
 """
@@ -13,6 +15,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import nibabel
 import numpy as np
 import OpenImageIO as oiio
 
@@ -53,20 +56,35 @@ def pixels(path):
     return np.asarray(data)
 
 
-run("export", "--scene", str(out / "grid.toml"), "--out", str(out / "export"))
+run("export", "--scene", str(out / "grid.toml"), "--out", str(out / "export"), "--formats", "nrrd,vti,metaimage,nifti")
 grid = run("render", "--scene", str(out / "grid.toml"), "--reference", "--quiet", "-o", str(out / "grid.exr"))
 reference = pixels(out / "grid.f64.tiff")
 assert reference.max() > 0.1, reference.max()
-for name in ["field_f64.nrrd", "field_f64.vti"]:
+for name in ["field_f64.nrrd", "field_f64.vti", "field_f64.mha", "field_f64.nii", "field_f32.nii"]:
     stem = name.replace(".", "_")
     (out / f"{stem}.toml").write_text(f'[field]\nkind = "volume"\nfile = "export/{name}"\n' + TRANSFER)
     r = run("render", "--scene", str(out / f"{stem}.toml"), "--reference", "--quiet", "-o", str(out / f"{stem}.exr"))
     image = pixels(out / f"{stem}.f64.tiff")
     assert image.shape == reference.shape
+    if "f32" in name:  # float32 nodes: a different field, within their rounding of the reference
+        assert np.max(np.abs(image - reference)) < 1e-6, f"{name}: max |diff| {np.max(np.abs(image - reference))}"
+        continue
     assert np.array_equal(image, reference), f"{name}: max |diff| {np.max(np.abs(image - reference))}"
     assert r["evaluations"] == grid["evaluations"], (r["evaluations"], grid["evaluations"])
     assert r["scene_camera_hash"] != grid["scene_camera_hash"]
     print(f"{name}: {image.size} pixels identical to the grid scene's reference image")
+
+# nibabel's reading of the exported NIfTI against the NRRD's bytes (i fastest: Fortran order).
+nrrd = (out / "export" / "field_f64.nrrd").read_bytes()
+header, data = nrrd.split(b"\n\n", 1)
+nrrd_values = np.frombuffer(data, dtype="<f8").reshape((17, 9, 5), order="F")
+image = nibabel.load(str(out / "export" / "field_f64.nii"))
+assert image.shape == (17, 9, 5), image.shape
+assert np.array_equal(np.asarray(image.dataobj), nrrd_values)
+expected = np.diag([0.125, 0.25, 0.5, 1.0])
+expected[:3, 3] = [-1.0, -1.0, -1.0]
+assert np.array_equal(image.affine, expected), image.affine
+print("nibabel: field_f64.nii has the NRRD's values and the grid's placement")
 
 # A refused volume: exit 2 and one line on stderr naming the file and what is unsupported.
 bad = Path(__file__).resolve().parent / "data" / "bad_nifti_4d.nii.gz"
