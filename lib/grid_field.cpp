@@ -100,4 +100,24 @@ void GridField::append_breaks(const Ray& ray, Interval iv, std::vector<double>& 
   }
 }
 
+std::pair<double, double> GridField::node_range_between(const Vec3& p, const Vec3& q) const {
+  // Node indices floor(u) .. floor(u) + 1 of both ends per axis (the cells' corners; a point's
+  // rounding into the next cell lands on their shared face, whose nodes are among these).
+  int lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    const double up = coordinate(p[a], a), uq = coordinate(q[a], a);
+    const double u0 = std::min(up, uq), u1 = std::max(up, uq);
+    lo[a] = std::clamp(static_cast<int>(std::floor(u0)), 0, n_[a] - 1);
+    hi[a] = std::clamp(static_cast<int>(std::floor(u1)) + 1, 0, n_[a] - 1);
+  }
+  double mn = std::numeric_limits<double>::infinity(), mx = -mn;
+  for (int k = lo[2]; k <= hi[2]; ++k)
+    for (int j = lo[1]; j <= hi[1]; ++j)
+      for (int i = lo[0]; i <= hi[0]; ++i) {
+        const double v = node(i, j, k);
+        mn = std::min(mn, v), mx = std::max(mx, v);
+      }
+  return {mn, mx};
+}
+
 }  // namespace vrv

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <functional>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "lib/util/force_inline.h"
@@ -47,6 +48,10 @@ class GridField {
   // Trilinear: distance times the largest gradient (each partial derivative is a mean of node
   // differences over the spacing).  Nearest: the spread of the node values (a point may change cell).
   double max_change_within(double distance) const;
+  // The smallest and largest node of every cell the segment p-q touches: the interpolant (either
+  // kind) stays within them there.  The reference skips a stretch on which the transfer function
+  // is zero over that range (empty space, exactly; lib/reference_integrator.h).
+  std::pair<double, double> node_range_between(const Vec3& p, const Vec3& q) const;
   // Absolute rounding of value(): a weighted sum of node values, so a few ulps of the largest
   // (a grid of values near 1e-13 is as exact, relatively, as one near 1).
   double value_noise() const { return 8 * std::numeric_limits<double>::epsilon() * max_abs_; }

@@ -80,6 +80,8 @@ class RayAccumulator {
   void give_up(double t);
   // A piece or panel was accepted unresolved at a work limit.
   void note_cap() { capped_ = true; }
+  // The field error every panel carries (a far ray's rounded entry point).
+  double position_error() const { return position_error_; }
 
  private:
   void integrate_piece(const RayPanel& panel, double c, double d, const TransferSegment& seg);
@@ -280,6 +282,19 @@ inline double first_panel_count(double h0, double a, double b) { return std::max
 
 namespace detail {
 
+// Empty space, skipped exactly: a grid cell whose nodes (widened by the field's rounding and the
+// far ray's position error) all map to g = tau = 0 adds neither light nor depth.
+template <ScalarField F>
+bool empty_stretch(const F& field, const Ray& ray, double a, double b, const TransferFunction& tf,
+                   const RayAccumulator& acc) {
+  if constexpr (requires { field.node_range_between(ray.at(a), ray.at(b)); }) {
+    const auto [lo, hi] = field.node_range_between(ray.at(a), ray.at(b));
+    const double margin = field.value_noise() + acc.position_error();
+    return tf.transparent_on(lo - margin, hi + margin);
+  }
+  return false;
+}
+
 // One pass over the clipped ray at options.tol.
 template <ScalarField F>
 ReferenceResult integrate_pass(const F& field, const RayFrame& frame, const TransferFunction& tf,
@@ -298,11 +313,12 @@ ReferenceResult integrate_pass(const F& field, const RayFrame& frame, const Tran
     const double a = cuts[i], b = cuts[i + 1];
     if (!(b > a)) continue;
     if (degree >= 0) {
-      if (evaluations >= detail::kMaxEvaluations) {
+      if (evaluations >= kMaxEvaluations) {
         acc.give_up(a);
         break;
       }
-      acc.consume(detail::fit_panel(field, local, a, b, degree + 1, evaluations));
+      if (empty_stretch(field, local, a, b, tf, acc)) continue;
+      acc.consume(fit_panel(field, local, a, b, degree + 1, evaluations));
       continue;
     }
     const double phase = first_panel_phase(options.tol);

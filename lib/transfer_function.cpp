@@ -45,6 +45,12 @@ double PiecewiseLinear::min_value() const {
                           [](auto& a, auto& b) { return a.y < b.y; })->y;
 }
 
+bool PiecewiseLinear::zero_on(double lo, double hi) const {
+  if (!((*this)(lo) == 0 && (*this)(hi) == 0)) return false;
+  return std::all_of(points_.begin(), points_.end(),
+                     [&](const ControlPoint& p) { return p.v < lo || p.v > hi || p.y == 0; });
+}
+
 double PiecewiseLinear::max_abs_slope() const {
   double s = 0;
   for (std::size_t i = 1; i < points_.size(); ++i) {
@@ -86,6 +92,12 @@ TransferFunction TransferFunction::opacity_color(PiecewiseLinear opacity, Piecew
 TransferSegment TransferFunction::segment(double v_inside) const {
   return TransferSegment{convention_, first_.line_at(v_inside), second_.line_at(v_inside),
                          unit_length_};
+}
+
+bool TransferFunction::transparent_on(double lo, double hi) const {
+  // Opacity 0 is tau 0, and g = color x tau.
+  if (convention_ == Convention::opacity_color) return first_.zero_on(lo, hi);
+  return first_.zero_on(lo, hi) && second_.zero_on(lo, hi);
 }
 
 TransferFunction::Slopes TransferFunction::slope_bounds(double v_lo, double v_hi) const {

@@ -41,6 +41,8 @@ class PiecewiseLinear {
   double max_value() const;
   double min_value() const;
   double max_abs_slope() const;
+  // Zero at every value in [lo, hi] (jumps included).
+  bool zero_on(double lo, double hi) const;
 
  private:
   std::vector<ControlPoint> points_;
@@ -115,6 +117,8 @@ class TransferFunction {
   };
   // Over the values in [v_lo, v_hi] (both sides of any breakpoint in it).
   Slopes slope_bounds(double v_lo, double v_hi) const;
+  // g = tau = 0 at every value in [lo, hi]: a stretch whose values stay there adds nothing.
+  bool transparent_on(double lo, double hi) const;
   // |g(v+) - g(v-)| and |tau(v+) - tau(v-)|: nonzero only at the jumps of a step function.
   Slopes jump_at(double v) const;
   // g(v+) - g(v-) and tau(v+) - tau(v-), signed (zero but at a jump).

@@ -30,5 +30,63 @@ TEST(ReferenceIntegratorGrid, NodeNearest) {
              random_rays(15, 23));
 }
 
+// The grid with everything the reference may use but node_range_between: the reference
+// integrates every cell of it, empty or not.
+struct WithoutSkipping {
+  const GridField& grid;
+  double value(const Vec3& p) const { return grid.value(p); }
+  int degree_along_ray() const { return grid.degree_along_ray(); }
+  double bandwidth() const { return grid.bandwidth(); }
+  void append_breaks(const Ray& ray, Interval iv, std::vector<double>& breaks) const {
+    grid.append_breaks(ray, iv, breaks);
+  }
+  double max_change_within(double distance) const { return grid.max_change_within(distance); }
+  double value_noise() const { return grid.value_noise(); }
+};
+
+// Empty space (cells whose nodes all map to g = tau = 0) is skipped exactly: the same value
+// bit for bit as integrating every cell, honest against the independent integral, with the
+// evaluations of the other cells only.  Half the grid is 0 (x < 0), the transfer function zero
+// up to 0.2; a cell on the boundary (nodes 0 and > 0.2) is integrated.
+TEST(ReferenceIntegratorGrid, EmptyCellsAreSkippedExactly) {
+  for (Interpolation interpolation : {Interpolation::trilinear, Interpolation::nearest}) {
+    const GridField grid(kBox, {21, 6, 5}, GridLayout::node, interpolation, [](const Vec3& p) {
+      return p.x() < 0 ? 0.0 : 0.3 + 0.5 * p.x() + 0.1 * std::sin(3 * p.y() + p.z());
+    });
+    const TransferFunction tf = TransferFunction::emission_extinction(
+        curve({{0.0, 0.0}, {0.2, 0.0}, {1.0, 1.0}}), curve({{0.0, 0.0}, {0.2, 0.0}, {1.0, 2.0}}));
+    for (const Vec3& direction : {Vec3(1, 0.05, 0.02), Vec3(1, -0.3, 0.2)}) {
+      const Ray ray = make_ray(Vec3(-3, 0.1, 0.2), direction);
+      const ReferenceResult skipped = integrate_reference(grid, kBox, tf, 0, ray, {1e-12});
+      const ReferenceResult every = integrate_reference(WithoutSkipping{grid}, kBox, tf, 0, ray, {1e-12});
+      EXPECT_EQ(skipped.value, every.value);
+      EXPECT_LE(skipped.error_estimate, every.error_estimate);
+      // Ten of the twenty cells along x are empty (for the oblique ray, about as many).
+      EXPECT_LT(skipped.evaluations, 0.7 * every.evaluations) << skipped.evaluations << " of " << every.evaluations;
+      EXPECT_GT(skipped.value, 0.1);
+      const ind::Result truth = ind::independent_integral(ind::GridLD(grid), kBox, tf, 0, ray);
+      EXPECT_LE(static_cast<double>(std::abs(static_cast<ind::LD>(skipped.value) - truth.value)),
+                skipped.error_estimate + kSlack);
+    }
+  }
+}
+
+// A cell is empty only when the transfer function is zero on its whole node range.
+TEST(TransferFunction, TransparentOnlyWhereBothCurvesAreZero) {
+  const TransferFunction ee = TransferFunction::emission_extinction(
+      curve({{0.0, 0.0}, {0.2, 0.0}, {1.0, 1.0}}), curve({{0.0, 0.0}, {0.3, 0.0}, {1.0, 2.0}}));
+  EXPECT_TRUE(ee.transparent_on(-5, 0.2));
+  EXPECT_FALSE(ee.transparent_on(-5, 0.2000001));  // emission rises past 0.2
+  EXPECT_FALSE(ee.transparent_on(0.25, 0.26));     // extinction zero, emission not
+  const TransferFunction jump = TransferFunction::emission_extinction(
+      curve({{0.0, 0.0}, {0.5, 0.0}, {0.5, 1.0}}), curve({{0.0, 0.0}, {0.5, 0.0}, {0.5, 1.0}}));
+  EXPECT_TRUE(jump.transparent_on(0.1, 0.4999999));
+  EXPECT_FALSE(jump.transparent_on(0.1, 0.5));  // at the jump the value is the upper one
+  const TransferFunction oc = TransferFunction::opacity_color(curve({{0.0, 0.0}, {0.4, 0.0}, {1.0, 0.5}}),
+                                                              curve({{0.0, 1.0}, {1.0, 1.0}}), 1.0);
+  EXPECT_TRUE(oc.transparent_on(0.0, 0.4));  // opacity 0: no extinction, so no light either
+  EXPECT_FALSE(oc.transparent_on(0.0, 0.41));
+}
+
 }  // namespace
 }  // namespace vrv
