@@ -107,14 +107,9 @@ RenderSpec read_render(const StudyReader& r, const toml::table& t, const std::st
   return s;
 }
 
-namespace {
-
-SegmentRulesStudy read_study(const StudyInput& in) {
-  const StudyReader& r = in.reader;
-  r.check_keys(in.doc, "", {"kind", "name", "description", "unit_segment", "images", "render"});
-  SegmentRulesStudy st;
-  st.unit = read_unit(r, in.doc);
-  const toml::table& images = r.table(r.require(in.doc, "images", ""), "images");
+ImageSettings read_images(const StudyReader& r, const toml::table& doc) {
+  ImageSettings st;
+  const toml::table& images = r.table(r.require(doc, "images", ""), "images");
   r.check_keys(images, "images", {"strategy", "reference_tol", "order_tolerance", "rule"});
   const std::string strategy = r.string(r.require(images, "strategy", "images"), "images.strategy");
   const auto parsed = parse_strategy(strategy);
@@ -124,6 +119,21 @@ SegmentRulesStudy read_study(const StudyInput& in) {
   if (!(st.reference_tol > 0)) r.fail("images.reference_tol", "must be > 0");
   st.order_tolerance = read_order_tolerance(r, images, "images");
   st.rules = read_rules(r, images);
+  return st;
+}
+
+namespace {
+
+SegmentRulesStudy read_study(const StudyInput& in) {
+  const StudyReader& r = in.reader;
+  r.check_keys(in.doc, "", {"kind", "name", "description", "unit_segment", "images", "render"});
+  SegmentRulesStudy st;
+  st.unit = read_unit(r, in.doc);
+  ImageSettings images = read_images(r, in.doc);
+  st.strategy = images.strategy;
+  st.reference_tol = images.reference_tol;
+  st.order_tolerance = images.order_tolerance;
+  st.rules = std::move(images.rules);
   const toml::array& renders = r.array(r.require(in.doc, "render", ""), "render");
   for (std::size_t i = 0; i < renders.size(); ++i) {
     const std::string at = fmt::format("render[{}]", i);

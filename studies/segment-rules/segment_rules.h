@@ -89,6 +89,14 @@ struct RenderResult {
 // rule and expected_order, and one [[render]] table (name, steps, quick_steps, map_step,
 // quick_width, quick_height, check_orders, scene with a camera).  Throws StudyFileError.
 std::vector<RuleSpec> read_rules(const StudyReader& r, const toml::table& images);
+// The [images] table: a step strategy, reference_tol > 0, order_tolerance and the rules.
+struct ImageSettings {
+  std::vector<RuleSpec> rules;
+  Strategy strategy = Strategy::inviwo;
+  double reference_tol = 0;
+  OrderTolerance order_tolerance;
+};
+ImageSettings read_images(const StudyReader& r, const toml::table& doc);
 RenderSpec read_render(const StudyReader& r, const toml::table& t, const std::string& at);
 
 // Renders the reference image (integrate_reference at reference_tol per pixel) and every

@@ -32,16 +32,11 @@ VolumeStudy read_volume_study(const StudyInput& in) {
   const StudyReader& r = in.reader;
   r.check_keys(in.doc, "", {"kind", "name", "description", "images", "render"});
   VolumeStudy st;
-  const toml::table& images = r.table(r.require(in.doc, "images", ""), "images");
-  r.check_keys(images, "images", {"strategy", "reference_tol", "order_tolerance", "rule"});
-  const std::string strategy = r.string(r.require(images, "strategy", "images"), "images.strategy");
-  const auto parsed = parse_strategy(strategy);
-  if (!parsed || !step_based(*parsed)) r.fail("images.strategy", "must be a step strategy (step, vtk, inviwo)");
-  st.strategy = *parsed;
-  st.reference_tol = r.number(r.require(images, "reference_tol", "images"), "images.reference_tol");
-  if (!(st.reference_tol > 0)) r.fail("images.reference_tol", "must be > 0");
-  st.order_tolerance = read_order_tolerance(r, images, "images");
-  st.rules = read_rules(r, images);
+  ImageSettings images = read_images(r, in.doc);
+  st.strategy = images.strategy;
+  st.reference_tol = images.reference_tol;
+  st.order_tolerance = images.order_tolerance;
+  st.rules = std::move(images.rules);
   st.render = read_render(r, r.table(r.require(in.doc, "render", ""), "render"), "render");
   if (!std::holds_alternative<GridField>(st.render.scene.field) || st.render.scene.field_files.empty())
     r.fail("render.scene.field", "the volume study needs a volume file (kind = \"volume\")");
