@@ -6,7 +6,7 @@
 namespace vrv {
 namespace {
 
-constexpr double pi = std::numbers::pi;
+using std::numbers::pi;
 
 // max |sin(pi u / 2)| for u in [lo, hi]: 1 where an odd integer lies inside, else at an end
 // (between a peak at an odd u and a zero at an even u it is monotone).

@@ -16,7 +16,7 @@ double dawson(double x);  // exp(-x^2) int_0^x exp(t^2) dt
 namespace vrv {
 namespace {
 
-constexpr double pi = std::numbers::pi;
+using std::numbers::pi;
 
 // Where the optical depth of a linear piece is at most 1 its integrand e^{-Phi} is an entire
 // function with bounded exponent, and the closed forms below lose digits (they subtract two

@@ -7,10 +7,10 @@
 
 #include <fmt/format.h>
 
+#include "lib/util/not_a_number.h"
+
 namespace vrv {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double error_metric(const ErrorStats& s, Bound b) {
   switch (b) {

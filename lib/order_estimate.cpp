@@ -5,10 +5,10 @@
 #include <cstddef>
 #include <limits>
 
+#include "lib/util/not_a_number.h"
+
 namespace vrv {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct LineFit {
   double slope = kNaN, standard_error = kNaN;

@@ -19,7 +19,7 @@
 namespace vrv {
 namespace {
 
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& reason) {
+[[noreturn]] void write_failure(const std::filesystem::path& path, const std::string& reason) {
   throw std::runtime_error(fmt::format("{}: cannot write: {}", path.string(), reason));
 }
 
@@ -76,14 +76,14 @@ std::shared_mutex& temporary_files_mutex() {
 }
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view contents) {
-  if (path.empty() || !path.has_filename()) fail(path, "not a file name");
+  if (path.empty() || !path.has_filename()) write_failure(path, "not a file name");
   test_wait_for_signal();
   const std::shared_lock temporaries(temporary_files_mutex());
   std::filesystem::path tmp = path;
   tmp += fmt::format(".tmp.{}", ::getpid());
 
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-  if (fd < 0) fail(path, errno_reason(errno));
+  if (fd < 0) write_failure(path, errno_reason(errno));
 
   int err = write_all(fd, contents);
   if (err == 0) {
@@ -98,7 +98,7 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   if (::close(fd) != 0 && err == 0 && errno != EINTR) err = errno;
   if (err != 0) {
     ::unlink(tmp.c_str());
-    fail(path, errno_reason(err));
+    write_failure(path, errno_reason(err));
   }
   test_signal_at_write();
 
@@ -106,7 +106,7 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
     ::unlink(tmp.c_str());
-    fail(path, ec.message());
+    write_failure(path, ec.message());
   }
   sync_directory(path.parent_path());
 }

@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-[[noreturn]] void fail(const fs::path& path, std::string reason) {
+[[noreturn]] void channel_error(const fs::path& path, std::string reason) {
   std::replace(reason.begin(), reason.end(), '\n', ' ');
   throw std::runtime_error(fmt::format("{}: {}", path.string(), reason));
 }
@@ -37,13 +37,13 @@ double quantum_of(const fs::path& path, const std::string& type, double largest)
   if (type == "half") return ulp_at(largest, 10);
   if (type == "float") return ulp_at(largest, 23);
   if (type == "double") return ulp_at(largest, 52);
-  fail(path, fmt::format("pixel type {} is not supported", type));
+  channel_error(path, fmt::format("pixel type {} is not supported", type));
 }
 
 // A renderer's numpy array saved with numpy.save: read by lib/io/npy.h (OpenImageIO does not).
 ChannelImage read_npy_image(const fs::path& path) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) fail(path, "cannot read: no such file");
+  if (!fs::is_regular_file(path, ec)) channel_error(path, "cannot read: no such file");
   return channel_image(read_npy(path), path.string());  // read_npy's errors are "<path>: <reason>" already
 }
 
@@ -52,12 +52,12 @@ ChannelImage read_npy_image(const fs::path& path) {
 ChannelImage channel_image(const NpyArray& a, const std::string& name) {
   const fs::path path(name);
   if (a.shape.size() != 2 && a.shape.size() != 3)
-    fail(path, fmt::format("an array of {} dimensions (expected (height, width) or (height, width, channels))",
+    channel_error(path, fmt::format("an array of {} dimensions (expected (height, width) or (height, width, channels))",
                            a.shape.size()));
   const std::size_t h = a.shape[0], w = a.shape[1], nc = a.shape.size() == 3 ? a.shape[2] : 1;
   if (h == 0 || w == 0 || h > kMaxSide || w > kMaxSide || static_cast<std::int64_t>(h * w) > kMaxPixels)
-    fail(path, fmt::format("{} x {} pixels (1 to {} on a side, at most {} in all)", w, h, kMaxSide, kMaxPixels));
-  if (nc < 1 || nc > 4) fail(path, fmt::format("{} channels (1 to 4: grey, grey+alpha, RGB or RGBA)", nc));
+    channel_error(path, fmt::format("{} x {} pixels (1 to {} on a side, at most {} in all)", w, h, kMaxSide, kMaxPixels));
+  if (nc < 1 || nc > 4) channel_error(path, fmt::format("{} channels (1 to 4: grey, grey+alpha, RGB or RGBA)", nc));
   ChannelImage img;
   img.width = static_cast<int>(w);
   img.height = static_cast<int>(h);

@@ -133,11 +133,8 @@ template <ScalarField F>
 ProjectionResult mip_reference(const F& field, const Box& box, const Ray& ray, const ProjectionOptions& options,
                                const TransferFunction* classify = nullptr) {
   ProjectionResult r;
-  const auto frame = clip_in_frame(ray, box);
+  const auto frame = projection_detail::enter_box(ray, box, r);
   if (!frame) return r;
-  r.hit = true;
-  r.t_entry = frame->t_entry();
-  r.t_exit = frame->t_exit();
   projection_detail::MipAccumulator acc(classify, options.tol);
   const double moved = field_change_within(field, frame->position_error);
   projection_detail::PanelWalk walk;

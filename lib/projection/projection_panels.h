@@ -8,14 +8,26 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "lib/field.h"
 #include "lib/geometry.h"
+#include "lib/projection/projection_result.h"
 #include "lib/ray_panel.h"
 #include "lib/reference_integrator.h"
 
 namespace vrv::projection_detail {
+
+// The ray clipped to the box in its own frame; on a hit, r.hit and r's entry and exit are set.
+inline std::optional<RayFrame> enter_box(const Ray& ray, const Box& box, ProjectionResult& r) {
+  auto frame = clip_in_frame(ray, box);
+  if (!frame) return frame;
+  r.hit = true;
+  r.t_entry = frame->t_entry();
+  r.t_exit = frame->t_exit();
+  return frame;
+}
 
 struct PanelWalk {
   long evaluations = 0;

@@ -8,9 +8,9 @@
 namespace vrv::projection_detail {
 namespace {
 
-constexpr double eps = std::numeric_limits<double>::epsilon();
+constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 // The tolerance is shared out: the field proxies' error, and the quadrature of tau(p).
-constexpr double kFieldShare = 0.5;
+constexpr double kProxyShare = 0.5;
 constexpr double kQuadratureShare = 0.25;
 constexpr int kMaxLevel = 40;
 
@@ -32,7 +32,7 @@ XrayAccumulator::XrayAccumulator(const TransferFunction* classify, double tol, d
 double XrayAccumulator::field_tolerance() const {
   // int |f - p| <= length x the panels' error; through tau, times its largest slope.
   const double weight = length_ * (tf_ ? tf_->max_extinction_slope() : 1.0);
-  return weight > 0 ? kFieldShare * tol_ / weight : std::numeric_limits<double>::infinity();
+  return weight > 0 ? kProxyShare * tol_ / weight : std::numeric_limits<double>::infinity();
 }
 
 // Neumaier's compensated sum (a few lines; none of the project's libraries offers one): a ray of
@@ -63,7 +63,7 @@ void XrayAccumulator::add(const RayPanel& panel, double moved) {
     double coefficient_sum = 0;
     for (double c : panel.coefficients) coefficient_sum += std::abs(c);
     accumulate(half * chebyshev_integral(panel.coefficients));
-    error_ += (panel.b - panel.a) * field_error + 4 * eps * panel.size() * half * coefficient_sum;
+    error_ += (panel.b - panel.a) * field_error + 4 * kEpsilon * panel.size() * half * coefficient_sum;
     return;
   }
   crossings_.clear();
@@ -101,7 +101,7 @@ double XrayAccumulator::integrate_tau(const RayPanel& panel, double c, double d,
     for (int j = 0; j < n; ++j) tau[j] = seg.tau(v[j]);
     rule.coefficients(tau, coefficients);
     // Each node's rounding: of tau itself, and of v through tau's slope.
-    const double noise = 8 * eps * (max_abs(tau) + slope * max_abs(v));
+    const double noise = 8 * kEpsilon * (max_abs(tau) + slope * max_abs(v));
     const ChebyshevAccuracy acc = chebyshev_accuracy(coefficients, noise);
     const double rounding = (d - c) * noise;
     const double quadrature = exact ? 0.0 : 2 * half * acc.error;
@@ -123,9 +123,9 @@ void XrayAccumulator::charge_jumps(const RayPanel& panel, double field_error) {
       // The field may cross the level anywhere in the band where the proxy is within its error
       // of it: there tau is off by the jump at most.
       const auto band = level_band(panel, breaks_[i], breaks_[i + 1], level,
-                                   field_error + 4 * eps * std::abs(level));
+                                   field_error + 4 * kEpsilon * std::abs(level));
       if (!band) continue;
-      const double width = band->w - band->u + 4 * eps * std::max(std::abs(band->u), std::abs(band->w));
+      const double width = band->w - band->u + 4 * kEpsilon * std::max(std::abs(band->u), std::abs(band->w));
       error_ += tf_->jump_at(level).extinction * width;
     }
 }

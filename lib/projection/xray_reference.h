@@ -72,11 +72,8 @@ template <ScalarField F>
 ProjectionResult xray_reference(const F& field, const Box& box, const Ray& ray, const ProjectionOptions& options,
                                 const TransferFunction* classify = nullptr) {
   ProjectionResult r;
-  const auto frame = clip_in_frame(ray, box);
+  const auto frame = projection_detail::enter_box(ray, box, r);
   if (!frame) return r;
-  r.hit = true;
-  r.t_entry = frame->t_entry();
-  r.t_exit = frame->t_exit();
   const Interval iv = frame->iv;
   // clip() divides and subtracts once per slab: each end is within a few ulps of its parameter.
   const double end_rounding = 4 * std::numeric_limits<double>::epsilon() * std::max(std::abs(iv.t0), std::abs(iv.t1));

@@ -9,11 +9,10 @@
 #include "lib/util/parallel.h"
 #include "lib/verify/model_catalogue.h"
 #include "lib/work_estimate.h"
+#include "lib/util/not_a_number.h"
 
 namespace vrv {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 using Casts = std::vector<std::vector<double>>;  // one model's pixels, per step
 

@@ -12,11 +12,11 @@
 
 #include "lib/image_loop.h"
 #include "lib/verify/diagnosis.h"
+#include "lib/util/not_a_number.h"
 
 namespace vrv {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kScanPoints = 9;     // a parameter's bracket is scanned first, then refined by Brent
 constexpr int kBrentBits = 20;
 constexpr std::size_t kDifferenceImages = 3;  // the coarsest images pick the discretisation model

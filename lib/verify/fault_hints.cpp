@@ -8,10 +8,10 @@
 
 #include <fmt/format.h>
 
+#include "lib/util/not_a_number.h"
+
 namespace vrv {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct OffsetFit {
   double entry = kNaN, exit = kNaN, explained = kNaN;  // shifts in units of the step; R^2

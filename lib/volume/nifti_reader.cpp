@@ -16,7 +16,7 @@ struct ImageDeleter {
   void operator()(nifti_image* n) const { nifti_image_free(n); }
 };
 
-ScalarType scalar_type(const std::filesystem::path& file, int datatype) {
+ScalarType nifti_scalar_type(const std::filesystem::path& file, int datatype) {
   switch (datatype) {
     case DT_UINT8: return ScalarType::u8;
     case DT_INT8: return ScalarType::i8;
@@ -79,7 +79,7 @@ Volume read_nifti(const std::filesystem::path& file, const VolumeReadOptions& op
   if (!nim) volume_fail(file, "(header)", "not a readable NIfTI or ANALYZE header");
   refuse_extra_dims(*nim, file);
   Volume v;
-  const ScalarType type = scalar_type(file, nim->datatype);
+  const ScalarType type = nifti_scalar_type(file, nim->datatype);
   v.dims = checked_dims(file, "dim", {nim->nx, nim->ny, nim->nz});
   check_budget(file, "dim", v.dims, type, options);
   set_geometry(v, *nim, file);

@@ -31,7 +31,7 @@ std::string teem_error() {
   return s;
 }
 
-ScalarType scalar_type(const std::filesystem::path& file, int type) {
+ScalarType nrrd_scalar_type(const std::filesystem::path& file, int type) {
   switch (type) {
     case nrrdTypeUChar: return ScalarType::u8;
     case nrrdTypeChar: return ScalarType::i8;
@@ -112,7 +112,7 @@ Volume read_nrrd(const std::filesystem::path& file, const VolumeReadOptions& opt
                             "a time series are refused){}", header->dim, kinds));
   }
   Volume v;
-  const ScalarType type = scalar_type(file, header->type);
+  const ScalarType type = nrrd_scalar_type(file, header->type);
   v.dims = checked_dims(file, "sizes",
                         {static_cast<std::int64_t>(header->axis[0].size), static_cast<std::int64_t>(header->axis[1].size),
                          static_cast<std::int64_t>(header->axis[2].size)});

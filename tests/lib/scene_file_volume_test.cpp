@@ -20,9 +20,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kTransfer =
+const std::string kTransferTable =
     "[transfer]\nemission = [[0.0, 0.0], [1.0, 1.0]]\nextinction = [[0.0, 0.0], [1.0, 0.5]]\n";
-const std::string kBox = "[volume]\nmin = [-1.0, -1.0, -1.0]\nmax = [1.0, 1.0, 1.0]\n";
+const std::string kBoxTable = "[volume]\nmin = [-1.0, -1.0, -1.0]\nmax = [1.0, 1.0, 1.0]\n";
 
 fs::path scratch() {
   const fs::path d = fs::temp_directory_path() / ("vrv_scene_volume_" + std::to_string(::getpid()));
@@ -47,12 +47,12 @@ void write_nrrd(const fs::path& file, const GridField& g, const std::string& com
 }
 
 Scene grid_scene() {
-  return parse_scene(kBox + "[field]\nkind = \"grid\"\nresolution = [9, 9, 9]\n[field.source]\nkind = "
-                            "\"marschner_lobb\"\n" + kTransfer, "grid.toml");
+  return parse_scene(kBoxTable + "[field]\nkind = \"grid\"\nresolution = [9, 9, 9]\n[field.source]\nkind = "
+                            "\"marschner_lobb\"\n" + kTransferTable, "grid.toml");
 }
 
 Scene volume_scene(const fs::path& dir, const std::string& field, bool box = true) {
-  const std::string text = (box ? kBox : "") + "[field]\nkind = \"volume\"\nfile = \"ml.nrrd\"\n" + field + kTransfer;
+  const std::string text = (box ? kBoxTable : "") + "[field]\nkind = \"volume\"\nfile = \"ml.nrrd\"\n" + field + kTransferTable;
   return parse_scene(text, (dir / "scene.toml").string());
 }
 
@@ -113,20 +113,20 @@ TEST(SceneFileVolume, BadVolumeScenesAreOneLine) {
   write_nrrd(dir / "ml.nrrd", std::get<GridField>(grid_scene().field));
   const std::string src = (dir / "scene.toml").string();
   const std::string field = "[field]\nkind = \"volume\"\nfile = \"ml.nrrd\"\n";
-  EXPECT_EQ(error_of(kBox + field + kTransfer, src),
+  EXPECT_EQ(error_of(kBoxTable + field + kTransferTable, src),
             src + ": volume.min: not with a volume placed by its header (field.placement = \"header\"): the box is "
                   "the file's; placement = \"box\" fills a stated box");
-  EXPECT_EQ(error_of("[field]\nkind = \"volume\"\nfile = \"none.nrrd\"\n" + kTransfer, src),
+  EXPECT_EQ(error_of("[field]\nkind = \"volume\"\nfile = \"none.nrrd\"\n" + kTransferTable, src),
             (dir / "none.nrrd").string() + ": (file): cannot open: No such file or directory");
-  EXPECT_EQ(error_of(field + "value = { window = [2.0, 1.0] }\n" + kTransfer, src),
+  EXPECT_EQ(error_of(field + "value = { window = [2.0, 1.0] }\n" + kTransferTable, src),
             src + ": field.value.window: [2, 1] needs lo < hi (and a finite width)");
-  EXPECT_EQ(error_of(field + "value = \"log\"\n" + kTransfer, src),
+  EXPECT_EQ(error_of(field + "value = \"log\"\n" + kTransferTable, src),
             src + ": field.value: unknown value \"log\" (expected raw or rescale)");
-  EXPECT_EQ(error_of(field + "value = \"rescale\"\n" + kTransfer, src),
+  EXPECT_EQ(error_of(field + "value = \"rescale\"\n" + kTransferTable, src),
             (dir / "ml.nrrd").string() + ": value: rescale: the file's header has no slope and intercept (use raw or a window)");
-  EXPECT_EQ(error_of(field + "frame = 2\n" + kTransfer, src),
+  EXPECT_EQ(error_of(field + "frame = 2\n" + kTransferTable, src),
             src + ": field.frame: unknown key (allowed: kind, file, value, placement, layout, interpolation)");
-  EXPECT_EQ(error_of(kBox + "[field]\nkind = \"grid\"\nresolution = [2, 2, 2]\nsource = { kind = \"volume\" }\n" + kTransfer, src),
+  EXPECT_EQ(error_of(kBoxTable + "[field]\nkind = \"grid\"\nresolution = [2, 2, 2]\nsource = { kind = \"volume\" }\n" + kTransferTable, src),
             src + ": field.source.kind: nested volume: a grid source must be an analytic field");
   fs::remove_all(dir);
 }

@@ -17,12 +17,12 @@
 #include <vector>
 
 #include "lib/io/atomic_file.h"
+#include "lib/util/not_a_number.h"
 
 namespace vrv {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // A strict RFC 4180 reader, independent of the writer: records of fields, "\n" line ends.

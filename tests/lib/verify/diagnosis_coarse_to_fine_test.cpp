@@ -32,12 +32,10 @@ std::string ramp_scene_text() {
 
 Scene ramp_scene() { return parse_scene(ramp_scene_text(), "ramp.toml"); }
 
-const std::vector<double> kSteps{0.1, 0.05, 0.025};
-
 // vrv's own trapezoid images (inviwo placement) of the scene.
 std::vector<ImageWithStep> trapezoid_images(const Scene& scene) {
   std::vector<ImageWithStep> out;
-  for (double h : kSteps) {
+  for (double h : verify_toy::kThreeSteps) {
     DiscreteConfig config;
     config.rule = SegmentRule::trapezoid;
     config.sampling.strategy = Strategy::inviwo;
@@ -70,8 +68,8 @@ bool cast_alike(const Scene& scene, const Model& a, const Model& b) {
 
 TEST(DiagnosisCoarseToFine, RepeatedConfigurationsAreDroppedBeforeCastingAndOnlyThose) {
   const Scene scene = ramp_scene();
-  const std::vector<Model> all = model_catalogue(scene, kSteps, {});
-  const std::vector<Model> distinct = distinct_models(scene, kSteps, {});
+  const std::vector<Model> all = model_catalogue(scene, verify_toy::kThreeSteps, {});
+  const std::vector<Model> distinct = distinct_models(scene, verify_toy::kThreeSteps, {});
   // The centred 256- and 1024-entry tables at five placements read the ramp itself.
   EXPECT_EQ(all.size() - distinct.size(), 10u);
   for (const Model& m : all) {
@@ -85,7 +83,7 @@ TEST(DiagnosisCoarseToFine, RepeatedConfigurationsAreDroppedBeforeCastingAndOnly
   std::string off_text = ramp_scene_text();
   off_text.replace(off_text.find("[1.0, 1.0]]"), 11, "[0.3, 0.2], [1.0, 1.0]]");
   const Scene off = parse_scene(off_text, "off.toml");
-  EXPECT_EQ(distinct_models(off, kSteps, {}).size(), model_catalogue(off, kSteps, {}).size());
+  EXPECT_EQ(distinct_models(off, verify_toy::kThreeSteps, {}).size(), model_catalogue(off, verify_toy::kThreeSteps, {}).size());
 }
 
 TEST(DiagnosisCoarseToFine, LeadersCarryTheNumbersOfEveryDiagnosisPixel) {
@@ -108,7 +106,7 @@ TEST(DiagnosisCoarseToFine, LeadersCarryTheNumbersOfEveryDiagnosisPixel) {
     }
   }
   // A leader's RMS is the one over every diagnosis pixel, bit for bit.
-  const std::vector<Model> models = distinct_models(scene, kSteps, {});
+  const std::vector<Model> models = distinct_models(scene, verify_toy::kThreeSteps, {});
   const Candidate& second = report[1];
   const Model& m = *std::find_if(models.begin(), models.end(), [&](const Model& x) { return x.label.name == second.name; });
   const std::vector<long> pixels = diagnosis_pixels(40, 40);
@@ -149,7 +147,7 @@ TEST(DiagnosisCoarseToFine, TheWorkEstimateCountsWhatIsCast) {
   const Camera& camera = *scene.camera;
   const double pixels = 1600, coarse = static_cast<double>(ranking_pixels(40, 40).size());
   std::vector<double> per_model;
-  for (const Model& m : distinct_models(scene, kSteps, {})) {
+  for (const Model& m : distinct_models(scene, verify_toy::kThreeSteps, {})) {
     double samples = 0;
     for (const DiscreteConfig& c : m.per_step) samples += camera_work(scene, camera, 0, &c) / pixels;
     per_model.push_back(samples);
@@ -157,10 +155,10 @@ TEST(DiagnosisCoarseToFine, TheWorkEstimateCountsWhatIsCast) {
   std::sort(per_model.rbegin(), per_model.rend());
   double expected = 0;
   for (std::size_t m = 0; m < per_model.size(); ++m) expected += per_model[m] * (coarse + (m < kMinLeaders ? pixels : 0));
-  const double work = diagnosis_work(scene, camera, kSteps, {});
+  const double work = diagnosis_work(scene, camera, verify_toy::kThreeSteps, {});
   EXPECT_DOUBLE_EQ(work, expected);
   std::vector<double> half;
-  for (double h : kSteps) half.push_back(h / 2);
+  for (double h : verify_toy::kThreeSteps) half.push_back(h / 2);
   const double finer = diagnosis_work(scene, camera, half, {});
   EXPECT_GT(finer, 1.8 * work);
   EXPECT_LT(finer, 2.2 * work);

@@ -40,12 +40,10 @@ width = 20
 height = 20
 )";
 
-const std::vector<double> kSteps{0.1, 0.05, 0.025};
-
 // The toy's images in double, as a renderer's in-memory images (no file quantisation).
 std::vector<ImageWithStep> images(const Scene& scene, const toy::RendererConvention& c) {
   return verify_toy::images_in_memory(
-      scene, [&](double h) { return toy::render(scene, *scene.camera, h, c); }, "toy", kSteps);
+      scene, [&](double h) { return toy::render(scene, *scene.camera, h, c); }, "toy", verify_toy::kThreeSteps);
 }
 
 struct Case {
@@ -92,7 +90,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(VerifyDiagnosisFaults, OpacityPerSampleIsMissingCorrection) {
   const Scene scene = parse_scene(kScene, "conventions.toml");
   std::vector<ImageWithStep> ims;
-  for (double h : kSteps) {
+  for (double h : verify_toy::kThreeSteps) {
     DiscreteConfig config;
     config.rule = SegmentRule::alpha;
     config.sampling.strategy = Strategy::inviwo;

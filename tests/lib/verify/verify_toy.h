@@ -38,6 +38,7 @@ height = 32
 )";
 
 inline const std::vector<double> kSteps{0.1, 0.05, 0.025, 0.0125};
+inline const std::vector<double> kThreeSteps{0.1, 0.05, 0.025};  // the diagnosis tests' steps
 
 inline std::filesystem::path scratch() {
   const std::filesystem::path d = std::filesystem::path(VRV_BINARY_DIR) / "tests" / "verify_scratch";

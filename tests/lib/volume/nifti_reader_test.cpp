@@ -11,13 +11,13 @@
 namespace vrv {
 namespace {
 
-Volume read(const std::filesystem::path& p) { return read_nifti(p); }
+Volume nifti_volume(const std::filesystem::path& p) { return read_nifti(p); }
 
 // nibabel wrote them: eight types in both byte orders, a qform with qfac -1 and a rescale
 // (.nii.gz), an sform that permutes and mirrors the axes.
-TEST(NiftiReader, ReadsEveryFixtureAsNibabelWroteIt) { EXPECT_EQ(test::expect_fixtures("nifti_", read), 16); }
+TEST(NiftiReader, ReadsEveryFixtureAsNibabelWroteIt) { EXPECT_EQ(test::expect_fixtures("nifti_", nifti_volume), 16); }
 
-TEST(NiftiReader, RefusesBadFilesInOneLine) { EXPECT_EQ(test::expect_bad_fixtures("bad_nifti_", read), 3); }
+TEST(NiftiReader, RefusesBadFilesInOneLine) { EXPECT_EQ(test::expect_bad_fixtures("bad_nifti_", nifti_volume), 3); }
 
 const std::filesystem::path kNibabelData = "/usr/lib/python3/dist-packages/nibabel/tests/data";
 
@@ -63,7 +63,7 @@ TEST(NiftiReader, HonoursQfac) {
 
 TEST(NiftiReader, RefusesNibabelsTimeSeries) {
   for (const auto& b : test::volume_expected("nibabel_expected.json")["refused"])
-    test::expect_refused(kNibabelData / b["file"].get<std::string>(), b, read);
+    test::expect_refused(kNibabelData / b["file"].get<std::string>(), b, nifti_volume);
 }
 
 }  // namespace

@@ -3,22 +3,7 @@
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
 
-function(run name expect_rc)
-  execute_process(COMMAND ${VRV} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL expect_rc)
-    message(FATAL_ERROR "${name}: exit ${rc}, expected ${expect_rc}\n${out}\n${err}")
-  endif()
-  string(STRIP "${err}" err)
-  set(LAST_OUT "${out}" PARENT_SCOPE)
-  set(LAST_ERR "${err}" PARENT_SCOPE)
-endfunction()
-
-function(expect_error name pattern)
-  run(${name} 2 ${ARGN})
-  if(NOT LAST_ERR MATCHES "${pattern}" OR LAST_ERR MATCHES "\n")
-    message(FATAL_ERROR "${name}: stderr is not one line matching '${pattern}':\n${LAST_ERR}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/vrv_run.cmake)
 
 # Export: every file, and the manifest's grid.
 run(export 0 export --out ${OUT}/exp --resolution 5,6,7)

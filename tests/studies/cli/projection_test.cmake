@@ -2,28 +2,7 @@
 # `cli.projection`.  -DVRV=<path to vrv> -DOUT=<scratch dir>
 file(MAKE_DIRECTORY ${OUT})
 
-function(run name code)
-  execute_process(COMMAND ${VRV} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL ${code})
-    message(FATAL_ERROR "${name}: expected exit ${code}, got ${rc}\n${out}\n${err}")
-  endif()
-  set(LAST_OUT "${out}" PARENT_SCOPE)
-  string(STRIP "${err}" err)
-  set(LAST_ERR "${err}" PARENT_SCOPE)
-endfunction()
-
-function(expect_error name pattern)
-  run(${name} 2 ${ARGN})
-  if(NOT LAST_ERR MATCHES "${pattern}")
-    message(FATAL_ERROR "${name}: stderr does not match '${pattern}':\n${LAST_ERR}")
-  endif()
-  if(LAST_ERR MATCHES "\n")
-    message(FATAL_ERROR "${name}: the error is more than one line:\n${LAST_ERR}")
-  endif()
-  if(NOT LAST_OUT STREQUAL "")
-    message(FATAL_ERROR "${name}: printed something on an error:\n${LAST_OUT}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/vrv_run.cmake)
 
 # The reference MIP of a ramp peaks at the exit face (t = 4), X-ray is its line integral.
 file(WRITE ${OUT}/ramp.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"linear_ramp\"\ngradient = [0.5, 0, 0]\noffset = 0.5\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [0.3, 1.0], [1, 0.5]]\n")

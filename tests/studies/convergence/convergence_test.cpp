@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "lib/util/parallel.h"
+#include "tests/studies/engine/bad_study_file.h"
 
 namespace vrv {
 namespace {
@@ -56,37 +57,21 @@ std::string valid_study() {
          "[rays]\ncount = 2\n";
 }
 
-std::string error_of(const std::string& text) {
-  try {
-    parse_study(text, "bad.toml", "bad");
-  } catch (const StudyFileError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-// A bad study file and the start of the one-line error it must give.
-struct BadFile {
-  std::string text, prefix;
+// The parser under test, for bad_study_file.h's helpers.
+constexpr auto kParseConvergence = [](std::string_view text, std::string_view source, std::string_view name) {
+  return parse_study(text, source, name);
 };
 
-template <std::size_t N>
-void expect_one_line_errors(const BadFile (&cases)[N]) {
-  for (const auto& c : cases) {
-    const std::string e = error_of(c.text);
-    EXPECT_TRUE(e.starts_with(c.prefix)) << e;
-    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
-  }
-}
+std::string convergence_error(const std::string& text) { return study_test::study_error(kParseConvergence, text); }
 
 TEST(ConvergenceStudy, BadStudyFilesGiveOneLineNamingFileAndKey) {
-  EXPECT_EQ(error_of(valid_study()), "(no error)");
+  EXPECT_EQ(convergence_error(valid_study()), "(no error)");
   auto replace = [](std::string s, const std::string& from, const std::string& to) {
     const auto at = s.find(from);
     EXPECT_NE(at, std::string::npos) << from;
     return s.replace(at, from.size(), to);
   };
-  const BadFile cases[] = {
+  const study_test::BadFile cases[] = {
       {replace(valid_study(), "\"riemann\"", "\"simpson\""), "bad.toml: method[0].rule: unknown method 'simpson'"},
       {replace(valid_study(), "[0.1, 0.05]", "[]"), "bad.toml: sampling.steps: empty"},
       {replace(valid_study(), "[0.1, 0.05]", "[0.1, -0.05]"), "bad.toml: sampling.steps[1]: must be positive"},
@@ -107,7 +92,7 @@ TEST(ConvergenceStudy, BadStudyFilesGiveOneLineNamingFileAndKey) {
            "[grid_refinement]\nresolutions = [9, 17]\n",
        "bad.toml: grid_refinement: needs an analytic field"},
   };
-  expect_one_line_errors(cases);
+  study_test::expect_one_line_errors(kParseConvergence, cases);
 }
 
 // Grid refinement of a linear ramp with a linear transfer function: trilinear reconstruction is

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "lib/util/parallel.h"
+#include "tests/studies/engine/bad_study_file.h"
 
 namespace vrv {
 namespace {
@@ -64,28 +65,12 @@ TEST(HardCases, RowsWithoutABoundAreLabelledFiniteNotDerived) {
   EXPECT_GT(derived, 0);
 }
 
-std::string error_of(const std::string& text) {
-  try {
-    parse_hard_cases_study(text, "bad.toml", "bad");
-  } catch (const StudyFileError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-// A bad study file and the start of the one-line error it must give.
-struct BadFile {
-  std::string text, prefix;
+// The parser under test, for bad_study_file.h's helpers.
+constexpr auto kParseHardCases = [](std::string_view text, std::string_view source, std::string_view name) {
+  return parse_hard_cases_study(text, source, name);
 };
 
-template <std::size_t N>
-void expect_one_line_errors(const BadFile (&cases)[N]) {
-  for (const auto& c : cases) {
-    const std::string e = error_of(c.text);
-    EXPECT_TRUE(e.starts_with(c.prefix)) << e;
-    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
-  }
-}
+std::string hard_cases_error(const std::string& text) { return study_test::study_error(kParseHardCases, text); }
 
 std::string hard_case(const std::string& method_lines) {
   return "kind = \"hard_cases\"\n"
@@ -97,13 +82,13 @@ std::string hard_case(const std::string& method_lines) {
 }
 
 TEST(HardCases, BadHardCaseFilesGiveOneLineNamingFileAndKey) {
-  EXPECT_EQ(error_of(hard_case("method = \"reference\"\ntol = 1e-10\n")), "(no error)");
-  EXPECT_EQ(error_of(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\ncolor = \"premultiplied\"\n"
+  EXPECT_EQ(hard_cases_error(hard_case("method = \"reference\"\ntol = 1e-10\n")), "(no error)");
+  EXPECT_EQ(hard_cases_error(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\ncolor = \"premultiplied\"\n"
                                "table_size = 256\ntable_lookup = \"uncentred\"\n")),
             "(no error)");
-  EXPECT_EQ(error_of(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\nmax_error = 1e-3\n")),
+  EXPECT_EQ(hard_cases_error(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\nmax_error = 1e-3\n")),
             "(no error)");
-  const BadFile cases[] = {
+  const study_test::BadFile cases[] = {
       {hard_case("method = \"simpson\"\n"), "bad.toml: case[0].method[0].method: unknown method 'simpson'"},
       {hard_case("method = \"alpha\"\nstrategy = \"step\"\n"), "bad.toml: case[0].method[0].step: missing"},
       {hard_case("method = \"riemann\"\nstrategy = \"step\"\nstep = 0.1\ncorrection = \"lacroute\"\n"),
@@ -123,7 +108,7 @@ TEST(HardCases, BadHardCaseFilesGiveOneLineNamingFileAndKey) {
       {hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 1e-9\n"), "bad.toml: case[0].method[0]: about"},
       {"kind = \"hard_cases\"\n", "bad.toml: case: missing"},
   };
-  expect_one_line_errors(cases);
+  study_test::expect_one_line_errors(kParseHardCases, cases);
 }
 
 }  // namespace

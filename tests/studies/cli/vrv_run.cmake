@@ -1,0 +1,26 @@
+# Shared by the end-to-end CLI scripts (include()d after they set VRV): run vrv and check its exit
+# code, or check that it failed with one line of stderr matching a pattern and printed nothing.
+#   run(NAME CODE ARGS...)          LAST_OUT and LAST_ERR (stripped) are set in the caller
+#   expect_error(NAME PATTERN ARGS...)
+function(run name code)
+  execute_process(COMMAND ${VRV} ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL ${code})
+    message(FATAL_ERROR "${name}: expected exit ${code}, got ${rc}\n${out}\n${err}")
+  endif()
+  set(LAST_OUT "${out}" PARENT_SCOPE)
+  string(STRIP "${err}" err)
+  set(LAST_ERR "${err}" PARENT_SCOPE)
+endfunction()
+
+function(expect_error name pattern)
+  run(${name} 2 ${ARGN})
+  if(NOT LAST_ERR MATCHES "${pattern}")
+    message(FATAL_ERROR "${name}: stderr does not match '${pattern}':\n${LAST_ERR}")
+  endif()
+  if(LAST_ERR MATCHES "\n")
+    message(FATAL_ERROR "${name}: the error is more than one line:\n${LAST_ERR}")
+  endif()
+  if(NOT LAST_OUT STREQUAL "")
+    message(FATAL_ERROR "${name}: printed something on an error:\n${LAST_OUT}")
+  endif()
+endfunction()
