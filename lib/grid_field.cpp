@@ -8,58 +8,88 @@
 #include <fmt/format.h>
 
 namespace vrv {
+namespace {
+
+void check_grid_resolution(GridField::Index3 n, GridLayout layout) {
+  const int min_n = layout == GridLayout::node ? 2 : 1;
+  for (int a = 0; a < 3; ++a)
+    if (n[a] < min_n)
+      throw std::invalid_argument(fmt::format("grid resolution must be at least {} per axis", min_n));
+}
+
+double grid_offset(GridLayout layout) { return layout == GridLayout::node ? 0.0 : 0.5; }
+
+Vec3 grid_spacing(const Box& box, GridField::Index3 n, GridLayout layout) {
+  Vec3 h;
+  for (int a = 0; a < 3; ++a) h[a] = box.extent()[a] / (layout == GridLayout::node ? n[a] - 1 : n[a]);
+  return h;
+}
+
+// `source` at every node position (as GridField::node_position places them).
+std::vector<double> sampled_nodes(const Box& box, GridField::Index3 n, GridLayout layout,
+                            const std::function<double(const Vec3&)>& source) {
+  check_grid_resolution(n, layout);
+  const double offset = grid_offset(layout);
+  const Vec3 h = grid_spacing(box, n, layout);
+  std::vector<double> values(static_cast<std::size_t>(n[0]) * n[1] * n[2]);
+  std::size_t out = 0;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i)
+        values[out++] = source(box.min + Vec3(i + offset, j + offset, k + offset).cwiseProduct(h));
+  return values;
+}
+
+}  // namespace
 
 GridField::GridField(const Box& box, Index3 resolution, GridLayout layout,
                      Interpolation interpolation, const std::function<double(const Vec3&)>& source)
-    : box_(box), n_(resolution), layout_(layout), interpolation_(interpolation) {
-  init_geometry();
-  values_.resize(static_cast<std::size_t>(n_[0]) * n_[1] * n_[2]);
-  for (int k = 0; k < n_[2]; ++k)
-    for (int j = 0; j < n_[1]; ++j)
-      for (int i = 0; i < n_[0]; ++i)
-        values_[(static_cast<std::size_t>(k) * n_[1] + j) * n_[0] + i] =
-            source(node_position(i, j, k));
-  summarise();
-}
+    : GridField(box, resolution, layout, interpolation, sampled_nodes(box, resolution, layout, source)) {}
 
 GridField::GridField(const Box& box, Index3 resolution, GridLayout layout,
                      Interpolation interpolation, std::vector<double> values)
+    : GridField(box, resolution, layout, interpolation, GridNodes(std::move(values))) {}
+
+GridField::GridField(const Box& box, Index3 resolution, GridLayout layout,
+                     Interpolation interpolation, GridNodes nodes)
     : box_(box), n_(resolution), layout_(layout), interpolation_(interpolation),
-      values_(std::move(values)) {
-  init_geometry();
-  const std::size_t nodes = static_cast<std::size_t>(n_[0]) * n_[1] * n_[2];
-  if (values_.size() != nodes)
-    throw std::invalid_argument(fmt::format("{} node values for a {} x {} x {} grid", values_.size(),
-                                            n_[0], n_[1], n_[2]));
-  for (std::size_t n = 0; n < nodes; ++n)
-    if (!std::isfinite(values_[n]))
-      throw std::invalid_argument(fmt::format("node value {} is {}", n, values_[n]));
+      nodes_(std::move(nodes)) {
+  init();
   summarise();
 }
 
-void GridField::init_geometry() {
-  const int min_n = layout_ == GridLayout::node ? 2 : 1;
-  for (int a = 0; a < 3; ++a)
-    if (n_[a] < min_n)
-      throw std::invalid_argument(fmt::format("grid resolution must be at least {} per axis", min_n));
-  offset_ = layout_ == GridLayout::node ? 0.0 : 0.5;
-  for (int a = 0; a < 3; ++a)
-    spacing_[a] = box_.extent()[a] / (layout_ == GridLayout::node ? n_[a] - 1 : n_[a]);
+void GridField::init() {
+  check_grid_resolution(n_, layout_);
+  offset_ = grid_offset(layout_);
+  spacing_ = grid_spacing(box_, n_, layout_);
+  const std::size_t count = static_cast<std::size_t>(n_[0]) * n_[1] * n_[2];
+  if (nodes_.size() != count)
+    throw std::invalid_argument(fmt::format("{} node values for a {} x {} x {} grid", nodes_.size(),
+                                            n_[0], n_[1], n_[2]));
+  nodes_.visit([&](auto fetch) {
+    for (std::size_t n = 0; n < count; ++n)
+      if (!std::isfinite(fetch(n))) throw std::invalid_argument(fmt::format("node value {} is {}", n, fetch(n)));
+  });
 }
 
 void GridField::summarise() {
-  const auto [lo, hi] = std::minmax_element(values_.begin(), values_.end());
-  spread_ = *hi - *lo;
-  max_abs_ = std::max(std::abs(*lo), std::abs(*hi));
-  max_slope_.setZero();
-  for (int k = 0; k < n_[2]; ++k)
-    for (int j = 0; j < n_[1]; ++j)
-      for (int i = 0; i < n_[0]; ++i) {
-        const double v = node(i, j, k);
-        if (i + 1 < n_[0]) max_slope_[0] = std::max(max_slope_[0], std::abs(node(i + 1, j, k) - v));
-        if (j + 1 < n_[1]) max_slope_[1] = std::max(max_slope_[1], std::abs(node(i, j + 1, k) - v));
-        if (k + 1 < n_[2]) max_slope_[2] = std::max(max_slope_[2], std::abs(node(i, j, k + 1) - v));
-      }
+  nodes_.visit([&](auto node_at) {
+    double lo = node_at(0), hi = lo;
+    max_slope_.setZero();
+    const std::size_t sx = 1, sy = n_[0], sz = sy * n_[1];
+    for (int k = 0; k < n_[2]; ++k)
+      for (int j = 0; j < n_[1]; ++j)
+        for (int i = 0; i < n_[0]; ++i) {
+          const std::size_t n = k * sz + j * sy + i;
+          const double v = node_at(n);
+          lo = std::min(lo, v), hi = std::max(hi, v);
+          if (i + 1 < n_[0]) max_slope_[0] = std::max(max_slope_[0], std::abs(node_at(n + sx) - v));
+          if (j + 1 < n_[1]) max_slope_[1] = std::max(max_slope_[1], std::abs(node_at(n + sy) - v));
+          if (k + 1 < n_[2]) max_slope_[2] = std::max(max_slope_[2], std::abs(node_at(n + sz) - v));
+        }
+    spread_ = hi - lo;
+    max_abs_ = std::max(std::abs(lo), std::abs(hi));
+  });
   max_slope_ = max_slope_.cwiseQuotient(spacing_);
 }
 
@@ -70,7 +100,8 @@ double GridField::max_change_within(double distance) const {
 
 GridField GridField::mapped(const std::function<double(double)>& fn) const {
   GridField out = *this;
-  for (double& v : out.values_) v = fn(v);
+  out.nodes_ = nodes_.mapped(fn);
+  out.bricks_ = std::make_shared<BrickRanges>();
   out.summarise();
   return out;
 }
@@ -111,13 +142,77 @@ std::pair<double, double> GridField::node_range_between(const Vec3& p, const Vec
     hi[a] = std::clamp(static_cast<int>(std::floor(u1)) + 1, 0, n_[a] - 1);
   }
   double mn = std::numeric_limits<double>::infinity(), mx = -mn;
-  for (int k = lo[2]; k <= hi[2]; ++k)
-    for (int j = lo[1]; j <= hi[1]; ++j)
-      for (int i = lo[0]; i <= hi[0]; ++i) {
-        const double v = node(i, j, k);
-        mn = std::min(mn, v), mx = std::max(mx, v);
-      }
+  nodes_.visit([&](auto node_at) {
+    for (int k = lo[2]; k <= hi[2]; ++k)
+      for (int j = lo[1]; j <= hi[1]; ++j)
+        for (int i = lo[0]; i <= hi[0]; ++i) {
+          const double v = node_at((static_cast<std::size_t>(k) * n_[1] + j) * n_[0] + i);
+          mn = std::min(mn, v), mx = std::max(mx, v);
+        }
+  });
   return {mn, mx};
+}
+
+const GridField::BrickRanges& GridField::bricks() const {
+  std::call_once(bricks_->made, [&] {
+    BrickRanges& b = *bricks_;
+    for (int a = 0; a < 3; ++a) b.count[a] = std::max(1, (n_[a] - 2) / kBrickCells + 1);  // n - 1 cells
+    b.range.resize(static_cast<std::size_t>(b.count[0]) * b.count[1] * b.count[2]);
+    nodes_.visit([&](auto node_at) {
+      std::size_t out = 0;
+      for (int bk = 0; bk < b.count[2]; ++bk)
+        for (int bj = 0; bj < b.count[1]; ++bj)
+          for (int bi = 0; bi < b.count[0]; ++bi) {
+            const int first[3] = {bi * kBrickCells - 1, bj * kBrickCells - 1, bk * kBrickCells - 1};
+            int lo[3], hi[3];
+            for (int a = 0; a < 3; ++a) {
+              lo[a] = std::max(first[a], 0);
+              hi[a] = std::min(first[a] + kBrickCells + 2, n_[a] - 1);
+            }
+            double mn = std::numeric_limits<double>::infinity(), mx = -mn;
+            for (int k = lo[2]; k <= hi[2]; ++k)
+              for (int j = lo[1]; j <= hi[1]; ++j)
+                for (int i = lo[0]; i <= hi[0]; ++i) {
+                  const double v = node_at((static_cast<std::size_t>(k) * n_[1] + j) * n_[0] + i);
+                  mn = std::min(mn, v), mx = std::max(mx, v);
+                }
+            b.range[out++] = {mn, mx};
+          }
+    });
+  });
+  return *bricks_;
+}
+
+std::vector<double> GridField::brick_cuts(const Ray& ray, Interval iv) const {
+  std::vector<double> cuts{iv.t0};
+  for (int a = 0; a < 3; ++a) {
+    const double d = ray.direction[a];
+    if (d == 0) continue;
+    const double x0 = ray.origin[a] + iv.t0 * d;
+    const double x1 = ray.origin[a] + iv.t1 * d;
+    const double u0 = (std::min(x0, x1) - box_.min[a]) / spacing_[a] - offset_;
+    const double u1 = (std::max(x0, x1) - box_.min[a]) / spacing_[a] - offset_;
+    const int lo = std::max(0, static_cast<int>(std::floor(u0 / kBrickCells)));
+    const int hi = std::min((n_[a] - 1) / kBrickCells, static_cast<int>(std::ceil(u1 / kBrickCells)));
+    for (int m = lo; m <= hi; ++m) {
+      const int i = m * kBrickCells;
+      // append_breaks' own expression for node plane i, so that the two agree to the bit.
+      const double t = (box_.min[a] + (i + offset_) * spacing_[a] - ray.origin[a]) / d;
+      if (t > iv.t0 && t < iv.t1) cuts.push_back(t);
+    }
+  }
+  cuts.push_back(iv.t1);
+  std::sort(cuts.begin(), cuts.end());
+  return cuts;
+}
+
+std::pair<double, double> GridField::brick_range_at(const Ray& ray, double t) const {
+  const BrickRanges& b = bricks();
+  const Vec3 p = ray.at(t);
+  int idx[3];
+  for (int a = 0; a < 3; ++a)
+    idx[a] = std::min(static_cast<int>(coordinate(p[a], a)) / kBrickCells, b.count[a] - 1);
+  return b.range[(static_cast<std::size_t>(idx[2]) * b.count[1] + idx[1]) * b.count[0] + idx[0]];
 }
 
 }  // namespace vrv

@@ -10,11 +10,14 @@
 #include <cstddef>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <utility>
 #include <vector>
 
-#include "lib/util/force_inline.h"
 #include "lib/geometry.h"
+#include "lib/grid_nodes.h"
+#include "lib/util/force_inline.h"
 
 namespace vrv {
 
@@ -34,6 +37,9 @@ class GridField {
   // std::invalid_argument as above, for a size other than the node count, or a non-finite value.
   GridField(const Box& box, Index3 resolution, GridLayout layout, Interpolation interpolation,
             std::vector<double> values);
+  // Node values in their stored type (lib/grid_nodes.h: a volume's samples), node order as above.
+  GridField(const Box& box, Index3 resolution, GridLayout layout, Interpolation interpolation,
+            GridNodes nodes);
 
   // The same grid with fn applied to every node value (pre-classification).
   GridField mapped(const std::function<double(double)>& fn) const;
@@ -52,6 +58,16 @@ class GridField {
   // kind) stays within them there.  The reference skips a stretch on which the transfer function
   // is zero over that range (empty space, exactly; lib/reference_integrator.h).
   std::pair<double, double> node_range_between(const Vec3& p, const Vec3& q) const;
+  // Empty space in bulk: the stretches of the ray (within iv, sorted, disjoint, each ending on a
+  // brick plane or an end of iv) that cross only bricks of kBrickCells³ cells whose nodes, with a
+  // one-node halo (a point's rounding into the next cell), satisfy transparent(lo, hi).  Every
+  // piece between node planes inside such a stretch is one node_range_between would find
+  // transparent too, so skipping the stretch whole changes no value.  Trilinear only (none for
+  // nearest).  The brick ranges are made on first use and shared by copies.
+  static constexpr int kBrickCells = 8;
+  template <class Transparent>
+  void append_transparent_spans(const Ray& ray, Interval iv, const Transparent& transparent,
+                                std::vector<Interval>& spans) const;
   // Absolute rounding of value(): a weighted sum of node values, so a few ulps of the largest
   // (a grid of values near 1e-13 is as exact, relatively, as one near 1).
   double value_noise() const { return 8 * std::numeric_limits<double>::epsilon() * max_abs_; }
@@ -62,17 +78,23 @@ class GridField {
   Interpolation interpolation() const { return interpolation_; }
   Vec3 node_position(int i, int j, int k) const;
   double node(int i, int j, int k) const {
-    return values_[(static_cast<std::size_t>(k) * n_[1] + j) * n_[0] + i];
+    return nodes_[(static_cast<std::size_t>(k) * n_[1] + j) * n_[0] + i];
   }
+  const GridNodes& nodes() const { return nodes_; }
 
  private:
-  // Checks the resolution, sets spacing_ and offset_.
-  void init_geometry();
+  // Checks the resolution and the node count, sets spacing_ and offset_; refuses a non-finite node.
+  void init();
   // Continuous node coordinate along axis a, clamped to [0, n - 1].
   VRV_FORCE_INLINE double coordinate(double x, int a) const {
     const double u = (x - box_.min[a]) / spacing_[a] - offset_;
     return std::clamp(u, 0.0, static_cast<double>(n_[a] - 1));
   }
+  // The node planes i = 0, kBrickCells, 2 kBrickCells, ... that the ray crosses inside iv, with
+  // iv's ends, sorted: the t of each plane exactly as append_breaks computes it.
+  std::vector<double> brick_cuts(const Ray& ray, Interval iv) const;
+  // The value range of the brick holding ray.at(t), halo included.
+  std::pair<double, double> brick_range_at(const Ray& ray, double t) const;
   double nearest_value(const double u[3]) const;
   double trilinear_value(const double u[3]) const;
   void summarise();  // max_slope_, spread_ and max_abs_ from the node values
@@ -84,11 +106,33 @@ class GridField {
   Interpolation interpolation_;
   Vec3 spacing_;
   double offset_;  // 0 for node layout, 1/2 for cell layout
-  std::vector<double> values_;
+  GridNodes nodes_;
   Vec3 max_slope_ = Vec3::Zero();  // largest |node difference| / spacing per axis
   double spread_ = 0;              // max - min node value
   double max_abs_ = 0;             // largest |node value|
+  struct BrickRanges {
+    std::once_flag made;
+    Index3 count{};
+    std::vector<std::pair<double, double>> range;  // brick (i, j, k) at (k * count[1] + j) * count[0] + i
+  };
+  std::shared_ptr<BrickRanges> bricks_ = std::make_shared<BrickRanges>();
+  const BrickRanges& bricks() const;
 };
+
+template <class Transparent>
+void GridField::append_transparent_spans(const Ray& ray, Interval iv, const Transparent& transparent,
+                                         std::vector<Interval>& spans) const {
+  if (interpolation_ != Interpolation::trilinear) return;
+  const std::vector<double> cuts = brick_cuts(ray, iv);
+  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+    const double a = cuts[i], b = cuts[i + 1];
+    if (!(b > a)) continue;
+    const auto [lo, hi] = brick_range_at(ray, 0.5 * (a + b));
+    if (!transparent(lo, hi)) continue;
+    if (!spans.empty() && spans.back().t1 == a) spans.back().t1 = b;
+    else spans.push_back({a, b});
+  }
+}
 
 VRV_FORCE_INLINE double GridField::value(const Vec3& p) const {
   const double u[3] = {coordinate(p.x(), 0), coordinate(p.y(), 1), coordinate(p.z(), 2)};
@@ -118,15 +162,16 @@ VRV_FORCE_INLINE double GridField::trilinear_value(const double u[3]) const {
     base += static_cast<std::size_t>(i0) * stride[a];
     w[a] = u[a] - i0;
   }
-  const double* c = values_.data() + base;
   const std::size_t x = step[0], y = step[1], z = step[2];
   // Nested lerps: fewer operations and roundings than the expanded 8-term sum.
   auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
-  const double c00 = lerp(c[0], c[x], w[0]);
-  const double c10 = lerp(c[y], c[y + x], w[0]);
-  const double c01 = lerp(c[z], c[z + x], w[0]);
-  const double c11 = lerp(c[z + y], c[z + y + x], w[0]);
-  return lerp(lerp(c00, c10, w[1]), lerp(c01, c11, w[1]), w[2]);
+  return nodes_.visit([&](auto c) VRV_FORCE_INLINE_LAMBDA {
+    const double c00 = lerp(c(base), c(base + x), w[0]);
+    const double c10 = lerp(c(base + y), c(base + y + x), w[0]);
+    const double c01 = lerp(c(base + z), c(base + z + x), w[0]);
+    const double c11 = lerp(c(base + z + y), c(base + z + y + x), w[0]);
+    return lerp(lerp(c00, c10, w[1]), lerp(c01, c11, w[1]), w[2]);
+  });
 }
 
 }  // namespace vrv

@@ -295,23 +295,54 @@ bool empty_stretch(const F& field, const Ray& ray, double a, double b, const Tra
   return false;
 }
 
+// The field's breaks along iv, sorted; where the field knows empty space in bulk (a grid's
+// bricks), each transparent stretch is one piece listed in `skipped` (in order, each starting at a
+// cut) and no break is made inside it.  Elsewhere the breaks are the field's own, to the bit.
+template <ScalarField F>
+std::vector<double> cuts_around_empty_space(const F& field, const Ray& ray, Interval iv, const TransferFunction& tf,
+                                            const RayAccumulator& acc, std::vector<Interval>& skipped) {
+  if constexpr (requires { F::kBrickCells; }) {
+    const double margin = field.value_noise() + acc.position_error();
+    field.append_transparent_spans(
+        ray, iv, [&](double lo, double hi) { return tf.transparent_on(lo - margin, hi + margin); }, skipped);
+  }
+  std::vector<double> cuts{iv.t0};
+  double from = iv.t0;
+  const auto breaks_up_to = [&](double to) {
+    if (to > from) {
+      field.append_breaks(ray, Interval{from, to}, cuts);
+      cuts.push_back(to);
+    }
+  };
+  for (const Interval& s : skipped) {
+    breaks_up_to(s.t0);
+    cuts.push_back(s.t1);
+    from = s.t1;
+  }
+  breaks_up_to(iv.t1);
+  std::sort(cuts.begin(), cuts.end());
+  return cuts;
+}
+
 // One pass over the clipped ray at options.tol.
 template <ScalarField F>
 ReferenceResult integrate_pass(const F& field, const RayFrame& frame, const TransferFunction& tf,
                                double background, const ReferenceOptions& options) {
   const Ray& local = frame.local;
   const Interval iv = frame.iv;
-  std::vector<double> cuts{iv.t0};
-  field.append_breaks(local, iv, cuts);
-  cuts.push_back(iv.t1);
-  std::sort(cuts.begin(), cuts.end());
-
   RayAccumulator acc(tf, background, options, iv, field_change_within(field, frame.position_error));
+  std::vector<Interval> skipped;
+  const std::vector<double> cuts = cuts_around_empty_space(field, local, iv, tf, acc, skipped);
+  std::size_t next_skipped = 0;
   long evaluations = 0;
   const int degree = field.degree_along_ray();
   for (std::size_t i = 0; i + 1 < cuts.size() && !acc.stopped(); ++i) {
     const double a = cuts[i], b = cuts[i + 1];
     if (!(b > a)) continue;
+    if (next_skipped < skipped.size() && a == skipped[next_skipped].t0) {
+      ++next_skipped;  // one piece, transparent brick by brick
+      continue;
+    }
     if (degree >= 0) {
       if (evaluations >= kMaxEvaluations) {
         acc.give_up(a);

@@ -308,14 +308,14 @@ GridField read_volume_field(const Reader& r, const toml::table& t, const Box& bo
       {{"trilinear", Interpolation::trilinear}, {"nearest", Interpolation::nearest}});
   try {
     // The grid's node cap (as for kind = "grid") and the memory budget, checked from the header
-    // before reading: the samples in their own type and the grid's doubles.
-    VolumeReadOptions options{std::int64_t{kMaxGridNodes} * 16, kMaxGridNodes, sizeof(double)};
+    // before reading: the samples in their own type, twice at the peak (a reader's buffer and
+    // the samples; or the samples and the grid's copy in its node order).
+    VolumeReadOptions options{std::int64_t{kMaxGridNodes} * 16, kMaxGridNodes, 2};
     if (r.volume_budget() > 0 && r.volume_budget() < static_cast<double>(options.max_bytes))
       options.max_bytes = static_cast<std::int64_t>(r.volume_budget());
-    const Volume v = read_volume(file, options);
-    GridField grid = volume_grid(v, mapping, placement, box, layout, interpolation, file);
+    Volume v = read_volume(file, options);
     files = files_digest(v.files);
-    return grid;
+    return volume_grid(std::move(v), mapping, placement, box, layout, interpolation, file);
   } catch (const VolumeFileError& e) {
     throw SceneFileError(e.what());
   } catch (const std::invalid_argument& e) {

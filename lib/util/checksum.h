@@ -11,8 +11,11 @@
 
 namespace vrv {
 
+// Fed piece by piece (process_bytes), e.g. a file read in chunks.
+using Crc64 = boost::crc_optimal<64, 0x42F0E1EBA9EA3693ULL, 0, 0, false, false>;
+
 inline std::uint64_t crc64(std::string_view bytes) {
-  boost::crc_optimal<64, 0x42F0E1EBA9EA3693ULL, 0, 0, false, false> crc;
+  Crc64 crc;
   crc.process_bytes(bytes.data(), bytes.size());
   return crc.checksum();
 }

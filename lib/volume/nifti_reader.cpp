@@ -59,16 +59,16 @@ void set_geometry(Volume& v, const nifti_image& nim, const std::filesystem::path
 // and infinite floats by 0 without a word, and a NaN must reach the scene's refusal (nibabel
 // keeps them too).  Byte order as the header's.
 VolumeSamples read_data(const nifti_image& nim, std::size_t count, ScalarType type, const std::filesystem::path& file) {
-  const std::size_t bytes = count * scalar_bytes(type);
   znzFile f = znzopen(nim.iname, "rb", nifti_is_gzfile(nim.iname));
   if (znz_isnull(f)) volume_fail(file, "(data)", fmt::format("cannot open {}", nim.iname));
-  std::vector<unsigned char> raw(bytes);
-  const bool ok = znzseek(f, static_cast<znz_off_t>(nim.iname_offset), SEEK_SET) >= 0 &&  // gzseek: the offset
-                  znzread(raw.data(), 1, bytes, f) == bytes;
-  znzclose(f);
-  if (!ok) volume_fail(file, "(data)", fmt::format("cannot read {} bytes of data from offset {} (truncated or damaged)",
-                                                   bytes, nim.iname_offset));
-  return samples_from_bytes(type, raw.data(), count, nim.byteorder == 2);  // MSB_FIRST (defined for niftilib's own sources only)
+  const auto read = [&](unsigned char* out, std::size_t bytes) {
+    const bool ok = znzseek(f, static_cast<znz_off_t>(nim.iname_offset), SEEK_SET) >= 0 &&  // gzseek: the offset
+                    znzread(out, 1, bytes, f) == bytes;
+    znzclose(f);
+    if (!ok) volume_fail(file, "(data)", fmt::format("cannot read {} bytes of data from offset {} (truncated or damaged)",
+                                                     bytes, nim.iname_offset));
+  };
+  return read_samples(type, count, nim.byteorder == 2, read);  // MSB_FIRST (defined for niftilib's own sources only)
 }
 
 }  // namespace

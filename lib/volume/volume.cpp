@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 
 #include <fmt/format.h>
 #include <zlib.h>
@@ -57,11 +58,12 @@ void check_budget(const std::filesystem::path& file, std::string_view what,
   if (samples > options.max_samples)
     volume_fail(file, what, fmt::format("{} x {} x {} samples: more than {}", dims[0], dims[1], dims[2],
                                         options.max_samples));
-  const std::int64_t bytes = samples * (static_cast<std::int64_t>(scalar_bytes(t)) + options.extra_bytes_per_sample);
+  const std::int64_t bytes = samples * static_cast<std::int64_t>(scalar_bytes(t)) * options.copies;
   if (bytes > options.max_bytes)
-    volume_fail(file, what, fmt::format("{} x {} x {} {} samples take {} bytes{}, more than the {} allowed "
-                                        "(--max-memory)", dims[0], dims[1], dims[2], to_string(t), bytes,
-                                        options.extra_bytes_per_sample ? " with the grid's doubles" : "",
+    volume_fail(file, what, fmt::format("{} x {} x {} {} samples{} take {} bytes, more than the {} allowed "
+                                        "(--max-memory)", dims[0], dims[1], dims[2], to_string(t),
+                                        options.copies == 2 ? " held twice while read" : "",
+                                        bytes,
                                         options.max_bytes));
 }
 
@@ -92,14 +94,20 @@ void set_axis_aligned(Volume& v, const Eigen::Matrix3d& steps, const std::filesy
 
 namespace {
 
+// Samples stored in the file's byte order, put in this machine's (in place).
+template <class T>
+void to_native_order(std::vector<T>& v, bool big_endian) {
+  if (sizeof(T) > 1 && big_endian != (std::endian::native == std::endian::big)) {
+    auto* raw = reinterpret_cast<unsigned char*>(v.data());
+    for (std::size_t n = 0; n < v.size(); ++n) std::reverse(raw + n * sizeof(T), raw + (n + 1) * sizeof(T));
+  }
+}
+
 template <class T>
 std::vector<T> decode(const unsigned char* bytes, std::size_t count, bool big_endian) {
   std::vector<T> out(count);
   if (count > 0) std::memcpy(out.data(), bytes, count * sizeof(T));
-  if (sizeof(T) > 1 && big_endian != (std::endian::native == std::endian::big)) {
-    auto* raw = reinterpret_cast<unsigned char*>(out.data());
-    for (std::size_t n = 0; n < count; ++n) std::reverse(raw + n * sizeof(T), raw + (n + 1) * sizeof(T));
-  }
+  to_native_order(out, big_endian);
   return out;
 }
 
@@ -170,6 +178,23 @@ std::string read_file_bytes(const std::filesystem::path& file, std::size_t max_b
   }
   if (in.bad()) volume_fail(file, "(file)", "read error");
   return bytes;
+}
+
+}  // namespace vrv
+
+namespace vrv {
+
+VolumeSamples read_samples(ScalarType t, std::size_t count, bool big_endian,
+                           const std::function<void(unsigned char*, std::size_t)>& read) {
+  VolumeSamples samples = samples_from_bytes(t, nullptr, 0, big_endian);  // the alternative for t
+  std::visit(
+      [&](auto& v) {
+        v.resize(count);
+        read(reinterpret_cast<unsigned char*>(v.data()), count * sizeof(v[0]));
+        to_native_order(v, big_endian);
+      },
+      samples);
+  return samples;
 }
 
 }  // namespace vrv

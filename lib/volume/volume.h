@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -78,8 +79,9 @@ struct Volume {
 struct VolumeReadOptions {
   std::int64_t max_bytes = std::int64_t{16} << 30;
   std::int64_t max_samples = kMaxVolumeSamples;
-  // Bytes per sample the caller adds (the scene's grid holds each as a double), in the budget.
-  std::int64_t extra_bytes_per_sample = 0;
+  // How many copies of the samples the caller holds at once, in the budget (the scene: a
+  // reader's buffer and the samples, or the samples and the grid's copy in its node order).
+  int copies = 1;
 };
 // Refuses more than options.max_samples samples, or dims x (bytes per sample + extra) above
 // options.max_bytes, naming `what`.
@@ -100,6 +102,12 @@ void set_axis_aligned(Volume& v, const Eigen::Matrix3d& steps, const std::filesy
 // `count` samples of type t from raw bytes in the given byte order.
 VolumeSamples samples_from_bytes(ScalarType t, const unsigned char* bytes, std::size_t count,
                                  bool big_endian);
+
+// `count` samples of type t read straight into their own storage by read(bytes, size), which
+// throws when it cannot (no second copy of a scan while it is read), then put in this machine's
+// byte order.
+VolumeSamples read_samples(ScalarType t, std::size_t count, bool big_endian,
+                           const std::function<void(unsigned char*, std::size_t)>& read);
 
 // zlib or gzip stream (auto-detected) inflated to exactly `expected` bytes; fewer, more or a
 // damaged stream are refused naming `what`.

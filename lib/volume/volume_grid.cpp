@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
+#include <fstream>
 #include <stdexcept>
+#include <type_traits>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -17,6 +20,52 @@ int index_axis(const Volume& v, int w) {
   for (int a = 0; a < 3; ++a)
     if (v.axis[a] == w) return a;
   return w;  // unreachable: axis is a permutation
+}
+
+// Grid axis w runs along index axis axis[w] (n[w] samples), mirrored where mirrored[w].
+struct GridOrder {
+  std::array<int, 3> axis{0, 1, 2};
+  GridField::Index3 n{};
+  std::array<bool, 3> mirrored{false, false, false};
+  bool is_file_order() const {
+    return axis == std::array<int, 3>{0, 1, 2} && mirrored == std::array<bool, 3>{false, false, false};
+  }
+};
+
+// A NaN or infinite sample (float types) refused, naming its index.
+void check_samples_finite(const Volume& v, const std::filesystem::path& file) {
+  std::visit(
+      [&](const auto& s) {
+        using T = typename std::decay_t<decltype(s)>::value_type;
+        if constexpr (std::is_floating_point_v<T>) {
+          for (std::size_t n = 0; n < s.size(); ++n)
+            if (!std::isfinite(s[n])) {
+              const std::size_t i = n % v.dims[0], j = n / v.dims[0] % v.dims[1], k = n / v.dims[0] / v.dims[1];
+              volume_fail(file, "(data)", fmt::format("sample ({}, {}, {}) is {}", i, j, k, static_cast<double>(s[n])));
+            }
+        }
+      },
+      v.samples);
+}
+
+// The samples in grid order, in their own type: moved as they are when that is the file's order
+// (no second copy of a scan), else copied once.
+VolumeSamples in_grid_order(VolumeSamples&& samples, const std::array<int, 3>& dims, const GridOrder& order) {
+  if (order.is_file_order()) return std::move(samples);
+  return std::visit(
+      [&](const auto& s) -> VolumeSamples {
+        std::decay_t<decltype(s)> out(s.size());
+        std::size_t next = 0;
+        std::array<int, 3> g{}, idx{};
+        for (g[2] = 0; g[2] < order.n[2]; ++g[2])
+          for (g[1] = 0; g[1] < order.n[1]; ++g[1])
+            for (g[0] = 0; g[0] < order.n[0]; ++g[0]) {
+              for (int w = 0; w < 3; ++w) idx[order.axis[w]] = order.mirrored[w] ? order.n[w] - 1 - g[w] : g[w];
+              out[next++] = s[(static_cast<std::size_t>(idx[2]) * dims[1] + idx[1]) * dims[0] + idx[0]];
+            }
+        return out;
+      },
+      samples);
 }
 
 }  // namespace
@@ -40,47 +89,48 @@ Box volume_box(const Volume& v, GridLayout layout) {
   return box;
 }
 
-GridField volume_grid(const Volume& v, const VolumeMapping& mapping, VolumePlacement placement,
+GridField volume_grid(Volume v, const VolumeMapping& mapping, VolumePlacement placement,
                       const Box& scene_box, GridLayout layout, Interpolation interpolation,
                       const std::filesystem::path& file) {
   if (mapping.kind == VolumeValue::rescale && !v.has_rescale)
     volume_fail(file, "value", "rescale: the file's header has no slope and intercept (use raw or a window)");
-  const bool rescale = mapping.kind != VolumeValue::raw && v.has_rescale;
-  auto value = [&](double s) {
-    const double x = rescale ? v.slope * s + v.intercept : s;
-    if (mapping.kind != VolumeValue::window) return x;
-    return std::clamp((x - mapping.lo) / (mapping.hi - mapping.lo), 0.0, 1.0);
-  };
+  SampleMap map;
+  map.rescale = mapping.kind != VolumeValue::raw && v.has_rescale;
+  map.slope = v.slope, map.intercept = v.intercept;
+  map.window = mapping.kind == VolumeValue::window;
+  map.lo = mapping.lo, map.hi = mapping.hi;
   const bool header = placement == VolumePlacement::header;
   const Box box = header ? volume_box(v, layout) : scene_box;
-  // Grid axis w (world axis w for the header, index axis w for a box) and its index axis.
-  std::array<int, 3> a{0, 1, 2};
-  GridField::Index3 n = v.dims;
+  // Grid axis w (world axis w for the header, index axis w for a box), its index axis and whether
+  // it runs against it.
+  GridOrder order;
+  order.n = v.dims;
   if (header)
     for (int w = 0; w < 3; ++w) {
-      a[w] = index_axis(v, w);
-      n[w] = v.dims[a[w]];
+      order.axis[w] = index_axis(v, w);
+      order.n[w] = v.dims[order.axis[w]];
+      order.mirrored[w] = v.sign[order.axis[w]] < 0;
     }
-  std::vector<double> values(static_cast<std::size_t>(n[0]) * n[1] * n[2]);
-  std::size_t out = 0;
-  std::array<int, 3> g{};
-  for (g[2] = 0; g[2] < n[2]; ++g[2])
-    for (g[1] = 0; g[1] < n[1]; ++g[1])
-      for (g[0] = 0; g[0] < n[0]; ++g[0]) {
-        std::array<int, 3> idx{};
-        for (int w = 0; w < 3; ++w)
-          idx[a[w]] = header && v.sign[a[w]] < 0 ? n[w] - 1 - g[w] : g[w];
-        const double s = v.sample(idx[0], idx[1], idx[2]);
-        if (!std::isfinite(s))
-          volume_fail(file, "(data)", fmt::format("sample ({}, {}, {}) is {}", idx[0], idx[1], idx[2], s));
-        values[out++] = value(s);
-      }
-  return GridField(box, n, layout, interpolation, std::move(values));
+  check_samples_finite(v, file);
+  VolumeSamples samples = in_grid_order(std::move(v.samples), v.dims, order);
+  return GridField(box, order.n, layout, interpolation, GridNodes(std::move(samples), map));
 }
 
 std::string files_digest(const std::vector<std::filesystem::path>& files) {
   std::string out;
-  for (const auto& f : files) out += fmt::format("{}:{};", f.filename().string(), crc64_hex(read_file_bytes(f, SIZE_MAX)));
+  std::vector<char> chunk(std::size_t{1} << 20);
+  for (const auto& f : files) {
+    // In chunks: a scan's file is not held a second time beside its samples.
+    std::ifstream in(f, std::ios::binary);
+    if (!in) volume_fail(f, "(file)", "cannot open to checksum it");
+    Crc64 crc;
+    while (in) {
+      in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+      crc.process_bytes(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    }
+    if (in.bad()) volume_fail(f, "(file)", "read error while taking its checksum");
+    out += fmt::format("{}:{:016x};", f.filename().string(), crc.checksum());
+  }
   return out;
 }
 

@@ -3,10 +3,11 @@
 
     python3 studies/benchmarks/reference_image_cost.py BUILD_DIR [--before OTHER_BUILD_DIR]
                                                        [--rounds N] [--size N] [--step H]
-                                                       [--scene FILE]
+                                                       [--scene FILE] [--tol T]
 
-Renders the default scene (or FILE, e.g. studies/benchmarks/grid64_opacity.toml) (SIZE x SIZE pixels, one thread) with the reference integrator at
-tol 1e-10 and with the trapezoid rule (inviwo placement, step H, default 0.0062: about 5e-6 off at
+Renders the default scene (or FILE, e.g. studies/benchmarks/grid64_opacity.toml, or a real scan:
+studies/benchmarks/ch2bet_volume.toml) (SIZE x SIZE pixels, one thread) with the reference
+integrator at tol T (default 1e-10) and with the trapezoid rule (inviwo placement, step H, default 0.0062: about 5e-6 off at
 most), each ROUNDS times, alternating the builds when --before is given so that both see the same
 load, and prints a Markdown table: the median render time each `vrv render` reports (the pixels
 only: no start-up, no image writing), the trapezoid image's max |error| against that build's
@@ -46,6 +47,7 @@ def main():
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--step", type=float, default=0.0062)
     ap.add_argument("--scene", help="a scene file (default: vrv's default scene)")
+    ap.add_argument("--tol", type=float, default=1e-10, help="the reference's tolerance")
     args = ap.parse_args()
     builds = ([("before", args.before)] if args.before else []) + [("this build", args.build_dir)]
     for _, d in builds:
@@ -63,14 +65,14 @@ def main():
             for name, d in builds:
                 vrv = str(Path(d) / "vrv")
                 ref = Path(scratch) / f"ref_{len(errors)}_{name.replace(' ', '_')}.exr"
-                t_ref, _ = render(vrv, ["--reference", "--tol", "1e-10"] + size, ref)
+                t_ref, _ = render(vrv, ["--reference", "--tol", repr(args.tol)] + size, ref)
                 t_trap, err = render(vrv, ["--method", "trapezoid", "--strategy", "inviwo", "--step",
                                            str(args.step), "--error-against", str(ref)] + size,
                                      Path(scratch) / "trap.exr")
                 times[name]["reference"].append(t_ref)
                 times[name]["trapezoid"].append(t_trap)
                 errors[name] = err
-    print(f"| build | reference, tol 1e-10 | trapezoid, inviwo step {args.step} | its max abs error | "
+    print(f"| build | reference, tol {args.tol:g} | trapezoid, inviwo step {args.step} | its max abs error | "
           "reference / trapezoid |")
     print("|---|---|---|---|---|")
     for name, d in builds:

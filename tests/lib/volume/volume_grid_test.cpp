@@ -55,6 +55,16 @@ TEST(VolumeGrid, HeaderPlacementPutsEverySampleAtItsWorldPosition) {
   }
 }
 
+// The grid keeps the samples in their own type (2 bytes a node and the 65 536-entry table for
+// int16), placed by the header (a copy in grid order) or in a box (moved, file order).
+TEST(VolumeGrid, TheGridHoldsTheSamplesInTheirOwnType) {
+  for (VolumePlacement placement : {VolumePlacement::header, VolumePlacement::box}) {
+    const GridField g = volume_grid(permuted(), {}, placement, Box{}, GridLayout::node, Interpolation::trilinear, "v.nrrd");
+    EXPECT_EQ(g.nodes().kind(), GridNodes::Kind::code16);
+    EXPECT_EQ(g.nodes().bytes(), 24 * sizeof(std::int16_t) + 65536 * sizeof(double));
+  }
+}
+
 TEST(VolumeGrid, BoxPlacementKeepsIndexOrder) {
   const Volume v = permuted();
   const Box box{Vec3(0, 0, 0), Vec3(1, 1, 1)};
