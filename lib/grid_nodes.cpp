@@ -67,6 +67,15 @@ std::size_t GridNodes::bytes() const {
          (table_owner_ ? table_owner_->size() * sizeof(double) : 0);
 }
 
+std::string_view GridNodes::stored_bytes() const {
+  return {static_cast<const char*>(data_), size_ * scalar_bytes(static_cast<ScalarType>(samples_->index()))};
+}
+
+std::string_view GridNodes::table_bytes() const {
+  if (!table_owner_) return {};
+  return {reinterpret_cast<const char*>(table_owner_->data()), table_owner_->size() * sizeof(double)};
+}
+
 GridNodes GridNodes::mapped(const std::function<double(double)>& fn) const {
   if (table_owner_) {
     // The samples stay shared: only the table is new.

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string_view>
 #include <vector>
 
 #include "lib/util/force_inline.h"
@@ -52,6 +53,12 @@ class GridNodes {
   // loops are compiled once per kind; the dispatch is one predictable branch per call).
   template <class F>
   VRV_FORCE_INLINE decltype(auto) visit(F&& f) const;
+  // What determines every node value, as bytes in this machine's order: the stored samples, and
+  // the table (8/16-bit) or the mapping's numbers (32-bit).  What a scene hash covers in place of
+  // the values (an eighth of their bytes for uint8 samples).
+  std::string_view stored_bytes() const;
+  std::string_view table_bytes() const;
+  const SampleMap& map() const { return map_; }
   // fn applied to every node value: for 8/16-bit samples only the table changes.
   GridNodes mapped(const std::function<double(double)>& fn) const;
 

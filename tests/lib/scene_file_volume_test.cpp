@@ -131,6 +131,24 @@ TEST(SceneFileVolume, BadVolumeScenesAreOneLine) {
   fs::remove_all(dir);
 }
 
+// A volume's hash covers what makes its node values: the stored samples (int16 here, hashed as
+// stored) and the mapping that turns them into values.
+TEST(SceneFileVolume, TheSceneHashCoversTheStoredSamplesMapping) {
+  const fs::path file = fs::path(VRV_SOURCE_DIR) / "tests/lib/volume/data/mha_i16_little.mha";
+  const auto scene = [&](const std::string& value) {
+    return parse_scene("[field]\nkind = \"volume\"\nfile = \"" + file.string() + "\"\nplacement = \"header\"\n" +
+                           value + kTransferTable, "s.toml");
+  };
+  const Scene raw = scene("value = \"raw\"\n");
+  ASSERT_EQ(std::get<GridField>(raw.field).nodes().kind(), GridNodes::Kind::code16);
+  const std::string h = scene_hash(raw);
+  EXPECT_EQ(scene_hash(scene("value = \"raw\"\n")), h);
+  const std::string w1 = scene_hash(scene("value = { window = [0.0, 100.0] }\n"));
+  const std::string w2 = scene_hash(scene("value = { window = [0.0, 200.0] }\n"));
+  EXPECT_NE(w1, h);
+  EXPECT_NE(w2, w1);
+}
+
 // A real scan (Debian's mricron-data: the skull-stripped Colin27 template, 181 x 217 x 181 uint8,
 // 1 mm) under an opacity/colour transfer function whose knot (20) is a value the scan stores:
 // one ray of a 128 x 128 image passes a cell's cubic 0.02 above the knot, 367 units along the
