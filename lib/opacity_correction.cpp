@@ -161,7 +161,7 @@ Target unit_target(double alpha_unit) {
 
 }  // namespace
 
-constexpr NameTable<Correction, 5> kNames{{
+constexpr NameTable<Correction, 5> kCorrectionNames{{
     {Correction::none, "none"},
     {Correction::lacroute, "lacroute"},
     {Correction::schulze, "schulze"},
@@ -169,9 +169,9 @@ constexpr NameTable<Correction, 5> kNames{{
     {Correction::lee_newman_quadratic, "lee_newman_quadratic"},
 }};
 
-std::optional<Correction> parse_correction(std::string_view name) { return parse_name(kNames, name); }
+std::optional<Correction> parse_correction(std::string_view name) { return parse_name(kCorrectionNames, name); }
 
-std::string_view correction_name(Correction c) { return name_of(kNames, c); }
+std::string_view correction_name(Correction c) { return name_of(kCorrectionNames, c); }
 
 double lacroute(double alpha, int N) {
   check_factor(N);

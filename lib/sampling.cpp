@@ -15,7 +15,7 @@ namespace vrv {
 
 namespace {
 
-constexpr NameTable<Strategy, 9> kNames{{
+constexpr NameTable<Strategy, 9> kStrategyNames{{
     {Strategy::eye, "eye"},
     {Strategy::entry, "entry"},
     {Strategy::entry_exit, "entry_exit"},
@@ -142,9 +142,9 @@ SamplePlan plan_with_partial_step(bool from_exit, double h, Interval iv, double 
 
 }  // namespace
 
-std::optional<Strategy> parse_strategy(std::string_view name) { return parse_name(kNames, name); }
+std::optional<Strategy> parse_strategy(std::string_view name) { return parse_name(kStrategyNames, name); }
 
-std::string_view strategy_name(Strategy s) { return name_of(kNames, s); }
+std::string_view strategy_name(Strategy s) { return name_of(kStrategyNames, s); }
 
 SamplePlan plan_samples(const SamplingConfig& config, const Ray& ray, Interval iv, const Box& box) {
   const bool by_rate = rate_based(config.strategy);

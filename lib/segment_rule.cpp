@@ -4,7 +4,7 @@
 
 namespace vrv {
 namespace {
-constexpr NameTable<SegmentRule, 5> kNames{{
+constexpr NameTable<SegmentRule, 5> kSegmentRuleNames{{
     {SegmentRule::riemann, "riemann"},
     {SegmentRule::alpha, "alpha"},
     {SegmentRule::trapezoid, "trapezoid"},
@@ -13,8 +13,8 @@ constexpr NameTable<SegmentRule, 5> kNames{{
 }};
 }  // namespace
 
-std::optional<SegmentRule> parse_segment_rule(std::string_view name) { return parse_name(kNames, name); }
+std::optional<SegmentRule> parse_segment_rule(std::string_view name) { return parse_name(kSegmentRuleNames, name); }
 
-std::string_view segment_rule_name(SegmentRule r) { return name_of(kNames, r); }
+std::string_view segment_rule_name(SegmentRule r) { return name_of(kSegmentRuleNames, r); }
 
 }  // namespace vrv

@@ -12,12 +12,12 @@
 namespace vrv {
 namespace {
 
-constexpr NameTable<TableLookup, 2> kNames{{{TableLookup::centred, "centred"}, {TableLookup::uncentred, "uncentred"}}};
+constexpr NameTable<TableLookup, 2> kTableLookupNames{{{TableLookup::centred, "centred"}, {TableLookup::uncentred, "uncentred"}}};
 
 }  // namespace
 
-std::optional<TableLookup> parse_table_lookup(std::string_view name) { return parse_name(kNames, name); }
-std::string_view table_lookup_name(TableLookup t) { return name_of(kNames, t); }
+std::optional<TableLookup> parse_table_lookup(std::string_view name) { return parse_name(kTableLookupNames, name); }
+std::string_view table_lookup_name(TableLookup t) { return name_of(kTableLookupNames, t); }
 
 TransferTable::TransferTable(const PiecewiseLinear& curve, double lo, double hi, int n, TableLookup lookup)
     : lo_(lo) {

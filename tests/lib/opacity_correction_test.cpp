@@ -20,11 +20,11 @@ constexpr Correction kAll[] = {Correction::none, Correction::lacroute, Correctio
                                Correction::lee_newman, Correction::lee_newman_quadratic};
 
 // Front-to-back compositing of one group (eqs. 1 and 3: I_i = C_i alpha_i).
-struct Composite {
+struct CompositedRay {
   double opacity = 0;
   double intensity = 0;
 };
-Composite composite(const std::vector<double>& alphas, const std::vector<double>& colors) {
+CompositedRay composite(const std::vector<double>& alphas, const std::vector<double>& colors) {
   long double transparency = 1, intensity = 0;
   for (std::size_t k = 0; k < alphas.size(); ++k) {
     intensity += transparency * colors[k] * alphas[k];
@@ -197,7 +197,7 @@ TEST(OpacityCorrection, Figure4SingleVoxel) {
   const double unit = 67.0 / 255;
   const std::vector<double> D{67.0, 69.2, 73.4, 78.6, 84.8};
   std::printf("Fig. 4 (N = 5): %-22s opacity %.6f  intensity %.6f\n", "unit sampling", unit, unit * unit);
-  std::vector<Composite> result;
+  std::vector<CompositedRay> result;
   for (Correction c : kAll) {
     std::vector<double> a, col;
     for (double d : D) a.push_back(d / 255), col.push_back(d / 255);
@@ -210,7 +210,7 @@ TEST(OpacityCorrection, Figure4SingleVoxel) {
     if (p != 1) std::printf("  p = %.10f", p);
     std::printf("\n");
   }
-  const Composite none = result[0], lac = result[1], sch = result[2], ln = result[3], lnq = result[4];
+  const CompositedRay none = result[0], lac = result[1], sch = result[2], ln = result[3], lnq = result[4];
   EXPECT_NEAR(ln.opacity, unit, 1e-15);                         // the defining property
   EXPECT_GT(none.opacity, lac.opacity);                         // uncorrected over-composites ...
   EXPECT_GT(none.intensity, unit * unit);                       // ... opacity and intensity
