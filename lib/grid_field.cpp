@@ -112,8 +112,13 @@ Vec3 GridField::node_position(int i, int j, int k) const {
 }
 
 void GridField::append_breaks(const Ray& ray, Interval iv, std::vector<double>& breaks) const {
-  // Planes at min + (i + shift) h: node planes for trilinear, half-way planes for nearest.
-  const double shift = offset_ + (interpolation_ == Interpolation::nearest ? 0.5 : 0.0);
+  // Node planes for trilinear, half-way planes for nearest.
+  if (interpolation_ == Interpolation::nearest) append_planes(ray, iv, offset_ + 0.5, 1, breaks);
+  else append_planes(ray, iv, offset_, 1, breaks);
+}
+
+void GridField::append_planes(const Ray& ray, Interval iv, double shift, int stride,
+                              std::vector<double>& out) const {
   for (int a = 0; a < 3; ++a) {
     const double d = ray.direction[a];
     if (d == 0) continue;
@@ -122,11 +127,11 @@ void GridField::append_breaks(const Ray& ray, Interval iv, std::vector<double>& 
     const double x1 = ray.origin[a] + iv.t1 * d;
     const double u0 = (std::min(x0, x1) - box_.min[a]) / spacing_[a] - shift;
     const double u1 = (std::max(x0, x1) - box_.min[a]) / spacing_[a] - shift;
-    const int lo = std::max(0, static_cast<int>(std::floor(u0)));
-    const int hi = std::min(planes - 1, static_cast<int>(std::ceil(u1)));
-    for (int i = lo; i <= hi; ++i) {
-      const double t = (box_.min[a] + (i + shift) * spacing_[a] - ray.origin[a]) / d;
-      if (t > iv.t0 && t < iv.t1) breaks.push_back(t);
+    const int lo = std::max(0, static_cast<int>(std::floor(u0 / stride)));
+    const int hi = std::min((planes - 1) / stride, static_cast<int>(std::ceil(u1 / stride)));
+    for (int m = lo; m <= hi; ++m) {
+      const double t = (box_.min[a] + (m * stride + shift) * spacing_[a] - ray.origin[a]) / d;
+      if (t > iv.t0 && t < iv.t1) out.push_back(t);
     }
   }
 }
@@ -185,22 +190,7 @@ const GridField::BrickRanges& GridField::bricks() const {
 
 std::vector<double> GridField::brick_cuts(const Ray& ray, Interval iv) const {
   std::vector<double> cuts{iv.t0};
-  for (int a = 0; a < 3; ++a) {
-    const double d = ray.direction[a];
-    if (d == 0) continue;
-    const double x0 = ray.origin[a] + iv.t0 * d;
-    const double x1 = ray.origin[a] + iv.t1 * d;
-    const double u0 = (std::min(x0, x1) - box_.min[a]) / spacing_[a] - offset_;
-    const double u1 = (std::max(x0, x1) - box_.min[a]) / spacing_[a] - offset_;
-    const int lo = std::max(0, static_cast<int>(std::floor(u0 / kBrickCells)));
-    const int hi = std::min((n_[a] - 1) / kBrickCells, static_cast<int>(std::ceil(u1 / kBrickCells)));
-    for (int m = lo; m <= hi; ++m) {
-      const int i = m * kBrickCells;
-      // append_breaks' own expression for node plane i, so that the two agree to the bit.
-      const double t = (box_.min[a] + (i + offset_) * spacing_[a] - ray.origin[a]) / d;
-      if (t > iv.t0 && t < iv.t1) cuts.push_back(t);
-    }
-  }
+  append_planes(ray, iv, offset_, kBrickCells, cuts);  // trilinear only: the node planes' own t
   cuts.push_back(iv.t1);
   std::sort(cuts.begin(), cuts.end());
   return cuts;

@@ -90,8 +90,12 @@ class GridField {
     const double u = (x - box_.min[a]) / spacing_[a] - offset_;
     return std::clamp(u, 0.0, static_cast<double>(n_[a] - 1));
   }
+  // The t (unsorted, appended to out) at which the ray crosses, strictly inside iv, the planes
+  // min + (i + shift) h for i = 0, stride, 2 stride, ... (node planes, or the half-way planes of
+  // nearest): one expression for append_breaks and brick_cuts, so their planes agree to the bit.
+  void append_planes(const Ray& ray, Interval iv, double shift, int stride, std::vector<double>& out) const;
   // The node planes i = 0, kBrickCells, 2 kBrickCells, ... that the ray crosses inside iv, with
-  // iv's ends, sorted: the t of each plane exactly as append_breaks computes it.
+  // iv's ends, sorted.
   std::vector<double> brick_cuts(const Ray& ray, Interval iv) const;
   // The value range of the brick holding ray.at(t), halo included.
   std::pair<double, double> brick_range_at(const Ray& ray, double t) const;

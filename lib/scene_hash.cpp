@@ -1,5 +1,6 @@
 #include "lib/scene_hash.h"
 
+#include <cstddef>
 #include <string_view>
 #include <type_traits>
 #include <vector>
@@ -60,9 +61,11 @@ void hash_scene(Hasher& h, const Scene& s) {
           h.vec(f.box().min);
           h.vec(f.box().max);
           if (s.field_files.empty()) {
-            for (int k = 0; k < n[2]; ++k)
-              for (int j = 0; j < n[1]; ++j)
-                for (int i = 0; i < n[0]; ++i) h.number(f.node(i, j, k));
+            // Node order (i fastest) is storage order: one kind dispatch for the whole grid.
+            const GridNodes& nodes = f.nodes();
+            nodes.visit([&](auto node_at) {
+              for (std::size_t m = 0; m < nodes.size(); ++m) h.number(node_at(m));
+            });
           } else {
             // A volume's nodes as what makes them: the stored samples in grid order and the table
             // or mapping that turns them into values (SHA-1 over the values' doubles took ~2.5 s

@@ -25,11 +25,6 @@ std::string scene_to_toml(const toml::table& scene) {
 }
 }  // namespace
 
-std::string one_line(std::string s) {
-  std::replace_if(s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  return s;
-}
-
 void StudyReader::fail(std::string_view key, std::string_view reason) const {
   throw StudyFileError(error_line(source_, key, reason));
 }

@@ -28,9 +28,6 @@ class StudyFileError : public std::runtime_error {
 
 inline constexpr double kMaxOrderTolerance = 0.5;
 
-// Newlines replaced by spaces: error messages stay one line.
-std::string one_line(std::string s);
-
 class StudyReader {
  public:
   explicit StudyReader(std::string_view source) : source_(source) {}

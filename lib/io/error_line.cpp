@@ -1,6 +1,7 @@
 #include "lib/io/error_line.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -19,6 +20,16 @@ std::string error_line(std::string_view source, std::string_view key, std::strin
                                  cut_for_message(reason, 4 * kMaxErrorPart));
   std::replace_if(line.begin(), line.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
   return line;
+}
+
+std::string one_line(std::string s) {
+  std::replace_if(s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+void throw_file_error(const std::filesystem::path& file, std::string_view reason) {
+  throw std::runtime_error(one_line(fmt::format("{}: {}", file.string(), reason)));
 }
 
 }  // namespace vrv

@@ -3,6 +3,7 @@
 // become spaces, and each part is cut to a bound (a 10 MB table name in a file must not make a
 // 10 MB message): a cut part keeps its head and says how long it was.
 #include <cstddef>
+#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -14,5 +15,11 @@ inline constexpr std::size_t kMaxErrorPart = 200;  // bytes kept of a source, ke
 std::string cut_for_message(std::string_view s, std::size_t max = kMaxErrorPart);
 
 std::string error_line(std::string_view source, std::string_view key, std::string_view reason);
+
+// `s` with its line breaks as spaces and no trailing spaces: a message that stays one line.
+std::string one_line(std::string s);
+
+// "<file>: <reason>" as one line, thrown as std::runtime_error (the image readers and writers).
+[[noreturn]] void throw_file_error(const std::filesystem::path& file, std::string_view reason);
 
 }  // namespace vrv

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/io/error_line.h"
 #include "lib/io/image_module.h"
 #include "lib/io/npy.h"
 
@@ -14,11 +15,6 @@ namespace vrv {
 namespace {
 
 namespace fs = std::filesystem;
-
-[[noreturn]] void channel_error(const fs::path& path, std::string reason) {
-  std::replace(reason.begin(), reason.end(), '\n', ' ');
-  throw std::runtime_error(fmt::format("{}: {}", path.string(), reason));
-}
 
 constexpr int kMaxSide = 1 << 16;
 constexpr std::int64_t kMaxPixels = std::int64_t{1} << 28;
@@ -37,13 +33,13 @@ double quantum_of(const fs::path& path, const std::string& type, double largest)
   if (type == "half") return ulp_at(largest, 10);
   if (type == "float") return ulp_at(largest, 23);
   if (type == "double") return ulp_at(largest, 52);
-  channel_error(path, fmt::format("pixel type {} is not supported", type));
+  throw_file_error(path, fmt::format("pixel type {} is not supported", type));
 }
 
 // A renderer's numpy array saved with numpy.save: read by lib/io/npy.h (OpenImageIO does not).
 ChannelImage read_npy_image(const fs::path& path) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) channel_error(path, "cannot read: no such file");
+  if (!fs::is_regular_file(path, ec)) throw_file_error(path, "cannot read: no such file");
   return channel_image(read_npy(path), path.string());  // read_npy's errors are "<path>: <reason>" already
 }
 
@@ -52,12 +48,12 @@ ChannelImage read_npy_image(const fs::path& path) {
 ChannelImage channel_image(const NpyArray& a, const std::string& name) {
   const fs::path path(name);
   if (a.shape.size() != 2 && a.shape.size() != 3)
-    channel_error(path, fmt::format("an array of {} dimensions (expected (height, width) or (height, width, channels))",
+    throw_file_error(path, fmt::format("an array of {} dimensions (expected (height, width) or (height, width, channels))",
                            a.shape.size()));
   const std::size_t h = a.shape[0], w = a.shape[1], nc = a.shape.size() == 3 ? a.shape[2] : 1;
   if (h == 0 || w == 0 || h > kMaxSide || w > kMaxSide || static_cast<std::int64_t>(h * w) > kMaxPixels)
-    channel_error(path, fmt::format("{} x {} pixels (1 to {} on a side, at most {} in all)", w, h, kMaxSide, kMaxPixels));
-  if (nc < 1 || nc > 4) channel_error(path, fmt::format("{} channels (1 to 4: grey, grey+alpha, RGB or RGBA)", nc));
+    throw_file_error(path, fmt::format("{} x {} pixels (1 to {} on a side, at most {} in all)", w, h, kMaxSide, kMaxPixels));
+  if (nc < 1 || nc > 4) throw_file_error(path, fmt::format("{} channels (1 to 4: grey, grey+alpha, RGB or RGBA)", nc));
   ChannelImage img;
   img.width = static_cast<int>(w);
   img.height = static_cast<int>(h);

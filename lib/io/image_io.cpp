@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "lib/io/error_line.h"
 #include "lib/io/image_module.h"
 
 namespace vrv {
@@ -21,20 +22,10 @@ namespace fs = std::filesystem;
 constexpr int kMaxReadSide = 1 << 16;
 constexpr std::int64_t kMaxReadPixels = std::int64_t{1} << 28;
 
-std::string one_line(std::string s) {
-  std::replace_if(s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  return s;
-}
-
-[[noreturn]] void fail(const fs::path& path, const std::string& reason) {
-  throw std::runtime_error(one_line(fmt::format("{}: {}", path.string(), reason)));
-}
-
 void check_image(const Image& image, const fs::path& path) {
   if (image.width < 1 || image.height < 1 ||
       image.pixels.size() != static_cast<std::size_t>(image.width) * image.height)
-    fail(path, fmt::format("bad image size {} x {} with {} pixels", image.width, image.height,
+    throw_file_error(path, fmt::format("bad image size {} x {} with {} pixels", image.width, image.height,
                            image.pixels.size()));
 }
 
@@ -42,20 +33,20 @@ void check_image(const Image& image, const fs::path& path) {
 void write_atomically(const fs::path& path, const image_module::WriteRequest& request) {
   const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code ec;
-  if (!fs::is_directory(parent, ec)) fail(path, "cannot write: the directory does not exist");
-  if (fs::is_directory(path, ec)) fail(path, "cannot write: is a directory");
+  if (!fs::is_directory(parent, ec)) throw_file_error(path, "cannot write: the directory does not exist");
+  if (fs::is_directory(path, ec)) throw_file_error(path, "cannot write: is a directory");
   fs::path tmp = path;
   tmp += ".tmp";
   const std::string why = image_module::functions().write(tmp.string(), request);
   if (!why.empty()) {
     fs::remove(tmp, ec);
-    fail(path, fmt::format("cannot write: {}", why));
+    throw_file_error(path, fmt::format("cannot write: {}", why));
   }
   fs::rename(tmp, path, ec);
   if (ec) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    fail(path, fmt::format("cannot rename the temporary file onto it: {}", ec.message()));
+    throw_file_error(path, fmt::format("cannot rename the temporary file onto it: {}", ec.message()));
   }
 }
 
@@ -180,7 +171,7 @@ void write_error_map_png(const Image& error, const fs::path& path, double max_ab
 void write_rgb8_png(int width, int height, const std::vector<unsigned char>& rgb, const fs::path& path,
                     const std::string& description) {
   if (width < 1 || height < 1 || rgb.size() != static_cast<std::size_t>(width) * height * 3)
-    fail(path, fmt::format("bad RGB image size {} x {} with {} bytes", width, height, rgb.size()));
+    throw_file_error(path, fmt::format("bad RGB image size {} x {} with {} bytes", width, height, rgb.size()));
   auto r = request("png", width, height, 3, image_module::PixelType::uint8, rgb.data());
   if (!description.empty()) r.attributes = {{"ImageDescription", description}};
   write_atomically(path, r);
@@ -221,7 +212,7 @@ std::optional<ImageProvenance> read_provenance(const fs::path& path) {
   if (j.is_discarded() || !j.is_object() || !j.contains("vrv_provenance")) return std::nullopt;
   const auto& v = j["vrv_provenance"];
   if (!v.is_object() || !v.contains("scene_hash") || !v["scene_hash"].is_string())
-    fail(path, "malformed vrv_provenance in ImageDescription");
+    throw_file_error(path, "malformed vrv_provenance in ImageDescription");
   p.scene_hash = v["scene_hash"];
   p.camera = v.value("camera", "");
   p.method = v.value("method", "");
@@ -232,7 +223,7 @@ std::optional<ImageProvenance> read_provenance(const fs::path& path) {
 void write_tiff_f64(const ImageF64& image, const fs::path& path, const ImageProvenance* provenance) {
   if (image.width < 1 || image.height < 1 ||
       image.pixels.size() != static_cast<std::size_t>(image.width) * image.height)
-    fail(path, fmt::format("bad image size {} x {} with {} pixels", image.width, image.height,
+    throw_file_error(path, fmt::format("bad image size {} x {} with {} pixels", image.width, image.height,
                            image.pixels.size()));
   auto r = request("tiff", image.width, image.height, 1, image_module::PixelType::float64,
                    image.pixels.data());

@@ -8,15 +8,16 @@
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
+#include "lib/io/error_line.h"
 #include "lib/io/image_module.h"
 #include "lib/io/stderr_capture.h"
 
 namespace vrv::image_module {
 namespace {
 
+// OpenImageIO's message on one line (lib/io/error_line), or a word when it gave none.
 std::string one_line(std::string s) {
-  std::replace_if(s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  while (!s.empty() && s.back() == ' ') s.pop_back();
+  s = vrv::one_line(std::move(s));
   return s.empty() ? std::string("unknown error") : s;
 }
 

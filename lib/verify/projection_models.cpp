@@ -46,10 +46,6 @@ ProjectionModel model(const Scene& scene, ProjectionMode mode, Strategy strategy
   return m;
 }
 
-}  // namespace
-
-namespace {
-
 // Whether tau's largest value over the transfer function's breakpoints is a corner: an interior
 // breakpoint where tau rises on the left and falls on the right (or jumps down).
 bool extinction_peaks_at_a_corner(const TransferFunction& tf) {

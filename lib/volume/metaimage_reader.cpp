@@ -4,6 +4,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -16,6 +17,8 @@ namespace vrv {
 namespace {
 
 constexpr std::size_t kMaxHeaderBytes = std::size_t{1} << 20;
+// The head read to find the header: its limit and one more line of up to as many bytes.
+constexpr std::size_t kHeadBytes = 2 * kMaxHeaderBytes;
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
@@ -29,12 +32,15 @@ struct Header {
 };
 
 // Key = value lines up to ElementDataFile, which ends the header (the data may follow).
+// `bytes` is the file's head (kHeadBytes, or all of a shorter file).
 Header parse_header(const std::string& bytes, const std::filesystem::path& file) {
   Header h;
   std::size_t pos = 0;
   while (pos < bytes.size()) {
     if (pos > kMaxHeaderBytes) volume_fail(file, "(header)", fmt::format("no ElementDataFile in the first {} bytes", kMaxHeaderBytes));
     std::size_t end = bytes.find('\n', pos);
+    if (end == std::string::npos && bytes.size() == kHeadBytes)
+      volume_fail(file, "(header)", fmt::format("a line longer than {} bytes", kHeadBytes - kMaxHeaderBytes));
     if (end == std::string::npos) end = bytes.size();
     const std::string_view line = trim(std::string_view(bytes).substr(pos, end - pos));
     pos = std::min(end + 1, bytes.size());
@@ -125,35 +131,70 @@ void set_geometry(Volume& v, const Header& h, const std::filesystem::path& file)
   set_axis_aligned(v, steps, file, "TransformMatrix");
 }
 
-// The data bytes: after the header (LOCAL) or from the detached file.
-std::string data_bytes(const Header& h, std::string&& bytes, const std::filesystem::path& file, Volume& v,
-                       std::size_t max_bytes) {
+// Where the data are: a file and the offset at which they start, and how many bytes follow it.
+struct DataPlace {
+  std::filesystem::path path;
+  std::uint64_t offset = 0;
+  std::uint64_t available = 0;
+};
+
+// After the header (LOCAL) or in the detached file, at HeaderSize (-1: the data end the file).
+DataPlace find_data(const Header& h, const std::filesystem::path& file, Volume& v, std::size_t need) {
   const std::string& name = h.keys.find("ElementDataFile")->second;
-  if (name == "LOCAL") return bytes.substr(h.data_start);
+  if (name == "LOCAL") {
+    const std::uint64_t size = file_size_of(file);
+    return {file, h.data_start, size - std::min<std::uint64_t>(size, h.data_start)};
+  }
   if (name.rfind("LIST", 0) == 0 || name.find('%') != std::string::npos || name.empty())
     volume_fail(file, "ElementDataFile", fmt::format("\"{}\": a list or pattern of files is not supported", name.substr(0, 80)));
-  const std::filesystem::path data = file.parent_path() / name;
-  v.files.push_back(data);
-  std::string d;
+  DataPlace d{file.parent_path() / name};
+  v.files.push_back(d.path);
+  std::uint64_t size = 0;
   try {
-    d = read_file_bytes(data, max_bytes + kMaxHeaderBytes);
+    size = file_size_of(d.path);
   } catch (const VolumeFileError& e) {  // named from the header that points at it
     volume_fail(file, "ElementDataFile", e.what());
   }
   double skip = 0;
   if (const auto* s = find_any(h, {"HeaderSize"})) skip = numbers(file, "HeaderSize", *s, 1)[0];
-  if (skip == -1) return d;  // resolved by the caller: the data end the file
-  if (!(skip >= 0) || skip != std::floor(skip) || skip > static_cast<double>(d.size()))
-    volume_fail(file, "HeaderSize", fmt::format("{} is not a byte offset within the data file's {} bytes", skip, d.size()));
-  return d.substr(static_cast<std::size_t>(skip));
+  if (skip == -1) skip = static_cast<double>(size - std::min<std::uint64_t>(size, need));
+  if (!(skip >= 0) || skip != std::floor(skip) || skip > static_cast<double>(size))
+    volume_fail(file, "HeaderSize", fmt::format("{} is not a byte offset within the data file's {} bytes", skip, size));
+  d.offset = static_cast<std::uint64_t>(skip);
+  d.available = size - d.offset;
+  return d;
+}
+
+// The samples read straight into their own storage: raw from the file, or inflated from it a
+// megabyte of compressed bytes at a time.
+VolumeSamples read_data(const Header& h, const DataPlace& d, const std::filesystem::path& file, const Volume& v,
+                        ScalarType type, bool big_endian) {
+  const std::size_t count = static_cast<std::size_t>(v.dims[0]) * v.dims[1] * v.dims[2];
+  const std::size_t need = count * scalar_bytes(type);
+  if (!boolean(file, "CompressedData", find_any(h, {"CompressedData"}), false)) {
+    if (d.available < need)
+      volume_fail(file, "(data)", fmt::format("truncated: {} bytes of data, {} x {} x {} {} samples need {}", d.available,
+                                              v.dims[0], v.dims[1], v.dims[2], to_string(type), need));
+    return read_samples(type, count, big_endian,
+                        [&](unsigned char* out, std::size_t bytes) { read_file_range(d.path, d.offset, out, bytes); });
+  }
+  std::uint64_t size = d.available;
+  if (const auto* s = find_any(h, {"CompressedDataSize"})) {
+    const double c = numbers(file, "CompressedDataSize", *s, 1)[0];
+    if (!(c >= 0) || c > static_cast<double>(d.available))
+      volume_fail(file, "CompressedDataSize", fmt::format("{} bytes, but {} follow the header", *s, d.available));
+    size = static_cast<std::uint64_t>(c);
+  }
+  check_inflatable(size, need, file, "CompressedData");
+  return read_samples(type, count, big_endian, [&](unsigned char* out, std::size_t bytes) {
+    inflate_file_range_into(d.path, d.offset, size, out, bytes, file, "CompressedData");
+  });
 }
 
 }  // namespace
 
 Volume read_metaimage(const std::filesystem::path& file, const VolumeReadOptions& options) {
-  const std::size_t max_bytes = static_cast<std::size_t>(std::max<std::int64_t>(options.max_bytes, 0));
-  std::string bytes = read_file_bytes(file, max_bytes + kMaxHeaderBytes);
-  const Header h = parse_header(bytes, file);
+  const Header h = parse_header(read_file_head(file, kHeadBytes), file);
   check_header(h, file);
   Volume v;
   const ScalarType type = element_type(file, find_any(h, {"ElementType"}));
@@ -170,33 +211,9 @@ Volume read_metaimage(const std::filesystem::path& file, const VolumeReadOptions
   set_geometry(v, h, file);
   v.files.push_back(file);
   const bool big_endian = boolean(file, "ElementByteOrderMSB", find_any(h, {"ElementByteOrderMSB", "BinaryDataByteOrderMSB"}), false);
-  const bool compressed = boolean(file, "CompressedData", find_any(h, {"CompressedData"}), false);
-
   const std::size_t count = static_cast<std::size_t>(v.dims[0]) * v.dims[1] * v.dims[2];
-  const std::size_t need = count * scalar_bytes(type);
-  const bool at_end = [&] {
-    const auto* s = find_any(h, {"HeaderSize"});
-    return s && h.keys.find("ElementDataFile")->second != "LOCAL" && numbers(file, "HeaderSize", *s, 1)[0] == -1;
-  }();
-  std::string data = data_bytes(h, std::move(bytes), file, v, max_bytes);
-  if (compressed) {
-    std::size_t size = data.size();
-    if (const auto* s = find_any(h, {"CompressedDataSize"})) {
-      const double c = numbers(file, "CompressedDataSize", *s, 1)[0];
-      if (!(c >= 0) || c > static_cast<double>(data.size()))
-        volume_fail(file, "CompressedDataSize", fmt::format("{} bytes, but {} follow the header", *s, data.size()));
-      size = static_cast<std::size_t>(c);
-    }
-    const auto raw = inflate_exactly(reinterpret_cast<const unsigned char*>(data.data()), size, need, file,
-                                     "CompressedData");
-    v.samples = samples_from_bytes(type, raw.data(), count, big_endian);
-    return v;
-  }
-  if (data.size() < need)
-    volume_fail(file, "(data)", fmt::format("truncated: {} bytes of data, {} x {} x {} {} samples need {}",
-                                            data.size(), v.dims[0], v.dims[1], v.dims[2], to_string(type), need));
-  const std::size_t start = at_end ? data.size() - need : 0;
-  v.samples = samples_from_bytes(type, reinterpret_cast<const unsigned char*>(data.data()) + start, count, big_endian);
+  const DataPlace place = find_data(h, file, v, count * scalar_bytes(type));
+  v.samples = read_data(h, place, file, v, type, big_endian);
   return v;
 }
 

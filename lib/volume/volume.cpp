@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <span>
 
 #include <fmt/format.h>
 #include <zlib.h>
@@ -128,30 +129,39 @@ VolumeSamples samples_from_bytes(ScalarType t, const unsigned char* bytes, std::
   return {};
 }
 
-std::vector<unsigned char> inflate_exactly(const unsigned char* data, std::size_t size,
-                                           std::size_t expected, const std::filesystem::path& file,
-                                           std::string_view what) {
+void check_inflatable(std::uint64_t size, std::size_t expected, const std::filesystem::path& file,
+                      std::string_view what) {
+  // No deflate stream inflates more than 1032-fold (258 bytes from one 2-bit code at best); 64
+  // bytes for a gzip header and trailer.
+  if (expected / 1032 > size + 64)
+    volume_fail(file, what, fmt::format("{} bytes of compressed data cannot inflate to the {} bytes expected",
+                                        size, expected));
+}
+
+void inflate_chunks_into(std::size_t size, const CompressedChunks& next, unsigned char* out, std::size_t expected,
+                         const std::filesystem::path& file, std::string_view what) {
+  check_inflatable(size, expected, file, what);
   z_stream z{};
   // 15 + 32: zlib or gzip header, detected (MetaImage and VTK write zlib, NRRD gzip).
   if (inflateInit2(&z, 15 + 32) != Z_OK) volume_fail(file, what, "zlib initialisation failed");
-  // Grown as output arrives, so that a header claiming gigabytes costs nothing until they inflate.
-  std::vector<unsigned char> out(std::min<std::size_t>(expected, std::size_t{1} << 20) + 1);
+  unsigned char beyond = 0;  // one byte past `expected`: output there means the stream is too long
   std::size_t done = 0;
-  z.next_in = const_cast<unsigned char*>(data);
+  bool input_left = true;
   int rc = Z_OK;
-  std::size_t left_in = size;
-  while (rc == Z_OK) {
-    if (done == out.size()) out.resize(std::min(expected + 1, 2 * out.size()));
-    if (done == out.size()) break;  // more than expected
-    const uInt in_chunk = static_cast<uInt>(std::min<std::size_t>(left_in, 1u << 30));
-    const uInt out_chunk = static_cast<uInt>(std::min<std::size_t>(out.size() - done, 1u << 30));
-    z.avail_in = in_chunk;
-    z.next_out = out.data() + done;
+  while (rc == Z_OK && done <= expected) {
+    if (z.avail_in == 0 && input_left) {
+      const std::span<const unsigned char> chunk = next();
+      input_left = !chunk.empty();
+      z.next_in = const_cast<unsigned char*>(chunk.data());
+      z.avail_in = static_cast<uInt>(chunk.size());  // chunks of at most 1 GiB
+    }
+    const bool past = done == expected;
+    const uInt out_chunk = past ? 1 : static_cast<uInt>(std::min<std::size_t>(expected - done, 1u << 30));
+    z.next_out = past ? &beyond : out + done;
     z.avail_out = out_chunk;
     rc = inflate(&z, Z_NO_FLUSH);
-    left_in -= in_chunk - z.avail_in;
     done += out_chunk - z.avail_out;
-    if (rc == Z_BUF_ERROR && left_in == 0) break;  // input ended early
+    if (rc == Z_BUF_ERROR && !input_left) break;  // input ended early
     if (rc == Z_BUF_ERROR) rc = Z_OK;
   }
   inflateEnd(&z);
@@ -161,23 +171,99 @@ std::vector<unsigned char> inflate_exactly(const unsigned char* data, std::size_
     volume_fail(file, what, fmt::format("compressed data inflate to more than the {} bytes expected", expected));
   if (rc != Z_STREAM_END || done != expected)
     volume_fail(file, what, fmt::format("compressed data end after {} of {} bytes", done, expected));
-  out.resize(expected);
+}
+
+void inflate_exactly_into(const unsigned char* data, std::size_t size, unsigned char* out,
+                          std::size_t expected, const std::filesystem::path& file, std::string_view what) {
+  std::size_t given = 0;
+  const auto next = [&] {
+    const std::size_t n = std::min<std::size_t>(size - given, std::size_t{1} << 30);
+    const std::span<const unsigned char> chunk(data + given, n);
+    given += n;
+    return chunk;
+  };
+  inflate_chunks_into(size, next, out, expected, file, what);
+}
+
+std::vector<unsigned char> inflate_exactly(const unsigned char* data, std::size_t size,
+                                           std::size_t expected, const std::filesystem::path& file,
+                                           std::string_view what) {
+  check_inflatable(size, expected, file, what);
+  std::vector<unsigned char> out(expected);
+  inflate_exactly_into(data, size, out.data(), expected, file, what);
   return out;
 }
 
-std::string read_file_bytes(const std::filesystem::path& file, std::size_t max_bytes) {
+namespace {
+
+std::ifstream open_file(const std::filesystem::path& file) {
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) volume_fail(file, "(file)", "is a directory");
   std::ifstream in(file, std::ios::binary);
   if (!in) volume_fail(file, "(file)", fmt::format("cannot open: {}", std::strerror(errno)));
+  return in;
+}
+
+// Up to `limit` bytes from the start; with `refuse_beyond`, a longer file is refused.
+std::string read_up_to(const std::filesystem::path& file, std::size_t limit, bool refuse_beyond) {
+  std::ifstream in = open_file(file);
   std::string bytes;
   char buffer[1 << 16];
   while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
     bytes.append(buffer, static_cast<std::size_t>(in.gcount()));
-    if (bytes.size() > max_bytes) volume_fail(file, "(file)", fmt::format("larger than {} bytes", max_bytes));
+    if (bytes.size() > limit) {
+      if (refuse_beyond) volume_fail(file, "(file)", fmt::format("larger than {} bytes", limit));
+      bytes.resize(limit);
+      return bytes;
+    }
   }
   if (in.bad()) volume_fail(file, "(file)", "read error");
   return bytes;
+}
+
+}  // namespace
+
+std::string read_file_bytes(const std::filesystem::path& file, std::size_t max_bytes) {
+  return read_up_to(file, max_bytes, true);
+}
+
+std::string read_file_head(const std::filesystem::path& file, std::size_t bytes) {
+  return read_up_to(file, bytes, false);
+}
+
+std::uint64_t file_size_of(const std::filesystem::path& file) {
+  std::ifstream in = open_file(file);
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (!in || size < 0) volume_fail(file, "(file)", "cannot find its size");
+  return static_cast<std::uint64_t>(size);
+}
+
+void inflate_file_range_into(const std::filesystem::path& file, std::uint64_t offset, std::uint64_t size,
+                             unsigned char* out, std::size_t expected, const std::filesystem::path& named,
+                             std::string_view what) {
+  std::ifstream in = open_file(file);
+  in.seekg(static_cast<std::streamoff>(offset));
+  std::vector<unsigned char> buffer(static_cast<std::size_t>(std::min<std::uint64_t>(size, std::uint64_t{1} << 20)));
+  std::uint64_t left = size;
+  const auto next = [&] {
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(left, buffer.size()));
+    in.read(reinterpret_cast<char*>(buffer.data()), static_cast<std::streamsize>(n));
+    if (static_cast<std::size_t>(in.gcount()) != n)
+      volume_fail(file, "(data)", fmt::format("cannot read {} bytes from offset {} (truncated or damaged)", size, offset));
+    left -= n;
+    return std::span<const unsigned char>(buffer.data(), n);
+  };
+  inflate_chunks_into(static_cast<std::size_t>(size), next, out, expected, named, what);
+}
+
+void read_file_range(const std::filesystem::path& file, std::uint64_t offset, unsigned char* out,
+                     std::size_t bytes) {
+  std::ifstream in = open_file(file);
+  in.seekg(static_cast<std::streamoff>(offset));
+  in.read(reinterpret_cast<char*>(out), static_cast<std::streamsize>(bytes));
+  if (!in || static_cast<std::size_t>(in.gcount()) != bytes)
+    volume_fail(file, "(data)", fmt::format("cannot read {} bytes from offset {} (truncated or damaged)", bytes, offset));
 }
 
 }  // namespace vrv

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -109,13 +110,38 @@ VolumeSamples samples_from_bytes(ScalarType t, const unsigned char* bytes, std::
 VolumeSamples read_samples(ScalarType t, std::size_t count, bool big_endian,
                            const std::function<void(unsigned char*, std::size_t)>& read);
 
-// zlib or gzip stream (auto-detected) inflated to exactly `expected` bytes; fewer, more or a
-// damaged stream are refused naming `what`.
+// Refuses, naming `file` and `what`, `expected` bytes from a deflate stream of `size` bytes when
+// no stream that short inflates that far: before anything is allocated for them.
+void check_inflatable(std::uint64_t size, std::size_t expected, const std::filesystem::path& file,
+                      std::string_view what);
+// The next chunk of a compressed stream (at most 1 GiB; empty when the stream's bytes are all given).
+using CompressedChunks = std::function<std::span<const unsigned char>()>;
+// A zlib or gzip stream (auto-detected) of `size` bytes, given in chunks, inflated to exactly
+// `expected` bytes at `out`; fewer, more, a damaged stream, or more than any deflate stream of
+// `size` bytes can hold, are refused naming `file` and `what`.
+void inflate_chunks_into(std::size_t size, const CompressedChunks& next, unsigned char* out, std::size_t expected,
+                         const std::filesystem::path& file, std::string_view what);
+// The same from memory.
+void inflate_exactly_into(const unsigned char* data, std::size_t size, unsigned char* out,
+                          std::size_t expected, const std::filesystem::path& file, std::string_view what);
+// The same into a new buffer (allocated only for a size the data can inflate to).
 std::vector<unsigned char> inflate_exactly(const unsigned char* data, std::size_t size,
                                            std::size_t expected, const std::filesystem::path& file,
                                            std::string_view what);
 
 // The whole file (refused beyond `max_bytes`).
 std::string read_file_bytes(const std::filesystem::path& file, std::size_t max_bytes);
+// The file's first `bytes` bytes (all of it when shorter).
+std::string read_file_head(const std::filesystem::path& file, std::size_t bytes);
+// The file's size; a directory or a file that cannot be opened is refused naming it.
+std::uint64_t file_size_of(const std::filesystem::path& file);
+// The same from `size` bytes of `file` at `offset`, read 1 MiB at a time (no copy of the
+// compressed data held); a read error names `file`, a bad stream `named` and `what`.
+void inflate_file_range_into(const std::filesystem::path& file, std::uint64_t offset, std::uint64_t size,
+                             unsigned char* out, std::size_t expected, const std::filesystem::path& named,
+                             std::string_view what);
+// Exactly `bytes` bytes from `offset` into out (no copy of the file held), or refused naming it.
+void read_file_range(const std::filesystem::path& file, std::uint64_t offset, unsigned char* out,
+                     std::size_t bytes);
 
 }  // namespace vrv

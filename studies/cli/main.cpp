@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/io/error_line.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 
@@ -36,16 +37,10 @@ std::vector<std::string> glue_negative_values(int argc, char** argv) {
   return out;
 }
 
-std::string one_line(std::string s) {
-  std::replace_if(s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  return s;
-}
-
 // CLI11's own wording (and exit codes 104, 106, 109, ...) never reaches the user: every parse
 // error becomes one "vrv: error: ..." line naming the option, with exit code 2.
 std::string parse_error_line(const CLI::App& app, const CLI::ParseError& e) {
-  const std::string what = one_line(e.what());
+  const std::string what = vrv::one_line(e.what());
   // By type: CLI11 names some errors after the subcommand (ExtrasError(name, args)).
   if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
     const std::string prefix = "not expected: ";
@@ -106,10 +101,10 @@ int run(CLI::App& app, std::vector<char*>& ptrs) {
     std::cerr << "vrv: error: " << parse_error_line(app, e) << '\n';
     return vrv::cli::kExitBadInput;
   } catch (const vrv::cli::CommandFailed& e) {
-    if (*e.what()) std::cerr << one_line(e.what()) << '\n';
+    if (*e.what()) std::cerr << vrv::one_line(e.what()) << '\n';
     return e.code();
   } catch (const std::exception& e) {
-    std::cerr << "vrv: error: " << one_line(e.what()) << '\n';
+    std::cerr << "vrv: error: " << vrv::one_line(e.what()) << '\n';
     return vrv::cli::kExitBadInput;
   }
   return vrv::cli::kExitPass;

@@ -166,7 +166,10 @@ VerifyRun run_verification(const Scene& scene, const std::vector<ImageWithStep>&
 std::vector<std::string> invoking_commands() {
   std::ifstream in("/proc/self/cmdline", std::ios::binary);
   std::string word, line;
-  while (std::getline(in, word, '\0')) line += (line.empty() ? "" : " ") + shell_quote(word);
+  while (std::getline(in, word, '\0')) {
+    if (!line.empty()) line += ' ';
+    line += shell_quote(word);  // appended, not "x" + string: GCC 12's false -Wrestrict (bug 105651)
+  }
   if (line.empty()) return {};
   std::error_code ec;
   return {"cd " + shell_quote(fs::current_path(ec).string()), line};

@@ -13,6 +13,7 @@
 
 #include "lib/io/atomic_file.h"
 #include "lib/scene_file.h"
+#include "lib/io/error_line.h"
 #include "lib/io/table.h"
 #include "lib/metrics.h"
 #include "lib/reference_integrator.h"

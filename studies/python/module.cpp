@@ -208,6 +208,20 @@ std::optional<ProjectionMode> mode_keyword(const std::optional<std::string>& mod
       fmt::format("mode: unknown value '{}' (one of {}, {})", *mode, projection_mode_list(), kEmissionAbsorption));
 }
 
+// The fields every reference result has (emission-absorption and projections), in this order, as
+// `vrv ray` prints them: NaN entry and exit where the ray misses the box.
+template <class Result>
+void put_reference_fields(py::dict& out, const std::vector<py::ssize_t>& shape, const std::vector<Result>& r) {
+  const std::size_t n = r.size();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  out["value"] = filled<double>(shape, n, [&](auto i) { return r[i].value; });
+  out["error_estimate"] = filled<double>(shape, n, [&](auto i) { return r[i].error_estimate; });
+  out["evaluations"] = filled<long>(shape, n, [&](auto i) { return r[i].evaluations; });
+  out["hit"] = filled<bool>(shape, n, [&](auto i) { return r[i].hit; });
+  out["t_entry"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_entry : nan; });
+  out["t_exit"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_exit : nan; });
+}
+
 // Projection references along rays: value, error_estimate, evaluations, hit, t_entry, t_exit,
 // position and ambiguous (MIP) and tolerance_met, as `vrv ray --mode` prints them.
 py::dict projection_values(const Scene& scene, const Points& origins, const std::vector<Ray>& rays,
@@ -222,15 +236,9 @@ py::dict projection_values(const Scene& scene, const Points& origins, const std:
   });
   const auto shape = leading_shape(origins, "origins");
   const std::size_t n = r.size();
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   py::dict out;
   out["mode"] = std::string(projection_mode_name(mode));
-  out["value"] = filled<double>(shape, n, [&](auto i) { return r[i].value; });
-  out["error_estimate"] = filled<double>(shape, n, [&](auto i) { return r[i].error_estimate; });
-  out["evaluations"] = filled<long>(shape, n, [&](auto i) { return r[i].evaluations; });
-  out["hit"] = filled<bool>(shape, n, [&](auto i) { return r[i].hit; });
-  out["t_entry"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_entry : nan; });
-  out["t_exit"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_exit : nan; });
+  put_reference_fields(out, shape, r);
   if (is_mip(mode)) {
     out["position"] = filled<double>(shape, n, [&](auto i) { return r[i].position; });
     out["ambiguous"] = filled<bool>(shape, n, [&](auto i) { return r[i].ambiguous; });
@@ -262,14 +270,8 @@ py::dict reference(const Scene& scene, const Points& origins, const Points& dire
   });
   const auto shape = leading_shape(origins, "origins");
   const std::size_t n = r.size();
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   py::dict out;
-  out["value"] = filled<double>(shape, n, [&](auto i) { return r[i].value; });
-  out["error_estimate"] = filled<double>(shape, n, [&](auto i) { return r[i].error_estimate; });
-  out["evaluations"] = filled<long>(shape, n, [&](auto i) { return r[i].evaluations; });
-  out["hit"] = filled<bool>(shape, n, [&](auto i) { return r[i].hit; });
-  out["t_entry"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_entry : nan; });
-  out["t_exit"] = filled<double>(shape, n, [&](auto i) { return r[i].hit ? r[i].t_exit : nan; });
+  put_reference_fields(out, shape, r);
   out["optical_depth"] = filled<double>(shape, n, [&](auto i) { return r[i].optical_depth; });
   out["tolerance_met"] = filled<bool>(shape, n, [&](auto i) { return r[i].tolerance_met; });
   return out;

@@ -202,7 +202,8 @@ TEST(ReferenceHonesty, AnAbsorbingClosedFormPieceIsChargedItsJointPartByPart) {
   const LD truth = 2.0L / 3 * -std::expm1(-3 * length);  // g = 2, tau = 3 throughout
   const double eta = 4 * std::numeric_limits<double>::epsilon() * 0.5;
   double worst = 0;
-  for (const auto& [dg, dtau] : {std::pair{2e9, 2.9e9}, std::pair{-1.9e9, -3e9}}) {
+  for (const auto& jump : {std::pair{2e9, 2.9e9}, std::pair{-1.9e9, -3e9}}) {
+    const double dg = jump.first, dtau = jump.second;  // not bindings: clang 14 cannot capture them
     const auto joint = [&](double s) {
       const double after = 2.0 / 3 * (std::exp(-3 * s) - std::exp(-3 * static_cast<double>(length)));
       return std::abs(dg * std::exp(-3 * s) - dtau * after);

@@ -260,7 +260,9 @@ TEST(ReferenceIntegratorHard, LongRayAlongTheAxisIsSizedLocally) {
                                   {{-0.2, 0.1, -31}, {0.01, -0.005, 1}},
                                   {{-1.05, -0.7, -31}, {0.035, 0.0233, 1}}};
   // Every ray with the general transfer function, the axis ray also with the proportional one.
-  for (const auto& [tf, count] : {std::pair{tf_general(), rays.size()}, std::pair{tf_proportional(), std::size_t{1}}}) {
+  for (const auto& tf_count : {std::pair{tf_general(), rays.size()}, std::pair{tf_proportional(), std::size_t{1}}}) {
+    const auto& tf = tf_count.first;  // not bindings: clang 14 cannot capture them
+    const std::size_t count = tf_count.second;
     const std::vector<RaySpec> some(rays.begin(), rays.begin() + static_cast<std::ptrdiff_t>(count));
     const std::vector<ind::Result> refs = references(ml_ref, tf, 0, some, box);
     for (std::size_t i = 0; i < some.size(); ++i) {

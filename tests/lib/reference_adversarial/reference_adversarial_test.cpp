@@ -261,9 +261,11 @@ TEST(ReferenceAdversarial, DataIsWellFormed) {
     EXPECT_GE(r.floor, 0) << r.tag;
   }
   for (const auto& c : kClasses) EXPECT_GT(per_class[c.name], 0) << "no rays of class " << c.name;
-  for (const auto& [cls, n] : per_class)
+  for (const auto& entry : per_class) {  // not a structured binding: clang 14 cannot capture one
+    const auto& cls = entry.first;
     EXPECT_TRUE(std::any_of(std::begin(kClasses), std::end(kClasses), [&](const auto& c) { return cls == c.name; }))
         << "class " << cls << " has no policy in kClasses";
+  }
   if (!d.header["quick"].get<bool>()) {
     EXPECT_GE(d.rays.size(), 300u);
   }
