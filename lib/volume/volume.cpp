@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <span>
 
 #include <fmt/format.h>
@@ -144,6 +145,8 @@ void inflate_chunks_into(std::size_t size, const CompressedChunks& next, unsigne
   z_stream z{};
   // 15 + 32: zlib or gzip header, detected (MetaImage and VTK write zlib, NRRD gzip).
   if (inflateInit2(&z, 15 + 32) != Z_OK) volume_fail(file, what, "zlib initialisation failed");
+  // Ended on every path: next() may throw (a read error) with the stream open.
+  const std::unique_ptr<z_stream, int (*)(z_stream*)> end_stream(&z, inflateEnd);
   unsigned char beyond = 0;  // one byte past `expected`: output there means the stream is too long
   std::size_t done = 0;
   bool input_left = true;
@@ -164,7 +167,6 @@ void inflate_chunks_into(std::size_t size, const CompressedChunks& next, unsigne
     if (rc == Z_BUF_ERROR && !input_left) break;  // input ended early
     if (rc == Z_BUF_ERROR) rc = Z_OK;
   }
-  inflateEnd(&z);
   if (rc != Z_STREAM_END && rc != Z_OK && rc != Z_BUF_ERROR)
     volume_fail(file, what, fmt::format("damaged compressed data ({})", z.msg ? z.msg : "zlib error"));
   if (done > expected)
@@ -173,24 +175,18 @@ void inflate_chunks_into(std::size_t size, const CompressedChunks& next, unsigne
     volume_fail(file, what, fmt::format("compressed data end after {} of {} bytes", done, expected));
 }
 
-void inflate_exactly_into(const unsigned char* data, std::size_t size, unsigned char* out,
-                          std::size_t expected, const std::filesystem::path& file, std::string_view what) {
-  std::size_t given = 0;
-  const auto next = [&] {
-    const std::size_t n = std::min<std::size_t>(size - given, std::size_t{1} << 30);
-    const std::span<const unsigned char> chunk(data + given, n);
-    given += n;
-    return chunk;
-  };
-  inflate_chunks_into(size, next, out, expected, file, what);
-}
-
 std::vector<unsigned char> inflate_exactly(const unsigned char* data, std::size_t size,
                                            std::size_t expected, const std::filesystem::path& file,
                                            std::string_view what) {
   check_inflatable(size, expected, file, what);
   std::vector<unsigned char> out(expected);
-  inflate_exactly_into(data, size, out.data(), expected, file, what);
+  std::size_t given = 0;
+  const auto next = [&] {
+    const std::size_t n = std::min<std::size_t>(size - given, std::size_t{1} << 30);
+    given += n;
+    return std::span<const unsigned char>(data + given - n, n);
+  };
+  inflate_chunks_into(size, next, out.data(), expected, file, what);
   return out;
 }
 

@@ -121,10 +121,7 @@ using CompressedChunks = std::function<std::span<const unsigned char>()>;
 // `size` bytes can hold, are refused naming `file` and `what`.
 void inflate_chunks_into(std::size_t size, const CompressedChunks& next, unsigned char* out, std::size_t expected,
                          const std::filesystem::path& file, std::string_view what);
-// The same from memory.
-void inflate_exactly_into(const unsigned char* data, std::size_t size, unsigned char* out,
-                          std::size_t expected, const std::filesystem::path& file, std::string_view what);
-// The same into a new buffer (allocated only for a size the data can inflate to).
+// The same from memory into a new buffer (allocated only for a size the data can inflate to).
 std::vector<unsigned char> inflate_exactly(const unsigned char* data, std::size_t size,
                                            std::size_t expected, const std::filesystem::path& file,
                                            std::string_view what);
@@ -135,8 +132,8 @@ std::string read_file_bytes(const std::filesystem::path& file, std::size_t max_b
 std::string read_file_head(const std::filesystem::path& file, std::size_t bytes);
 // The file's size; a directory or a file that cannot be opened is refused naming it.
 std::uint64_t file_size_of(const std::filesystem::path& file);
-// The same from `size` bytes of `file` at `offset`, read 1 MiB at a time (no copy of the
-// compressed data held); a read error names `file`, a bad stream `named` and `what`.
+// inflate_chunks_into from `size` bytes of `file` at `offset`, read 1 MiB at a time (no copy of
+// the compressed data held); a read error names `file`, a bad stream `named` and `what`.
 void inflate_file_range_into(const std::filesystem::path& file, std::uint64_t offset, std::uint64_t size,
                              unsigned char* out, std::size_t expected, const std::filesystem::path& named,
                              std::string_view what);
