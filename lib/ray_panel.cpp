@@ -27,7 +27,12 @@ double bracketed_root(F&& f, double lo, double hi, double f_lo, double f_hi) {
 
 // Splits [a, b] where p' changes sign, so p is monotone on every part.  A double root of p'
 // that the sampling misses leaves p monotone across it, so no crossing is ever lost.
-void monotone_breaks(const RayPanel& panel, std::vector<double>& breaks) {
+void monotone_breaks(const RayPanel& panel, std::vector<double>& out) {
+  std::vector<double>& breaks = panel.monotone_parts;
+  if (!breaks.empty()) {
+    out.insert(out.end(), breaks.begin(), breaks.end());
+    return;
+  }
   const int n = panel.size();
   breaks.push_back(panel.a);
   if (n > 2) {
@@ -54,6 +59,7 @@ void monotone_breaks(const RayPanel& panel, std::vector<double>& breaks) {
     }
   }
   breaks.push_back(panel.b);
+  out.insert(out.end(), breaks.begin(), breaks.end());
 }
 
 bool may_cross(const RayPanel& panel, std::span<const double> levels, double margin) {

@@ -18,6 +18,9 @@ struct RayPanel {
   double error = 0;                  // estimated max |f - p| on [a, b]
   double noise = 0;                  // the field's own rounding level on [a, b] (absolute)
   bool resolved = true;
+  // monotone_breaks' result, made on first use: a panel is asked for it by the crossings and
+  // the jump bands of every channel that consumes it, and is not changed once fitted.
+  mutable std::vector<double> monotone_parts{};
 
   double x_of(double t) const { return (2 * t - a - b) / (b - a); }
   double t_of(double x) const { return 0.5 * (a + b) + 0.5 * (b - a) * x; }
@@ -48,7 +51,7 @@ ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
                           std::vector<Crossing>& out);
 
 // The panel's ends and the parameters where p' changes sign between them, in order: p is
-// monotone between consecutive entries.
+// monotone between consecutive entries.  Appended to `breaks`; computed once per panel.
 void monotone_breaks(const RayPanel& panel, std::vector<double>& breaks);
 
 // Where p comes within `margin` of `level` on one monotone part [lo, hi] of the panel: the

@@ -198,9 +198,9 @@ RayPanel fit_panel(const F& field, const Ray& ray, double a, double b, int n, lo
 inline constexpr int kPanelNodes = 33;
 
 // Splits [a, b] until the proxy meets the field tolerance, consuming panels in ray order.
-template <ScalarField F>
+template <ScalarField F, class Accumulator>
 void resolve_smooth(const F& field, const Ray& ray, double a, double b, int level,
-                    RayAccumulator& acc, long& evaluations) {
+                    Accumulator& acc, long& evaluations) {
   constexpr int n = kPanelNodes;
   constexpr int max_level = 30;
   if (acc.stopped()) return;
@@ -284,9 +284,11 @@ namespace detail {
 
 // Empty space, skipped exactly: a grid cell whose nodes (widened by the field's rounding and the
 // far ray's position error) all map to g = tau = 0 adds neither light nor depth.
-template <ScalarField F>
-bool empty_stretch(const F& field, const Ray& ray, double a, double b, const TransferFunction& tf,
-                   const RayAccumulator& acc) {
+// `tf`: anything with transparent_on(lo, hi) (a transfer function, or every channel of an RGB one);
+// `acc`: a RayAccumulator or anything with its interface (ChannelAccumulators).
+template <ScalarField F, class Transparency, class Accumulator>
+bool empty_stretch(const F& field, const Ray& ray, double a, double b, const Transparency& tf,
+                   const Accumulator& acc) {
   if constexpr (requires { field.node_range_between(ray.at(a), ray.at(b)); }) {
     const auto [lo, hi] = field.node_range_between(ray.at(a), ray.at(b));
     const double margin = field.value_noise() + acc.position_error();
@@ -298,9 +300,9 @@ bool empty_stretch(const F& field, const Ray& ray, double a, double b, const Tra
 // The field's breaks along iv, sorted; where the field knows empty space in bulk (a grid's
 // bricks), each transparent stretch is one piece listed in `skipped` (in order, each starting at a
 // cut) and no break is made inside it.  Elsewhere the breaks are the field's own, to the bit.
-template <ScalarField F>
-std::vector<double> cuts_around_empty_space(const F& field, const Ray& ray, Interval iv, const TransferFunction& tf,
-                                            const RayAccumulator& acc, std::vector<Interval>& skipped) {
+template <ScalarField F, class Transparency, class Accumulator>
+std::vector<double> cuts_around_empty_space(const F& field, const Ray& ray, Interval iv, const Transparency& tf,
+                                            const Accumulator& acc, std::vector<Interval>& skipped) {
   if constexpr (requires { F::kBrickCells; }) {
     const double margin = field.value_noise() + acc.position_error();
     field.append_transparent_spans(
@@ -324,13 +326,13 @@ std::vector<double> cuts_around_empty_space(const F& field, const Ray& ray, Inte
   return cuts;
 }
 
-// One pass over the clipped ray at options.tol.
-template <ScalarField F>
-ReferenceResult integrate_pass(const F& field, const RayFrame& frame, const TransferFunction& tf,
-                               double background, const ReferenceOptions& options) {
+// One pass over the clipped ray at options.tol: panels fitted to the field and consumed by `acc`
+// in ray order, refined until `acc` accepts them.  Returns the field evaluations.
+template <ScalarField F, class Transparency, class Accumulator>
+long walk_ray(const F& field, const RayFrame& frame, const Transparency& tf, const ReferenceOptions& options,
+              Accumulator& acc) {
   const Ray& local = frame.local;
   const Interval iv = frame.iv;
-  RayAccumulator acc(tf, background, options, iv, field_change_within(field, frame.position_error));
   std::vector<Interval> skipped;
   const std::vector<double> cuts = cuts_around_empty_space(field, local, iv, tf, acc, skipped);
   std::size_t next_skipped = 0;
@@ -371,6 +373,14 @@ ReferenceResult integrate_pass(const F& field, const RayFrame& frame, const Tran
       k += m;
     }
   }
+  return evaluations;
+}
+
+template <ScalarField F>
+ReferenceResult integrate_pass(const F& field, const RayFrame& frame, const TransferFunction& tf,
+                               double background, const ReferenceOptions& options) {
+  RayAccumulator acc(tf, background, options, frame.iv, field_change_within(field, frame.position_error));
+  const long evaluations = walk_ray(field, frame, tf, options, acc);
   ReferenceResult result = acc.finish();
   result.t_entry = frame.t_entry();
   result.t_exit = frame.t_exit();
@@ -383,6 +393,25 @@ ReferenceResult integrate_pass(const F& field, const RayFrame& frame, const Tran
 // which a retry cannot shrink (it would only double the work).
 inline constexpr double kRetryWithin = 4;
 inline constexpr double kRetryTolerance = 0.125;
+
+// The rounding terms of the estimate, which no refinement shrinks, can leave less of tol than the
+// shares assume for the terms refinement does shrink (field, quadrature): a pass that missed tol by
+// a little is worth one more with those held to a fraction of tol.
+inline bool worth_retry(const ReferenceResult& first, double tol) {
+  return !first.tolerance_met && !first.capped && first.error_estimate <= kRetryWithin * tol;
+}
+inline ReferenceOptions retry_options(ReferenceOptions options) {
+  options.tol *= kRetryTolerance;
+  return options;
+}
+// Of the two passes, the smaller estimate, both passes' work counted.
+inline ReferenceResult better_pass(const ReferenceResult& first, const ReferenceResult& second, double tol) {
+  ReferenceResult kept = second.error_estimate < first.error_estimate ? second : first;
+  kept.evaluations = first.evaluations + second.evaluations;
+  kept.tolerance_met = !kept.capped && kept.error_estimate <= tol && std::isfinite(kept.value) &&
+                       std::isfinite(kept.error_estimate);
+  return kept;
+}
 
 }  // namespace detail
 
@@ -397,21 +426,10 @@ ReferenceResult integrate_reference(const F& field, const Box& box, const Transf
     miss.value = background;
     return miss;
   }
-  ReferenceResult first = detail::integrate_pass(field, *frame, tf, background, options);
-  if (first.tolerance_met || first.capped || !(first.error_estimate <= detail::kRetryWithin * options.tol))
-    return first;
-  // The rounding terms of the estimate, which no refinement shrinks, can leave less of tol than
-  // the shares assume for the terms refinement does shrink (field, quadrature): once more with
-  // those held to a fraction of tol; the smaller estimate is kept and both passes are counted.
-  ReferenceOptions tighter = options;
-  tighter.tol = detail::kRetryTolerance * options.tol;
-  ReferenceResult second = detail::integrate_pass(field, *frame, tf, background, tighter);
-  const long evaluations = first.evaluations + second.evaluations;
-  ReferenceResult& kept = second.error_estimate < first.error_estimate ? second : first;
-  kept.evaluations = evaluations;
-  kept.tolerance_met = !kept.capped && kept.error_estimate <= options.tol && std::isfinite(kept.value) &&
-                       std::isfinite(kept.error_estimate);
-  return kept;
+  const ReferenceResult first = detail::integrate_pass(field, *frame, tf, background, options);
+  if (!detail::worth_retry(first, options.tol)) return first;
+  const ReferenceResult second = detail::integrate_pass(field, *frame, tf, background, detail::retry_options(options));
+  return detail::better_pass(first, second, options.tol);
 }
 
 // The scene's field, dispatched to its concrete type.

@@ -9,6 +9,7 @@
 
 #include "lib/camera.h"
 #include "lib/image_loop.h"
+#include "lib/reference_channels.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
 
@@ -25,6 +26,18 @@ void reference_pixels(const Scene& scene, const Camera& camera, const ReferenceO
         [&](const Ray& ray) {
           return integrate_reference(field, scene.box, scene.transfer, scene.background, ray, options);
         },
+        put, hooks);
+  });
+}
+
+// The same for an RGB scene: put(position, ColorReferenceResult).
+template <class Put>
+void color_reference_pixels(const Scene& scene, const Camera& camera, const ReferenceOptions& options, Put&& put,
+                            const ImageLoopHooks& hooks = {}, std::span<const long> subset = {}) {
+  visit_field(scene, [&](const auto& field) {
+    image_loop_into(
+        camera, subset,
+        [&](const Ray& ray) { return integrate_color_reference(field, scene.box, *scene.color, ray, options); },
         put, hooks);
   });
 }

@@ -1,8 +1,10 @@
 #pragma once
-// A scene: the volume box, one scalar field, a transfer function and a background.
+// A scene: the volume box, one scalar field, a transfer function and a background; grey (one
+// channel) or RGB (three channels sharing one extinction).
 #include <array>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 
 #include "analytic/linear_ramp.h"
@@ -17,6 +19,13 @@ namespace vrv {
 using AnalyticField = std::variant<LinearRamp, MarschnerLobb>;
 using Field = std::variant<LinearRamp, MarschnerLobb, GridField>;
 
+// An RGB scene's channels, red, green and blue: a transfer function each, all with the scene's one
+// extinction (or opacity), so the channels differ only in emission, and a background each.
+struct ColorChannels {
+  std::array<TransferFunction, 3> transfer;
+  std::array<double, 3> background{};
+};
+
 struct Scene {
   Box box;
   // Nominal voxel grid for sampling rates; a grid field's own resolution wins.
@@ -29,7 +38,21 @@ struct Scene {
   std::string field_files;
   // The [camera] table, if the scene file has one (vrv render falls back to default_camera).
   std::optional<Camera> camera;
+  // Set for an RGB scene (three-valued emission or colour points); `transfer` and `background`
+  // are then its red channel, and what draws one channel refuses the scene (require_grey).
+  std::optional<ColorChannels> color;
+
+  int channel_count() const { return color ? 3 : 1; }
 };
+
+// Channel c of the scene as a grey scene (the field shared, not copied); the scene itself for
+// c = 0 of a grey scene.  Throws std::out_of_range for a channel the scene does not have.
+Scene channel_scene(const Scene& scene, int c);
+
+// Throws std::invalid_argument naming `source` and `what` when the scene is RGB: for the
+// commands and studies that compare one channel, so that a colour scene is refused, never
+// reduced silently to its red channel.
+void require_grey(const Scene& scene, std::string_view source, std::string_view what);
 
 // Calls f(field) with the concrete field type, so integrators are instantiated per type.
 template <class F>

@@ -166,22 +166,33 @@ class Reader {
   }
 
   // [[v, y], ...] with non-decreasing v, each value at most twice (twice is a jump).
-  std::vector<ControlPoint> points(const toml::node& n, std::string_view path) const {
+  // Control points [value, y], or with `channels` = 3 also [value, r, g, b] (all points alike): one
+  // curve per channel given.
+  std::vector<std::vector<ControlPoint>> points(const toml::node& n, std::string_view path, int channels = 1) const {
     const toml::array& a = array(n, path);
     if (a.empty()) fail(path, "empty array (needs at least one control point)");
-    std::vector<ControlPoint> pts;
+    std::vector<std::vector<ControlPoint>> curves;
     for (std::size_t i = 0; i < a.size(); ++i) {
       const std::string p = element(path, i);
-      if (!a.get(i)->is_array() || a.get(i)->as_array()->size() != 2)
-        fail(p, fmt::format("expected a pair [value, y], got {}", type_name(*a.get(i))));
-      const toml::array& pair = *a.get(i)->as_array();
-      pts.push_back({number(*pair.get(0), element(p, 0)), number(*pair.get(1), element(p, 1))});
+      const toml::array* point = a.get(i)->as_array();
+      const std::size_t size = point ? point->size() : 0;
+      if (curves.empty() && (size == 2 || (channels == 3 && size == 4))) curves.resize(size - 1);
+      if (size != curves.size() + 1 || curves.empty()) {
+        const std::string got = point ? fmt::format("{} numbers", size) : std::string(type_name(*a.get(i)));
+        if (!curves.empty() && channels == 3)
+          fail(p, fmt::format("expected [value, {}] as the first point, got {}", curves.size() == 1 ? "y" : "r, g, b", got));
+        fail(p, fmt::format("expected a pair [value, y]{}, got {}", channels == 3 ? " or [value, r, g, b]" : "", got));
+      }
+      const double v = number(*point->get(0), element(p, 0));
+      for (std::size_t c = 0; c < curves.size(); ++c)
+        curves[c].push_back({v, number(*point->get(c + 1), element(p, c + 1))});
+      const std::vector<ControlPoint>& pts = curves[0];
       if (i > 0 && pts[i].v < pts[i - 1].v)
         fail(p, fmt::format("control values out of order: {} after {}", pts[i].v, pts[i - 1].v));
       if (i > 1 && pts[i].v == pts[i - 2].v)
         fail(p, fmt::format("value {} appears more than twice (a jump takes exactly two)", pts[i].v));
     }
-    return pts;
+    return curves;
   }
 
   // One of `options` by name; the first option is the default.
@@ -342,26 +353,34 @@ Field read_field(const Reader& r, const toml::table& t, const Box& box, std::str
   unknown_kind(r, "field", kind);
 }
 
-// One curve of a pair; `partner` is the key that made this one required.
-PiecewiseLinear read_curve(const Reader& r, const toml::table& t, std::string_view key,
-                           std::string_view partner) {
+// One curve of a pair, one per channel given (three for an RGB emission or colour); `partner` is
+// the key that made this one required.
+std::vector<PiecewiseLinear> read_curves(const Reader& r, const toml::table& t, std::string_view key,
+                                         std::string_view partner) {
   const std::string path = child("transfer", key);
   const toml::node* n = t.get(key);
   if (!n) r.fail(path, fmt::format("missing ({} needs {})", partner, key));
-  const std::vector<ControlPoint> pts = r.points(*n, path);
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    if (pts[i].y < 0) r.fail(element(path, i), fmt::format("negative {} {}", key, pts[i].y));
-    if (key == "opacity" && pts[i].y >= 1)
-      r.fail(element(path, i), fmt::format("opacity {} must be below 1 (1 is opaque)", pts[i].y));
+  const bool channels = key == "emission" || key == "color";
+  const std::vector<std::vector<ControlPoint>> curves = r.points(*n, path, channels ? 3 : 1);
+  std::vector<PiecewiseLinear> out;
+  for (const std::vector<ControlPoint>& pts : curves) {
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      if (pts[i].y < 0) r.fail(element(path, i), fmt::format("negative {} {}", key, pts[i].y));
+      if (key == "opacity" && pts[i].y >= 1)
+        r.fail(element(path, i), fmt::format("opacity {} must be below 1 (1 is opaque)", pts[i].y));
+    }
+    try {
+      out.emplace_back(pts);
+    } catch (const std::invalid_argument& e) {
+      r.fail(path, e.what());
+    }
   }
-  try {
-    return PiecewiseLinear(pts);
-  } catch (const std::invalid_argument& e) {
-    r.fail(path, e.what());
-  }
+  return out;
 }
 
-TransferFunction read_transfer(const Reader& r, const toml::table& t) {
+// The transfer function of each channel: one for grey, three (red, green, blue) when the emission
+// or colour points carry three values; the extinction or opacity is every channel's.
+std::vector<TransferFunction> read_transfer(const Reader& r, const toml::table& t) {
   r.check_keys(t, "transfer", {"emission", "extinction", "opacity", "color", "unit_length"});
   const bool ee = t.contains("emission") || t.contains("extinction");
   if (ee)
@@ -369,30 +388,47 @@ TransferFunction read_transfer(const Reader& r, const toml::table& t) {
       if (t.contains(key))
         r.fail(child("transfer", key),
                "mixed conventions: use emission/extinction or opacity/color, not both");
+  std::vector<TransferFunction> channels;
   try {
     if (ee) {  // locals, so that errors come in file order (argument order is unspecified)
-      PiecewiseLinear emission = read_curve(r, t, "emission", "extinction");
-      PiecewiseLinear extinction = read_curve(r, t, "extinction", "emission");
-      return TransferFunction::emission_extinction(std::move(emission), std::move(extinction));
+      const std::vector<PiecewiseLinear> emission = read_curves(r, t, "emission", "extinction");
+      const PiecewiseLinear extinction = read_curves(r, t, "extinction", "emission")[0];
+      for (const PiecewiseLinear& g : emission) channels.push_back(TransferFunction::emission_extinction(g, extinction));
+      return channels;
     }
     if (!t.contains("opacity") && !t.contains("color"))
       r.fail("transfer", "needs emission and extinction, or opacity and color");
-    PiecewiseLinear opacity = read_curve(r, t, "opacity", "color");
-    PiecewiseLinear color = read_curve(r, t, "color", "opacity");
+    const PiecewiseLinear opacity = read_curves(r, t, "opacity", "color")[0];
+    const std::vector<PiecewiseLinear> color = read_curves(r, t, "color", "opacity");
     const double unit_length = r.number_or(t, "unit_length", "transfer", 1.0);
     if (!(unit_length > 0))
       r.fail("transfer.unit_length", fmt::format("must be positive, got {}", unit_length));
-    return TransferFunction::opacity_color(std::move(opacity), std::move(color), unit_length);
+    for (const PiecewiseLinear& c : color) channels.push_back(TransferFunction::opacity_color(opacity, c, unit_length));
+    return channels;
   } catch (const std::invalid_argument& e) {
     r.fail("transfer", e.what());
   }
 }
 
-double read_background(const Reader& r, const toml::table* t) {
-  if (!t) return 0;
-  r.check_keys(*t, "background", {"intensity"});
-  const double b = r.number_or(*t, "intensity", "background", 0.0);
-  if (b < 0) r.fail("background.intensity", fmt::format("negative intensity {}", b));
+// One intensity for every channel, or (RGB scenes) color = [r, g, b].
+std::vector<double> read_background(const Reader& r, const toml::table* t, int channels) {
+  std::vector<double> b(channels, 0.0);
+  if (!t) return b;
+  r.check_keys(*t, "background", {"intensity", "color"});
+  if (t->contains("intensity") && t->contains("color"))
+    r.fail("background.color", "give intensity or color, not both");
+  if (const toml::node* color = t->get("color")) {
+    if (channels != 3)
+      r.fail("background.color", "an RGB background needs an RGB transfer function ([value, r, g, b] points)");
+    const Vec3 rgb = r.vec3(*color, "background.color");
+    b.assign(rgb.data(), rgb.data() + 3);
+  } else {
+    b.assign(channels, r.number_or(*t, "intensity", "background", 0.0));
+  }
+  for (std::size_t c = 0; c < b.size(); ++c)
+    if (b[c] < 0)
+      r.fail(t->contains("color") ? element("background.color", c) : std::string("background.intensity"),
+             fmt::format("negative intensity {}", b[c]));
   return b;
 }
 
@@ -553,8 +589,12 @@ Scene parse_scene(std::string_view toml_text, std::string_view source_name, doub
   if (const auto* grid = std::get_if<GridField>(&scene.field); grid && !dims)
     scene.dims = grid->resolution();
   if (own_box) scene.box = std::get<GridField>(scene.field).box();
-  scene.transfer = read_transfer(r, r.table(r.require(doc, "transfer", ""), "transfer"));
-  scene.background = read_background(r, r.optional_table(doc, "background", ""));
+  const std::vector<TransferFunction> transfer = read_transfer(r, r.table(r.require(doc, "transfer", ""), "transfer"));
+  const std::vector<double> background =
+      read_background(r, r.optional_table(doc, "background", ""), static_cast<int>(transfer.size()));
+  scene.transfer = transfer[0];
+  scene.background = background[0];
+  if (transfer.size() == 3) scene.color = ColorChannels{{transfer[0], transfer[1], transfer[2]}, {background[0], background[1], background[2]}};
   scene.camera = read_camera(r, r.optional_table(doc, "camera", ""));
   return scene;
 }

@@ -90,6 +90,14 @@ void hash_scene(Hasher& h, const Scene& s) {
   h.number(s.background);
   // Only when there are files, so that every other scene's hash is as before.
   if (!s.field_files.empty()) h.text("field files:" + s.field_files);
+  // Only for RGB scenes, likewise: each channel's emission (the extinction is every channel's).
+  if (s.color)
+    for (int c = 0; c < 3; ++c) {
+      h.text(fmt::format("channel {}:", c));
+      hash_curve(h, s.color->transfer[c].convention() == Convention::emission_extinction ? s.color->transfer[c].first()
+                                                                                         : s.color->transfer[c].second());
+      h.number(s.color->background[c]);
+    }
 }
 
 }  // namespace

@@ -175,8 +175,10 @@ Scene read_scene_file(const StudyReader& r, const std::string& at, const std::st
 
 }  // namespace
 
-Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
-                       std::string& toml_text) {
+namespace {
+
+Scene read_any_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
+                           std::string& toml_text) {
   const std::string at = StudyReader::child(path, "scene");
   const toml::node& node = r.require(parent, "scene", path);
   if (const auto* name = node.as_string()) return read_scene_file(r, at, name->get(), toml_text);
@@ -192,6 +194,16 @@ Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::str
     if (msg.starts_with(prefix)) msg = msg.substr(prefix.size());
     throw StudyFileError(one_line(fmt::format("{}: {}.{}", r.source(), at, msg)));
   }
+}
+
+}  // namespace
+
+// Studies compare one channel so far: an RGB scene is refused by name.
+Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
+                       std::string& toml_text) {
+  Scene scene = read_any_study_scene(r, parent, path, toml_text);
+  if (scene.color) r.fail(StudyReader::child(path, "scene"), "the scene is RGB (three-valued points), and studies compare one channel so far");
+  return scene;
 }
 
 bool step_based(Strategy st) {

@@ -74,6 +74,7 @@ VerificationWork verification_work(const Scene& scene, const VerifyOptions& opt,
 
 VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& given) {
+  require_grey(scene, "scene", "verify");
   VerifyOptions opt = given;
   if (opt.mode && !opt.expected_order) opt.expected_order = expected_projection_order(*opt.mode, scene.transfer);
   check_inputs(images, opt);

@@ -34,6 +34,7 @@ std::vector<Ray> camera_rays(const Camera& camera) {
 
 void reference_values(const Scene& scene, std::span<const Ray> rays,
                       const ReferenceOptions& options, std::span<ReferenceResult> out) {
+  require_grey(scene, "scene", "reference_values");
   if (out.size() != rays.size())
     throw std::invalid_argument(
         fmt::format("reference_values: {} results for {} rays", out.size(), rays.size()));
@@ -52,8 +53,22 @@ std::vector<ReferenceResult> reference_values(const Scene& scene, std::span<cons
   return out;
 }
 
+std::vector<ColorReferenceResult> color_reference_values(const Scene& scene, std::span<const Ray> rays,
+                                                         const ReferenceOptions& options) {
+  if (!scene.color) throw std::invalid_argument("color_reference_values: the scene is grey (use reference_values)");
+  validate(options);
+  std::vector<ColorReferenceResult> out(rays.size());
+  visit_field(scene, [&](const auto& field) {
+    parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
+      out[i] = integrate_color_reference(field, scene.box, *scene.color, rays[i], options);
+    });
+  });
+  return out;
+}
+
 std::vector<ProjectionResult> projection_values(const Scene& scene, std::span<const Ray> rays, ProjectionMode mode,
                                                 const ProjectionOptions& options) {
+  require_grey(scene, "scene", "projection_values");
   validate(options);
   std::vector<ProjectionResult> out(rays.size());
   visit_field(scene, [&](const auto& field) {
@@ -66,6 +81,7 @@ std::vector<ProjectionResult> projection_values(const Scene& scene, std::span<co
 
 std::vector<DiscreteProjectionResult> discrete_projection_values(const Scene& scene, std::span<const Ray> rays,
                                                                  const DiscreteProjectionConfig& config) {
+  require_grey(scene, "scene", "discrete_projection_values");
   std::vector<DiscreteProjectionResult> out(rays.size());
   visit_field(scene, [&](const auto& field) {
     parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
@@ -77,6 +93,7 @@ std::vector<DiscreteProjectionResult> discrete_projection_values(const Scene& sc
 
 std::vector<DiscreteResult> discrete_values(const Scene& scene, std::span<const Ray> rays,
                                             const DiscreteConfig& config) {
+  require_grey(scene, "scene", "discrete_values (cast each channel_scene(scene, c))");
   validate(config, std::holds_alternative<GridField>(scene.field));
   std::vector<DiscreteResult> out(rays.size());
   visit_field(scene, [&](const auto& field) {
@@ -88,6 +105,7 @@ std::vector<DiscreteResult> discrete_values(const Scene& scene, std::span<const 
 }
 
 ValueImage render_reference_image(const Scene& scene, const Camera& camera, const ReferenceOptions& options) {
+  require_grey(scene, "scene", "render_reference_image");
   validate(camera);
   validate(options);
   const long pixels = pixel_count(camera);
@@ -106,6 +124,7 @@ ValueImage render_reference_image(const Scene& scene, const Camera& camera, cons
 }
 
 ValueImage render_discrete_image(const Scene& scene, const Camera& camera, const DiscreteConfig& config) {
+  require_grey(scene, "scene", "render_discrete_image");
   validate(camera);
   validate(config, std::holds_alternative<GridField>(scene.field));
   const std::vector<DiscreteResult> results = visit_field(scene, [&](const auto& field) {

@@ -20,6 +20,7 @@
 
 #include "lib/camera.h"
 #include "lib/discrete_raycast.h"
+#include "lib/reference_channels.h"
 #include "lib/gate.h"
 #include "lib/geometry.h"
 #include "lib/projection/discrete_projection.h"
@@ -49,6 +50,12 @@ std::vector<ReferenceResult> reference_values(const Scene& scene, std::span<cons
 // The same into caller-owned storage (out.size() == rays.size()), e.g. a numpy array's rows.
 void reference_values(const Scene& scene, std::span<const Ray> rays,
                       const ReferenceOptions& options, std::span<ReferenceResult> out);
+// The functions here take grey scenes and throw std::invalid_argument for an RGB one (Scene::color,
+// docs/color.md) but this: the three channels' references along each ray, one set of panels for
+// all three.  Throws std::invalid_argument for a grey scene.  A discrete cast of an RGB scene is
+// discrete_values() of each channel_scene(scene, c).
+std::vector<ColorReferenceResult> color_reference_values(const Scene& scene, std::span<const Ray> rays,
+                                                         const ReferenceOptions& options = {});
 
 // The discrete raycast `config` describes along each ray.  Throws std::invalid_argument
 // (naming the option) when validate(config, grid field) refuses it.  As on the command line,

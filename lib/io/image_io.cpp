@@ -22,11 +22,16 @@ namespace fs = std::filesystem;
 constexpr int kMaxReadSide = 1 << 16;
 constexpr std::int64_t kMaxReadPixels = std::int64_t{1} << 28;
 
-void check_image(const Image& image, const fs::path& path) {
-  if (image.width < 1 || image.height < 1 ||
-      image.pixels.size() != static_cast<std::size_t>(image.width) * image.height)
-    throw_file_error(path, fmt::format("bad image size {} x {} with {} pixels", image.width, image.height,
-                           image.pixels.size()));
+template <class AnyImage>
+void check_image(const AnyImage& image, const fs::path& path) {
+  if (image.width < 1 || image.height < 1 || (image.channels != 1 && image.channels != 3) ||
+      image.pixels.size() != static_cast<std::size_t>(image.width) * image.height * image.channels)
+    throw_file_error(path, fmt::format("bad image size {} x {} x {} channels with {} values", image.width,
+                                       image.height, image.channels, image.pixels.size()));
+}
+
+std::vector<std::string> channel_names(int channels) {
+  return channels == 3 ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"Y"};
 }
 
 // Writes the request with the image module to path + ".tmp", then renames it onto path.
@@ -77,10 +82,11 @@ image_module::ReadResult read_header(const fs::path& path) {
   return image_module::read_file(path, request);
 }
 
-// The pixels of a one-channel image, as `type`.
-image_module::ReadResult read_one_channel(const fs::path& path, image_module::PixelType type) {
+// The pixels of an image of 1 to max_channels channels, as `type`.
+image_module::ReadResult read_pixels(const fs::path& path, image_module::PixelType type, int max_channels = 1) {
   image_module::ReadRequest request;
   request.type = type;
+  request.max_channels = max_channels;
   request.max_side = kMaxReadSide;
   request.max_pixels = kMaxReadPixels;
   return image_module::read_file(path, request);
@@ -102,16 +108,17 @@ unsigned char mix(unsigned char a, unsigned char b, double t) {  // a + t (b - a
 
 }  // namespace
 
-Image::Image(int w, int h, float fill) : width(w), height(h) {
+Image::Image(int w, int h, float fill, int c) : width(w), height(h), channels(c) {
   if (w < 0 || h < 0) throw std::invalid_argument(fmt::format("image size {} x {}", w, h));
-  pixels.assign(static_cast<std::size_t>(w) * h, fill);
+  if (c != 1 && c != 3) throw std::invalid_argument(fmt::format("image of {} channels (1 or 3)", c));
+  pixels.assign(static_cast<std::size_t>(w) * h * c, fill);
 }
 
 void write_exr(const Image& image, const fs::path& path, const ImageProvenance* provenance) {
   check_image(image, path);
-  auto r = request("openexr", image.width, image.height, 1, image_module::PixelType::float32,
+  auto r = request("openexr", image.width, image.height, image.channels, image_module::PixelType::float32,
                    image.pixels.data());
-  r.channel_names = {"Y"};
+  r.channel_names = channel_names(image.channels);
   r.attributes = {{"compression", "zip"}};
   stamp(r, provenance);
   // OpenImageIO stamps EXRs with the time of writing unless told a date; an empty one keeps
@@ -131,8 +138,8 @@ void write_png_preview(const Image& image, const fs::path& path, double lo, doub
     const double v = image.pixels[i];
     bytes[i] = std::isnan(v) ? 0 : to_byte((v - lo) / (hi - lo));
   }
-  auto r = request("png", image.width, image.height, 1, image_module::PixelType::uint8, bytes.data());
-  r.channel_names = {"Y"};
+  auto r = request("png", image.width, image.height, image.channels, image_module::PixelType::uint8, bytes.data());
+  r.channel_names = channel_names(image.channels);
   stamp(r, provenance);
   write_atomically(path, r);
 }
@@ -178,7 +185,7 @@ void write_rgb8_png(int width, int height, const std::vector<unsigned char>& rgb
 }
 
 Image read_exr(const fs::path& path) {
-  image_module::ReadResult read = read_one_channel(path, image_module::PixelType::float32);
+  image_module::ReadResult read = read_pixels(path, image_module::PixelType::float32);
   Image image;
   image.width = read.width;
   image.height = read.height;
@@ -221,13 +228,10 @@ std::optional<ImageProvenance> read_provenance(const fs::path& path) {
 }
 
 void write_tiff_f64(const ImageF64& image, const fs::path& path, const ImageProvenance* provenance) {
-  if (image.width < 1 || image.height < 1 ||
-      image.pixels.size() != static_cast<std::size_t>(image.width) * image.height)
-    throw_file_error(path, fmt::format("bad image size {} x {} with {} pixels", image.width, image.height,
-                           image.pixels.size()));
-  auto r = request("tiff", image.width, image.height, 1, image_module::PixelType::float64,
+  check_image(image, path);
+  auto r = request("tiff", image.width, image.height, image.channels, image_module::PixelType::float64,
                    image.pixels.data());
-  r.channel_names = {"Y"};
+  r.channel_names = channel_names(image.channels);
   r.attributes = {{"compression", "zip"}, {"DateTime", ""}};
   stamp(r, provenance);
   write_atomically(path, r);
@@ -246,9 +250,9 @@ ImageInfo read_image_info(const fs::path& path) {
   return info;
 }
 
-ImageF64 read_image_f64(const fs::path& path) {
-  image_module::ReadResult read = read_one_channel(path, image_module::PixelType::float64);
-  return ImageF64{read.width, read.height, std::move(read.doubles)};
+ImageF64 read_image_f64(const fs::path& path, int max_channels) {
+  image_module::ReadResult read = read_pixels(path, image_module::PixelType::float64, max_channels);
+  return ImageF64{read.width, read.height, std::move(read.doubles), read.channels};
 }
 
 }  // namespace vrv

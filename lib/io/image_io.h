@@ -1,6 +1,6 @@
 #pragma once
-// Single-channel float images and their files, all through OpenImageIO: float OpenEXR for the
-// numbers, 8-bit PNG for looking at them.
+// Float images of one channel (grey, "Y") or three (RGB, "R", "G", "B", interleaved) and their
+// files, all through OpenImageIO: float OpenEXR for the numbers, 8-bit PNG for looking at them.
 //
 // Every writer is atomic: it writes `<path>.tmp` in the same directory and renames it onto
 // `path`, so an interrupted run never leaves a half-written file under the final name (the
@@ -16,10 +16,13 @@ namespace vrv {
 
 struct Image {
   int width = 0, height = 0;
-  std::vector<float> pixels;  // one channel, row-major, row 0 = top
+  std::vector<float> pixels;  // row-major, row 0 = top, `channels` values a pixel
+  int channels = 1;           // 1 (grey) or 3 (RGB)
 
   Image() = default;
-  Image(int w, int h, float fill = 0);  // throws std::invalid_argument for a negative side
+  // Throws std::invalid_argument for a negative side or a channel count other than 1 or 3.
+  Image(int w, int h, float fill = 0, int channels = 1);
+  // A one-channel image's pixel.
   float& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
   float at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
 };
@@ -43,18 +46,19 @@ struct ImageProvenance {
 // std::runtime_error naming the file when it cannot be read.
 std::optional<ImageProvenance> read_provenance(const std::filesystem::path& path);
 
-// 32-bit float, one channel named "Y", lossless (zip) compression: bit-exact round trip.
+// 32-bit float, channels named "Y" or "R", "G", "B", lossless (zip) compression: bit-exact round trip.
 void write_exr(const Image& image, const std::filesystem::path& path,
                const ImageProvenance* provenance = nullptr);
 
-// A one-channel image in double precision.
+// An image in double precision, channels as Image's.
 struct ImageF64 {
   int width = 0, height = 0;
-  std::vector<double> pixels;  // row-major, row 0 = top
+  std::vector<double> pixels;  // row-major, row 0 = top, `channels` values a pixel
+  int channels = 1;
 };
 
-// 64-bit float TIFF, one channel, zip compression: every double bit for bit (the EXR beside it
-// rounds to float, one float ulp = 6e-8 near 1, which would hide smaller errors).
+// 64-bit float TIFF, its channels as write_exr names them, zip compression: every double bit for
+// bit (the EXR beside it rounds to float, one float ulp = 6e-8 near 1, which would hide smaller errors).
 void write_tiff_f64(const ImageF64& image, const std::filesystem::path& path,
                     const ImageProvenance* provenance = nullptr);
 
@@ -68,11 +72,11 @@ struct ImageInfo {
 };
 ImageInfo read_image_info(const std::filesystem::path& path);
 
-// The first subimage of a one-channel image as doubles (float64 TIFF exactly; narrower types
-// widened).  The same checks and errors as read_exr.
-ImageF64 read_image_f64(const std::filesystem::path& path);
+// The first subimage of an image of 1 to max_channels channels as doubles (float64 TIFF exactly;
+// narrower types widened).  The same checks and errors as read_exr.
+ImageF64 read_image_f64(const std::filesystem::path& path, int max_channels = 1);
 
-// 8-bit grey: round(255 * clamp((v - lo) / (hi - lo), 0, 1)); NaN becomes 0.  Needs hi > lo
+// 8-bit grey or RGB: round(255 * clamp((v - lo) / (hi - lo), 0, 1)) per channel; NaN becomes 0.  Needs hi > lo
 // (std::invalid_argument otherwise).
 void write_png_preview(const Image& image, const std::filesystem::path& path, double lo, double hi,
                        const ImageProvenance* provenance = nullptr);

@@ -1,12 +1,16 @@
 // Cost of the reference integrator: field evaluations and time per ray at a tolerance.
 //   build/bench_reference [--benchmark_filter=...]
 // Counters: evals_per_ray (mean field evaluations), max_error_estimate.
+// BM_Color_*: an RGB ray (lib/reference_channels.h) beside the same rays in grey with each of its
+// channels alone, in one run (the README's RGB cost ratio: rgb over the costliest grey channel).
 #include <random>
 #include <vector>
 
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include "studies/benchmarks/bench_rays.h"
+#include "lib/reference_channels.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
 
@@ -64,6 +68,53 @@ void BM_LinearRamp_NonProportional(benchmark::State& state) {
   run(state, LinearRamp{Vec3(0.3, 0.2, -0.1), 0.5}, nonproportional_tf(), 1e-12);
 }
 BENCHMARK(BM_LinearRamp_NonProportional)->Unit(benchmark::kMillisecond);
+
+// Three channels sharing the non-proportional extinction: red the non-proportional emission, green
+// a jump, blue a ramp with kinks elsewhere; the channels' breakpoints differ.
+ColorChannels color_channels() {
+  const TransferFunction red = nonproportional_tf();
+  const PiecewiseLinear& extinction = red.second();
+  return {{red,
+           TransferFunction::emission_extinction(PiecewiseLinear({{0.45, 0.1}, {0.45, 0.9}}), extinction),
+           TransferFunction::emission_extinction(PiecewiseLinear({{0.2, 0}, {0.6, 0.7}, {0.9, 0.1}}), extinction)},
+          {0, 0, 0}};
+}
+
+// state.range(0): 0..2 one channel alone (grey), 3 all three (RGB).
+template <class F>
+void run_color(benchmark::State& state, const F& field) {
+  const Box box;
+  const ColorChannels color = color_channels();
+  const int channel = static_cast<int>(state.range(0));
+  const std::vector<Ray> rays = random_rays(256);
+  long evaluations = 0, count = 0;
+  for (auto _ : state) {
+    for (const Ray& ray : rays) {
+      if (channel < 3) {
+        const ReferenceResult r = integrate_reference(field, box, color.transfer[channel], 0.0, ray, {1e-12});
+        benchmark::DoNotOptimize(r.value);
+        evaluations += r.evaluations;
+      } else {
+        const ColorReferenceResult r = integrate_color_reference(field, box, color, ray, {1e-12});
+        benchmark::DoNotOptimize(r.channel[2].value);
+        evaluations += r.evaluations;
+      }
+      ++count;
+    }
+  }
+  state.SetLabel(channel < 3 ? fmt::format("grey channel {}", channel) : "rgb");
+  state.counters["evals_per_ray"] = static_cast<double>(evaluations) / count;
+}
+
+void BM_Color_MarschnerLobb(benchmark::State& state) { run_color(state, MarschnerLobb{}); }
+BENCHMARK(BM_Color_MarschnerLobb)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+
+void BM_Color_MarschnerLobbGrid64(benchmark::State& state) {
+  static const GridField grid =
+      make_grid(Box{}, MarschnerLobb{}, {64, 64, 64}, GridLayout::node, Interpolation::trilinear);
+  run_color(state, grid);
+}
+BENCHMARK(BM_Color_MarschnerLobbGrid64)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

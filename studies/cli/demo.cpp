@@ -132,6 +132,7 @@ Table error_table(const DemoRun& r, const DemoOptions& opt) {
 void run_demo(const DemoOptions& opt) {
   check(opt);
   const Scene scene = load_scene_or_default(opt.scene);
+  require_grey(scene, opt.scene, "vrv demo");
   const DemoRun r = run(scene, opt);
   fmt::print("vrv demo: {} rays (fixed seed) through {}.\n\n", opt.rays,
              opt.scene.empty() ? "the embedded default scene (default_scene_toml, lib/scene_file.cpp)" : opt.scene);

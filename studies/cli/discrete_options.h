@@ -55,13 +55,15 @@ SamplingConfig sampling_config(const DiscreteOptions& opt, const Scene& scene);
 // Throws the refusal: `discrete` says whether the work is samples or the reference's evaluations.
 [[noreturn]] void refuse_work(const DiscreteOptions& opt, bool discrete, double work, long rays);
 
-// The work of casting these rays, without a limit (check_work below compares it with one).
+// The work of casting these rays, without a limit (check_work below compares it with one).  An RGB
+// scene's discrete cast samples every channel; its reference evaluates the field once for all.
 template <class RayAt>
 double estimate_work(const std::optional<DiscreteConfig>& config, double tol, const Scene& scene, long rays,
                      RayAt&& ray_at) {
   double work = 0;
   for (long i = 0; i < rays; ++i)
-    work += config ? discrete_samples(*config, scene, ray_at(i)) : reference_evaluations(scene, ray_at(i), tol);
+    work += config ? discrete_samples(*config, scene, ray_at(i)) * scene.channel_count()
+                   : reference_evaluations(scene, ray_at(i), tol);
   return work;
 }
 

@@ -240,6 +240,7 @@ void run_ray(RayOptions& opt) {
   if (!opt.rays.empty() && (!opt.origin.empty() || !opt.direction.empty()))
     throw std::invalid_argument("--rays: give either --rays or --origin/--direction, not both");
   const Scene scene = load_scene_or_default(opt.scene);
+  require_grey(scene, opt.scene, "vrv ray");
   opt.projection = projection_setup(chosen_mode(opt.mode, scene_text_or_default(opt.scene)), opt.discrete, scene);
   // A projection's work is estimated as the emission-absorption cast's of the same sampling.
   const auto discrete = opt.projection ? opt.projection->work : discrete_config(opt.discrete, scene);

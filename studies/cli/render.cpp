@@ -132,13 +132,14 @@ void check_outputs(const OutputPaths& out, const std::string& error_against) {
   }
 }
 
-// The render's memory before anything is allocated: per pixel, the float image, the same in double,
-// each pixel's work, estimate and verdict (29 bytes; 1024^2 -> 2048^2 pixels took 157 -> 246 MB
-// resident, 29 bytes a pixel), and with --error-against the reference in double and the error
-// image (12 more).  Refused above --max-memory naming the input that sets the size.
-void check_render_memory(const RenderOptions& opt, const Camera& camera) {
+// The render's memory before anything is allocated: per pixel, the float image, the same in double
+// (12 bytes a channel), each pixel's work, estimate and verdict (17; grey: 29 bytes; 1024^2 ->
+// 2048^2 pixels took 157 -> 246 MB resident, 29 bytes a pixel), and with --error-against the
+// reference in double and the error image (12 more a channel).  Refused above --max-memory naming
+// the input that sets the size.
+void check_render_memory(const RenderOptions& opt, const Camera& camera, int channels) {
   const double pixels = double(camera.width) * camera.height;
-  const double per_pixel = 29 + (opt.error_against.empty() ? 0 : 12);
+  const double per_pixel = 17 + channels * (12 + (opt.error_against.empty() ? 0 : 12));
   const std::string who = opt.width || opt.height ? std::string("--width/--height")
                           : opt.scene.empty()     ? std::string("<default scene>: camera")
                                                   : opt.scene + ": camera";
@@ -157,10 +158,10 @@ struct Rendered {
 };
 
 struct PixelResult {
-  double value;
+  std::array<double, 3> value;  // the first `channels` of the render
   long work;
-  double estimate;
-  bool tolerance_met;
+  double estimate;  // the largest of the channels'
+  bool tolerance_met;  // by every channel
 };
 
 // The pixels as the image loop puts them, each part in its own plane (the 29 bytes a pixel of
@@ -168,12 +169,15 @@ struct PixelResult {
 // any thread count.
 class PixelPlanes {
  public:
-  explicit PixelPlanes(const Camera& camera)
-      : r_{Image(camera.width, camera.height), ImageF64{camera.width, camera.height, std::vector<double>(pixel_count(camera))}},
-        work_(r_.values.pixels.size()), estimate_(work_.size()), met_(work_.size()) {}
+  PixelPlanes(const Camera& camera, int channels)
+      : r_{Image(camera.width, camera.height, 0, channels),
+           ImageF64{camera.width, camera.height, std::vector<double>(pixel_count(camera) * channels), channels}},
+        channels_(channels), work_(pixel_count(camera)), estimate_(work_.size()), met_(work_.size()) {}
   void put(long i, const PixelResult& p) {
-    r_.image.pixels[i] = static_cast<float>(p.value);
-    r_.values.pixels[i] = p.value;
+    for (int c = 0; c < channels_; ++c) {
+      r_.image.pixels[i * channels_ + c] = static_cast<float>(p.value[c]);
+      r_.values.pixels[i * channels_ + c] = p.value[c];
+    }
     work_[i] = p.work;
     estimate_[i] = p.estimate;
     met_[i] = p.tolerance_met;
@@ -182,7 +186,8 @@ class PixelPlanes {
     for (std::size_t i = 0; i < work_.size(); ++i) {
       r_.work += work_[i];
       r_.max_error_estimate = std::max(r_.max_error_estimate, estimate_[i]);
-      if (!std::isfinite(r_.image.pixels[i])) {
+      const auto first = r_.image.pixels.begin() + static_cast<long>(i) * channels_;
+      if (!std::all_of(first, first + channels_, [](float v) { return std::isfinite(v); })) {
         if (r_.not_finite++ == 0) r_.first_not_finite = static_cast<long>(i);
       } else if (!met_[i]) {
         ++r_.tolerance_missed;
@@ -193,6 +198,7 @@ class PixelPlanes {
 
  private:
   Rendered r_;
+  int channels_;
   std::vector<long> work_;
   std::vector<double> estimate_;
   std::vector<char> met_;
@@ -206,25 +212,44 @@ ImageLoopHooks progress_hooks(Progress& bar) {
 }
 
 Rendered render_reference(const Scene& scene, const Camera& camera, double tol, bool quiet) {
-  PixelPlanes planes(camera);
+  PixelPlanes planes(camera, scene.channel_count());
   Progress bar("render", pixel_count(camera), !quiet);
-  reference_pixels(scene, camera, {tol}, [&](long i, const ReferenceResult& v) {
-    planes.put(i, {v.value, v.evaluations, v.error_estimate, v.tolerance_met});
-  }, progress_hooks(bar));
+  if (scene.color) {
+    color_reference_pixels(scene, camera, {tol}, [&](long i, const ColorReferenceResult& v) {
+      const auto& ch = v.channel;
+      planes.put(i, {{ch[0].value, ch[1].value, ch[2].value}, v.evaluations,
+                     std::max({ch[0].error_estimate, ch[1].error_estimate, ch[2].error_estimate}), v.tolerance_met()});
+    }, progress_hooks(bar));
+  } else {
+    reference_pixels(scene, camera, {tol}, [&](long i, const ReferenceResult& v) {
+      planes.put(i, {{v.value}, v.evaluations, v.error_estimate, v.tolerance_met});
+    }, progress_hooks(bar));
+  }
   bar.finish();
   return planes.finish();
 }
 
+// One caster per channel (an RGB scene's share the extinction, so each composites the same
+// opacities with its own colour); a grey scene's one caster is the grey render's.
 Rendered render_discrete(const Scene& scene, const Camera& camera, const DiscreteConfig& config,
                          bool quiet) {
-  PixelPlanes planes(camera);
+  const int channels = scene.channel_count();
+  PixelPlanes planes(camera, channels);
   Progress bar("render", pixel_count(camera), !quiet);
   visit_field(scene, [&](const auto& field) {
     using F = std::decay_t<decltype(field)>;
-    const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config);
+    std::vector<DiscreteRaycaster<F>> casters;
+    for (int c = 0; c < channels; ++c)
+      casters.emplace_back(field, scene.box, scene.color ? scene.color->transfer[c] : scene.transfer,
+                           scene.color ? scene.color->background[c] : scene.background, config);
     image_loop_into(camera, {}, [&](const Ray& ray) {
-      const DiscreteResult v = caster.cast(ray);
-      return PixelResult{v.value, v.samples, 0.0, true};
+      PixelResult p{{}, 0, 0.0, true};
+      for (int c = 0; c < channels; ++c) {
+        const DiscreteResult v = casters[c].cast(ray);
+        p.value[c] = v.value;
+        p.work += v.samples;
+      }
+      return p;
     }, [&](long i, const PixelResult& p) { planes.put(i, p); }, progress_hooks(bar));
   });
   bar.finish();
@@ -234,16 +259,16 @@ Rendered render_discrete(const Scene& scene, const Camera& camera, const Discret
 // A projection (--mode) per pixel: its reference, or its discrete version with --method.
 Rendered render_projection(const Scene& scene, const Camera& camera, const ProjectionSetup& p, double tol,
                            bool quiet) {
-  PixelPlanes planes(camera);
+  PixelPlanes planes(camera, 1);
   Progress bar("render", pixel_count(camera), !quiet);
   visit_field(scene, [&](const auto& field) {
     image_loop_into(camera, {}, [&](const Ray& ray) {
       if (p.discrete) {
         const DiscreteProjectionResult v = discrete_projection(field, scene.box, scene.transfer, ray, *p.discrete);
-        return PixelResult{v.value, v.samples, 0.0, true};
+        return PixelResult{{v.value}, v.samples, 0.0, true};
       }
       const ProjectionResult v = projection_reference(field, scene.box, scene.transfer, ray, p.mode, {tol});
-      return PixelResult{v.value, v.evaluations, v.error_estimate, v.tolerance_met};
+      return PixelResult{{v.value}, v.evaluations, v.error_estimate, v.tolerance_met};
     }, [&](long i, const PixelResult& px) { planes.put(i, px); }, progress_hooks(bar));
   });
   bar.finish();
@@ -253,7 +278,8 @@ Rendered render_projection(const Scene& scene, const Camera& camera, const Proje
 // A reference a verification can trust: floating point (an 8-bit preview is refused), the render's
 // size, of this scene and camera by its provenance, every pixel finite; read in double from
 // REF.f64.tiff when it lies beside REF.exr with the same provenance.
-ImageF64 read_reference_image(const std::string& path, const Camera& camera, const std::string& hash) {
+ImageF64 read_reference_image(const std::string& path, const Camera& camera, const std::string& hash,
+                              int channels) {
   auto bad = [&](const std::string& reason) {
     return std::invalid_argument(fmt::format("--error-against: {}: {}", path, reason));
   };
@@ -272,7 +298,7 @@ ImageF64 read_reference_image(const std::string& path, const Camera& camera, con
       const auto p64 = read_provenance(f64);
       if (p64 && provenance && p64->scene_hash == provenance->scene_hash) source = f64;
     }
-    ref = read_image_f64(source);
+    ref = read_image_f64(source, 3);
   } catch (const std::invalid_argument&) {
     throw;
   } catch (const std::exception& e) {
@@ -281,6 +307,9 @@ ImageF64 read_reference_image(const std::string& path, const Camera& camera, con
   if (ref.width != camera.width || ref.height != camera.height)
     throw bad(fmt::format("size {} x {} differs from the render's {} x {}", ref.width, ref.height,
                           camera.width, camera.height));
+  if (ref.channels != channels)
+    throw bad(fmt::format("{} channel{} where the render has {} ({})", ref.channels, ref.channels == 1 ? "" : "s",
+                          channels, channels == 3 ? "RGB" : "grey"));
   if (!provenance)
     throw bad("carries no vrv provenance (scene hash, camera), so it cannot be checked against this "
               "scene and camera; render the reference with this version of vrv render");
@@ -291,11 +320,13 @@ ImageF64 read_reference_image(const std::string& path, const Camera& camera, con
     throw bad(fmt::format("rendered from another scene (scene hash {}; this render's {})",
                           provenance->scene_hash.substr(0, 12), hash.substr(0, 12)));
   }
-  for (int y = 0; y < ref.height; ++y)
-    for (int x = 0; x < ref.width; ++x) {
-      const double v = ref.pixels[static_cast<std::size_t>(y) * ref.width + x];
-      if (!std::isfinite(v)) throw bad(fmt::format("pixel ({}, {}) is {}", x, y, v));
-    }
+  for (std::size_t i = 0; i < ref.pixels.size(); ++i) {
+    const double v = ref.pixels[i];
+    const std::size_t pixel = i / channels;
+    if (!std::isfinite(v))
+      throw bad(fmt::format("pixel ({}, {}){} is {}", pixel % ref.width, pixel / ref.width,
+                            channels == 3 ? fmt::format(" channel {}", "RGB"[i % 3]) : std::string(), v));
+  }
   return ref;
 }
 
@@ -314,17 +345,34 @@ ImageProvenance render_provenance(const Scene& scene, const Camera& camera,
   return p;
 }
 
-// this - ref, pixel by pixel, in double (the reference from its .f64.tiff when there is one, so
-// errors below a float ulp are measured); out_error.exr holds them rounded to float.
-ErrorStats error_image(const ImageF64& image, const ImageF64& ref, Image& error) {
-  error = Image(image.width, image.height);
-  ErrorSums sums;
+// this - ref, pixel by pixel and channel by channel, in double (the reference from its .f64.tiff
+// when there is one, so errors below a float ulp are measured); out_error.exr holds them rounded
+// to float.  The statistics of all channels' errors together (so max |e| is the largest over the
+// channels), then of each channel (RGB).
+std::vector<ErrorStats> error_image(const ImageF64& image, const ImageF64& ref, Image& error) {
+  error = Image(image.width, image.height, 0, image.channels);
+  std::vector<ErrorSums> sums(image.channels == 1 ? 1 : 1 + image.channels);
   for (std::size_t i = 0; i < image.pixels.size(); ++i) {
     const double e = image.pixels[i] - ref.pixels[i];
     error.pixels[i] = static_cast<float>(e);
-    sums.add(e);
+    sums[0].add(e);
+    if (image.channels > 1) sums[1 + i % image.channels].add(e);
   }
-  return sums.stats();
+  std::vector<ErrorStats> stats;
+  for (const ErrorSums& s : sums) stats.push_back(s.stats());
+  return stats;
+}
+
+// The error map's one value a pixel: the channel error of largest magnitude, sign kept.
+Image largest_channel_error(const Image& error) {
+  if (error.channels == 1) return error;
+  Image out(error.width, error.height);
+  for (std::size_t p = 0; p < out.pixels.size(); ++p)
+    for (int c = 0; c < error.channels; ++c) {
+      const float e = error.pixels[p * error.channels + c];
+      if (std::fabs(e) > std::fabs(out.pixels[p]) || std::isnan(e)) out.pixels[p] = e;
+    }
+  return out;
 }
 
 void run_render(const RenderOptions& opt) {
@@ -340,10 +388,13 @@ void run_render(const RenderOptions& opt) {
   check_threads(opt.threads);
   const Scene scene = load_scene_or_default(opt.scene, memory_limit_bytes(opt.max_memory_gib));
   const auto projection = projection_setup(chosen_mode(opt.mode, scene_text_or_default(opt.scene)), opt.discrete, scene);
+  if (projection && scene.color)
+    throw std::invalid_argument(fmt::format("--mode: {}: the scene is RGB, and projections take one channel so far",
+                                            projection_mode_name(projection->mode)));
   // A projection's work is estimated as the emission-absorption cast's of the same sampling.
   const auto discrete = projection ? projection->work : discrete_config(opt.discrete, scene);
   const Camera camera = scene_camera(scene, opt.width, opt.height);  // --width/--height errors named
-  check_render_memory(opt, camera);
+  check_render_memory(opt, camera, scene.channel_count());
   ImageProvenance provenance = render_provenance(scene, camera, discrete, opt.tol);
   if (projection) {
     // The mode is part of what the image is: --error-against refuses an image of another mode.
@@ -357,7 +408,8 @@ void run_render(const RenderOptions& opt) {
   check_outputs(out, opt.error_against);
   image_module::functions();  // a missing image module fails now, not after the render
   std::optional<ImageF64> ref;
-  if (!opt.error_against.empty()) ref = read_reference_image(opt.error_against, camera, provenance.scene_hash);
+  if (!opt.error_against.empty())
+    ref = read_reference_image(opt.error_against, camera, provenance.scene_hash, scene.channel_count());
   check_work(opt.discrete, discrete, opt.tol, scene, pixel_count(camera),
              [&](long i) { return pixel_ray(camera, i); });
 
@@ -409,17 +461,24 @@ void run_render(const RenderOptions& opt) {
   }
   if (ref) {
     Image error;
-    const ErrorStats s = error_image(r.values, *ref, error);
+    const std::vector<ErrorStats> stats = error_image(r.values, *ref, error);
+    const ErrorStats& s = stats[0];
     write_exr(error, out.error_exr);
-    write_error_map_png(error, out.error_png, s.max);
-    std::cerr << fmt::format("vrv render: error against {}: max |e| {:.6g}, mean |e| {:.6g}, RMS {:.6g}\n",
-                             opt.error_against, s.max, s.mean, s.rms);
+    write_error_map_png(largest_channel_error(error), out.error_png, s.max);
+    std::cerr << fmt::format("vrv render: error against {}: max |e| {:.6g}, mean |e| {:.6g}, RMS {:.6g}{}\n",
+                             opt.error_against, s.max, s.mean, s.rms, stats.size() > 1 ? " (all channels)" : "");
     j["error_against"] = opt.error_against;
     j["error_output"] = out.error_exr.string();
     j["error_preview"] = out.error_png.string();
     j["max_abs_error"] = s.max;
     j["mean_abs_error"] = s.mean;
     j["rms_error"] = s.rms;
+    for (std::size_t c = 1; c < stats.size(); ++c) {
+      const std::string name(1, "RGB"[c - 1]);
+      std::cerr << fmt::format("vrv render:   channel {}: max |e| {:.6g}, mean |e| {:.6g}, RMS {:.6g}\n", name,
+                               stats[c].max, stats[c].mean, stats[c].rms);
+      j["channels"][name] = {{"max_abs_error", stats[c].max}, {"mean_abs_error", stats[c].mean}, {"rms_error", stats[c].rms}};
+    }
   }
   std::cout << j.dump() << '\n' << std::flush;
   if (r.tolerance_missed > 0)
@@ -439,11 +498,12 @@ void add_render_command(CLI::App& app) {
       "Camera: the scene's [camera] table; without one, a perspective camera (vertical fov 40 "
       "degrees, 256 x 256, up +y) looking along +z at the box centre from 2.5 box diagonals "
       "away.\n"
-      "Writes OUT.exr (one float channel), OUT.f64.tiff (the same in double, bit for bit) and "
-      "OUT.png (8-bit grey, 0 to the image maximum), each carrying its provenance (scene hash, camera, "
+      "Writes OUT.exr (float: one channel Y, or R, G, B for an RGB scene), OUT.f64.tiff (the same in "
+      "double, bit for bit) and OUT.png (8-bit, 0 to the image maximum), each carrying its provenance (scene hash, camera, "
       "method, step) in its metadata; with "
-      "--error-against REF.exr also OUT_error.exr (this - REF, signed float) and OUT_error.png "
-      "(blue < 0 < red, symmetric range +-max|e|, colour bar on the right).\n"
+      "--error-against REF.exr also OUT_error.exr (this - REF, signed float, per channel) and OUT_error.png "
+      "(blue < 0 < red, symmetric range +-max|e|, colour bar on the right; RGB: the channel error of "
+      "largest magnitude), with statistics over all channels and per channel.\n"
       "stdout: one JSON line; stderr: pixel count, time and error statistics.\n"
       "Exit: 0; 2 bad input (nothing written); 3 reference pixels missed --tol (images written, "
       "count on stderr and as \"tolerance_missed\"); 4 NaN or infinite pixels (nothing written).");

@@ -392,8 +392,18 @@ auto load_file(const std::filesystem::path& path, Load load) {
   }
 }
 
+// The module's functions integrate one channel: an RGB scene is a SceneFileError naming it.
+Scene grey_only(Scene scene, const std::string& name) {
+  try {
+    require_grey(scene, name, "the Python module");
+  } catch (const std::invalid_argument& e) {
+    throw SceneFileError(e.what());
+  }
+  return scene;
+}
+
 Scene from_file(const std::filesystem::path& path) {
-  return load_file<SceneFileError>(path, [](const auto& p) { return load_scene(p); });
+  return grey_only(load_file<SceneFileError>(path, [](const auto& p) { return load_scene(p); }), path.string());
 }
 
 py::dict box(const Scene& scene) {
@@ -576,7 +586,7 @@ PYBIND11_MODULE(vrv, m) {
   py::class_<Scene>(m, "Scene", "A vrv scene: volume box, field, transfer function, background, camera")
       .def_static("from_file", &from_file, py::arg("path"), "Load a scene file (TOML)")
       .def_static("from_toml", [](const std::string& text, const std::string& name) {
-                    return parse_scene(text, name);
+                    return grey_only(parse_scene(text, name), name);
                   }, py::arg("text"), py::arg("name") = "<toml>",
                   "Parse scene TOML text; `name` labels error messages")
       .def_static("default", &default_scene, "The embedded Marschner-Lobb scene (`vrv ray` without --scene)")

@@ -4,7 +4,7 @@
 //   #ray OX OY OZ DX DY DZ
 //   #method RULE STRATEGY RATE_OR_STEP [N] [CORRECTION] [float]
 // A valid scene and ray must give a finite reference value with a finite, non-negative error
-// estimate, and a finite double-precision discrete value: a NaN is never a silent result.
+// estimate (every channel's, for an RGB scene), and a finite double-precision discrete value: a NaN is never a silent result.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +14,7 @@
 #include <string>
 
 #include "lib/discrete_raycast.h"
+#include "lib/reference_channels.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene_file.h"
 #include "tests/fuzz/fuzz_limits.h"
@@ -100,6 +101,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const vrv::ReferenceResult ref = vrv::integrate_reference(scene, ray, {1e-10});
   if (!std::isfinite(ref.value) || !std::isfinite(ref.error_estimate) || !(ref.error_estimate >= 0))
     std::abort();
+  if (scene.color)  // an RGB scene: every channel from the shared panels, finite likewise
+    for (const vrv::ReferenceResult& c : vrv::integrate_color_reference(scene, ray, {1e-10}).channel)
+      if (!std::isfinite(c.value) || !std::isfinite(c.error_estimate) || !(c.error_estimate >= 0)) std::abort();
   vrv::DiscreteConfig config;
   if (!config_for(scene, directive(text, "#method"), config)) return 0;
   const vrv::DiscreteResult d = vrv::discrete_raycast(scene, ray, config);

@@ -328,7 +328,66 @@ std::vector<BadCase> bad_cases() {
       {with_camera("[camera]\nprojection = \"fan\"\nheight = 2\n"), "camera.height", "must be 1"},
       {with_camera("[camera]\nprojection = \"fan\"\nfov = 400\n"), "camera.fov", "360"},
       {with_camera("[camera]\nprojection = \"fan\"\nangle = inf\n"), "camera.angle", "finite"},
+      // RGB points: all alike, three values, not for the shared curve, backgrounds to match.
+      {with_transfer("[transfer]\nemission = [[0, 1, 2, 3], [1, 1]]\nextinction = [[0, 1]]\n"),
+       "transfer.emission[1]", "[value, r, g, b] as the first point, got 2"},
+      {with_transfer("[transfer]\nemission = [[0, 1, 2]]\nextinction = [[0, 1]]\n"), "transfer.emission[0]",
+       "[value, y] or [value, r, g, b], got 3 numbers"},
+      {with_transfer("[transfer]\nemission = [[0, 1]]\nextinction = [[0, 1, 2, 3]]\n"),
+       "transfer.extinction[0]", "a pair [value, y], got 4 numbers"},
+      {with_transfer("[transfer]\nopacity = [[0, 0.1, 0.2, 0.3]]\ncolor = [[0, 1]]\n"), "transfer.opacity[0]",
+       "a pair [value, y], got 4 numbers"},
+      {with_transfer("[transfer]\nemission = [[0, 1, -2, 3]]\nextinction = [[0, 1]]\n"),
+       "transfer.emission[0]", "negative emission -2"},
+      {with_transfer("[transfer]\nemission = [[0, 1]]\nextinction = [[0, 1]]\n[background]\ncolor = [1, 2, 3]\n"),
+       "background.color", "needs an RGB transfer function"},
+      {with_transfer("[transfer]\nemission = [[0, 1, 2, 3]]\nextinction = [[0, 1]]\n[background]\n"
+                     "color = [1, 2, 3]\nintensity = 1\n"),
+       "background.color", "not both"},
+      {with_transfer("[transfer]\nemission = [[0, 1, 2, 3]]\nextinction = [[0, 1]]\n[background]\n"
+                     "color = [1, -2, 3]\n"),
+       "background.color[1]", "negative intensity"},
   };
+}
+
+// RGB: three-valued emission (or colour) points, one extinction (or opacity) for every channel.
+TEST(SceneFile, RgbEmissionMakesThreeChannelsSharingTheExtinction) {
+  const Scene s = parse_scene(with_transfer("[transfer]\nemission = [[0, 0.1, 0.2, 0.3], [1, 1, 2, 3]]\n"
+                                            "extinction = [[0, 0], [1, 0.5]]\n[background]\ncolor = [0.5, 0, 1]\n"),
+                              "rgb.toml");
+  ASSERT_TRUE(s.color);
+  EXPECT_EQ(s.channel_count(), 3);
+  for (int c = 0; c < 3; ++c) {
+    const Scene one = channel_scene(s, c);
+    EXPECT_FALSE(one.color);
+    EXPECT_DOUBLE_EQ(one.transfer.emission(1), c + 1.0);
+    EXPECT_DOUBLE_EQ(one.transfer.emission(0), 0.1 * (c + 1));
+    EXPECT_DOUBLE_EQ(one.transfer.extinction(1), 0.5);
+    EXPECT_EQ(one.background, (std::array<double, 3>{0.5, 0, 1})[c]);
+  }
+  EXPECT_DOUBLE_EQ(s.transfer.emission(1), 1.0);  // `transfer` is the red channel
+  EXPECT_THROW(channel_scene(s, 3), std::out_of_range);
+  // One intensity is every channel's.
+  const Scene grey_bg = parse_scene(with_transfer("[transfer]\nopacity = [[0, 0.5]]\ncolor = [[0, 1, 0, 0.5]]\n"
+                                                  "[background]\nintensity = 0.25\n"),
+                                    "rgb.toml");
+  ASSERT_TRUE(grey_bg.color);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(grey_bg.color->background[c], 0.25);
+  EXPECT_EQ(grey_bg.color->transfer[2].convention(), Convention::opacity_color);
+  EXPECT_FALSE(parse_scene(with_transfer(kTransfer), "grey.toml").color);
+}
+
+TEST(SceneFile, GreyOnlyCallersRefuseAnRgbSceneNamingIt) {
+  const Scene s = parse_scene(with_transfer("[transfer]\nemission = [[0, 1, 2, 3]]\nextinction = [[0, 1]]\n"),
+                              "rgb.toml");
+  try {
+    require_grey(s, "rgb.toml", "vrv verify");
+    ADD_FAILURE() << "an RGB scene was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("rgb.toml: transfer: the scene is RGB", 0), 0u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("vrv verify"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(require_grey(default_scene(), "default", "vrv verify"));
 }
 
 TEST(SceneFile, BadInputsGiveOneLineErrorsNamingKeyAndReason) {

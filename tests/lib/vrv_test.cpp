@@ -55,5 +55,36 @@ TEST(LibraryProjections, BadToleranceIsRefused) {
   }
 }
 
+// RGB scenes: color_reference_values is each channel's grey reference_values bit for bit where
+// one channel alone asks for the panels all ask for (three equal channels), and the grey calls
+// refuse the scene instead of integrating its red channel.
+TEST(LibraryColor, GreyCallsRefuseAnRgbSceneAndColorValuesArePerChannel) {
+  const Scene rgb = parse_scene(R"([volume]
+min = [-1.0, -1.0, -1.0]
+max = [1.0, 1.0, 1.0]
+[field]
+kind = "marschner_lobb"
+[transfer]
+emission = [[0.0, 0.1, 0.1, 0.1], [1.0, 0.9, 0.9, 0.9]]
+extinction = [[0.0, 0.2], [1.0, 1.2]]
+[background]
+color = [0.3, 0.3, 0.3]
+)", "rgb.toml");
+  const Camera camera = scene_camera(rgb, 6, 5);
+  const std::vector<Ray> rays = camera_rays(camera);
+  EXPECT_THROW(reference_values(rgb, rays), std::invalid_argument);
+  EXPECT_THROW(render_reference_image(rgb, camera), std::invalid_argument);
+  EXPECT_THROW(discrete_values(rgb, rays, DiscreteConfig{}), std::invalid_argument);
+  EXPECT_THROW(color_reference_values(default_scene(), rays), std::invalid_argument);
+  const std::vector<ColorReferenceResult> three = color_reference_values(rgb, rays, {1e-11});
+  const std::vector<ReferenceResult> one = reference_values(channel_scene(rgb, 1), rays, {1e-11});
+  ASSERT_EQ(three.size(), one.size());
+  for (std::size_t i = 0; i < one.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(three[i].channel[c].value, one[i].value) << i;
+      EXPECT_EQ(three[i].channel[c].error_estimate, one[i].error_estimate) << i;
+    }
+}
+
 }  // namespace
 }  // namespace vrv

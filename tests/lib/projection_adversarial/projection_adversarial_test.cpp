@@ -31,11 +31,12 @@
 #include "lib/grid_field.h"
 #include "lib/projection/projection_reference.h"
 #include "lib/transfer_function.h"
+#include "tests/lib/truth_lines.h"
 
 namespace vrv {
 namespace {
 
-double hex_double(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
+using test::hex_double;
 long double long_double(const nlohmann::json& j) { return std::strtold(j.get<std::string>().c_str(), nullptr); }
 
 struct TruthRay {
@@ -48,22 +49,16 @@ struct TruthRay {
 
 std::vector<TruthRay> load() {
   std::vector<TruthRay> out;
-  const std::string path = std::string(VRV_SOURCE_DIR) + "/tests/lib/projection_adversarial/projection_truth.jsonl";
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  std::string line;
-  while (std::getline(in, line)) {
-    auto j = nlohmann::json::parse(line);
-    if (j.contains("header")) continue;
+  for (nlohmann::json& j : test::truth_lines("tests/lib/projection_adversarial/projection_truth.jsonl")) {
     TruthRay r;
     r.cls = j["class"];
     r.tag = j["tag"];
     for (int a = 0; a < 3; ++a) {
       r.box.min[a] = j["box"]["min"][a].get<double>();
       r.box.max[a] = j["box"]["max"][a].get<double>();
-      r.origin[a] = hex_double(j["origin"][a]);
-      r.direction[a] = hex_double(j["direction"][a]);
     }
+    r.origin = test::hex_vec3(j["origin"]);
+    r.direction = test::hex_vec3(j["direction"]);
     std::vector<ControlPoint> pts;
     for (const auto& p : j["extinction"]) pts.push_back({p[0].get<double>(), p[1].get<double>()});
     r.tf = TransferFunction::emission_extinction(PiecewiseLinear(pts), PiecewiseLinear(pts));

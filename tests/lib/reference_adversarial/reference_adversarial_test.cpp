@@ -34,6 +34,7 @@
 #include "lib/scene_file.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene.h"
+#include "tests/lib/truth_lines.h"
 
 namespace vrv {
 namespace {
@@ -49,7 +50,7 @@ struct AdversarialRay {
   std::vector<double> grid_nodes;
 };
 
-double hex_double(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
+using test::hex_double;
 
 struct Data {
   nlohmann::json header;
@@ -59,24 +60,13 @@ struct Data {
 const Data& data() {
   static const Data d = [] {
     Data out;
-    const std::string path = std::string(VRV_SOURCE_DIR) + "/tests/lib/reference_adversarial/adversarial_rays.jsonl";
-    std::ifstream in(path);
-    if (!in) throw std::runtime_error("cannot open " + path);
-    std::string line;
-    while (std::getline(in, line)) {
-      const auto j = nlohmann::json::parse(line);
-      if (j.contains("header")) {
-        out.header = j["header"];
-        continue;
-      }
+    for (const nlohmann::json& j : test::truth_lines("tests/lib/reference_adversarial/adversarial_rays.jsonl", &out.header)) {
       AdversarialRay r;
       r.cls = j["class"];
       r.tag = j["tag"];
       r.scene_toml = j["scene"];
-      for (int a = 0; a < 3; ++a) {
-        r.origin[a] = hex_double(j["origin"][a]);
-        r.direction[a] = hex_double(j["direction"][a]);
-      }
+      r.origin = test::hex_vec3(j["origin"]);
+      r.direction = test::hex_vec3(j["direction"]);
       r.truth_text = j["truth"];
       r.truth = std::strtold(r.truth_text.c_str(), nullptr);
       r.hit = j["hit"];

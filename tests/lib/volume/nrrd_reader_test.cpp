@@ -7,13 +7,13 @@
 namespace vrv {
 namespace {
 
-Volume read(const std::filesystem::path& p) { return read_nrrd(p); }
+Volume read_nrrd_file(const std::filesystem::path& p) { return read_nrrd(p); }
 
 // Eight types in both byte orders, gzip, a mirrored and permuted placement, a detached header:
 // as make_volume_fixtures.py wrote them.
-TEST(NrrdReader, ReadsEveryFixtureAsWritten) { EXPECT_EQ(test::expect_fixtures("nrrd_", read), 17); }
+TEST(NrrdReader, ReadsEveryFixtureAsWritten) { EXPECT_EQ(test::expect_fixtures("nrrd_", read_nrrd_file), 17); }
 
-TEST(NrrdReader, RefusesBadFilesInOneLine) { EXPECT_EQ(test::expect_bad_fixtures("bad_nrrd_", read), 4); }
+TEST(NrrdReader, RefusesBadFilesInOneLine) { EXPECT_EQ(test::expect_bad_fixtures("bad_nrrd_", read_nrrd_file), 4); }
 
 TEST(NrrdReader, TheDetachedDataFileIsOneOfTheVolumesFiles) {
   const Volume v = read_nrrd(test::volume_fixture_dir() / "nrrd_u16_detached.nhdr");

@@ -1,0 +1,57 @@
+#include "lib/reference_channels.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+namespace vrv {
+namespace detail {
+
+ChannelAccumulators::ChannelAccumulators(const ColorChannels& color, const ReferenceOptions& options, Interval iv,
+                                         double position_error) {
+  accumulators_.reserve(3);
+  for (int c = 0; c < 3; ++c)
+    accumulators_.emplace_back(color.transfer[c], color.background[c], options, iv, position_error);
+}
+
+double ChannelAccumulators::field_tolerance() const {
+  double tol = std::numeric_limits<double>::infinity();
+  for (const RayAccumulator& a : accumulators_)
+    if (!a.stopped()) tol = std::min(tol, a.field_tolerance());
+  return tol;
+}
+
+bool ChannelAccumulators::jumps_located(const RayPanel& panel) {
+  bool located = true;
+  for (RayAccumulator& a : accumulators_)
+    if (!a.stopped()) located = a.jumps_located(panel) && located;
+  return located;
+}
+
+void ChannelAccumulators::consume(const RayPanel& panel) {
+  for (RayAccumulator& a : accumulators_) a.consume(panel);
+}
+
+bool ChannelAccumulators::stopped() const {
+  return std::all_of(accumulators_.begin(), accumulators_.end(), [](const RayAccumulator& a) { return a.stopped(); });
+}
+
+void ChannelAccumulators::give_up(double t) {
+  for (RayAccumulator& a : accumulators_) a.give_up(t);
+}
+
+void ChannelAccumulators::note_cap() {
+  for (RayAccumulator& a : accumulators_)
+    if (!a.stopped()) a.note_cap();
+}
+
+}  // namespace detail
+
+ColorReferenceResult integrate_color_reference(const Scene& scene, const Ray& ray, const ReferenceOptions& options) {
+  if (!scene.color) throw std::invalid_argument("integrate_color_reference: the scene is grey (one channel)");
+  return visit_field(scene, [&](const auto& field) {
+    return integrate_color_reference(field, scene.box, *scene.color, ray, options);
+  });
+}
+
+}  // namespace vrv
