@@ -165,9 +165,8 @@ class Reader {
     return v;
   }
 
-  // [[v, y], ...] with non-decreasing v, each value at most twice (twice is a jump).
-  // Control points [value, y], or with `channels` = 3 also [value, r, g, b] (all points alike): one
-  // curve per channel given.
+  // [[v, y], ...] with non-decreasing v, each value at most twice (twice is a jump); with
+  // `channels` = 3 also [[v, r, g, b], ...] (all points alike).  One curve per channel given.
   std::vector<std::vector<ControlPoint>> points(const toml::node& n, std::string_view path, int channels = 1) const {
     const toml::array& a = array(n, path);
     if (a.empty()) fail(path, "empty array (needs at least one control point)");
@@ -363,9 +362,12 @@ std::vector<PiecewiseLinear> read_curves(const Reader& r, const toml::table& t, 
   const bool channels = key == "emission" || key == "color";
   const std::vector<std::vector<ControlPoint>> curves = r.points(*n, path, channels ? 3 : 1);
   std::vector<PiecewiseLinear> out;
-  for (const std::vector<ControlPoint>& pts : curves) {
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    const std::vector<ControlPoint>& pts = curves[c];
     for (std::size_t i = 0; i < pts.size(); ++i) {
-      if (pts[i].y < 0) r.fail(element(path, i), fmt::format("negative {} {}", key, pts[i].y));
+      // An RGB point's value is named by its place: transfer.emission[2][3] is point 2's blue.
+      const std::string at = curves.size() == 1 ? element(path, i) : element(element(path, i), c + 1);
+      if (pts[i].y < 0) r.fail(at, fmt::format("negative {} {}", key, pts[i].y));
       if (key == "opacity" && pts[i].y >= 1)
         r.fail(element(path, i), fmt::format("opacity {} must be below 1 (1 is opaque)", pts[i].y));
     }

@@ -70,6 +70,7 @@ std::string projection_cache_tag(ProjectionMode mode) {
 
 ReferenceImage projection_reference_image(const Scene& scene, const Camera& camera, ProjectionMode mode, double tol,
                                           bool progress) {
+  require_grey(scene, "scene", "projection_reference_image");
   ReferenceImage r;
   r.width = camera.width, r.height = camera.height;
   const long n = pixel_count(camera);

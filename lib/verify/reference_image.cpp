@@ -44,6 +44,7 @@ void try_to_cache(const fs::path& dir, const fs::path& file, const std::string& 
 }  // namespace
 
 ReferenceImage reference_image(const Scene& scene, const Camera& camera, const VerifyOptions& opt) {
+  require_grey(scene, "scene", "reference_image");
   const bool cache = !opt.cache_dir.empty() && !opt.scene_text.empty();
   std::string key;
   fs::path file;

@@ -115,6 +115,17 @@ py::array_t<T> filled(const std::vector<py::ssize_t>& shape, std::size_t n, auto
   return a;
 }
 
+// The same with a trailing axis of the three channels (RGB scenes): get(i, c).
+template <class T>
+py::array_t<T> filled_rgb(std::vector<py::ssize_t> shape, std::size_t n, auto&& get) {
+  shape.push_back(3);
+  py::array_t<T> a(shape);
+  T* p = a.mutable_data();
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) p[3 * i + c] = get(i, c);
+  return a;
+}
+
 // The keywords the discrete options (and max_work) take, named as on the command line with '_'
 // for '-' (method=... is --method), and the Python type each is given as.
 enum class Kind { text, number, integer, flag };
@@ -226,6 +237,7 @@ void put_reference_fields(py::dict& out, const std::vector<py::ssize_t>& shape, 
 // position and ambiguous (MIP) and tolerance_met, as `vrv ray --mode` prints them.
 py::dict projection_values(const Scene& scene, const Points& origins, const std::vector<Ray>& rays,
                            ProjectionMode mode, double tol) {
+  require_grey(scene, "scene", "mode=");
   const ProjectionOptions options{tol};
   validate(options);
   const std::vector<ProjectionResult> r = interruptible([&] {
@@ -247,6 +259,24 @@ py::dict projection_values(const Scene& scene, const Points& origins, const std:
   return out;
 }
 
+// An RGB scene's references: value, error_estimate, optical_depth and tolerance_met with a trailing
+// axis of the channels; evaluations (shared by the channels), hit, t_entry and t_exit without.
+py::dict color_reference(const std::vector<py::ssize_t>& shape, const std::vector<ColorReferenceResult>& r) {
+  const std::size_t n = r.size();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto ray = [&](std::size_t i) -> const ReferenceResult& { return r[i].channel[0]; };
+  py::dict out;
+  out["value"] = filled_rgb<double>(shape, n, [&](auto i, int c) { return r[i].channel[c].value; });
+  out["error_estimate"] = filled_rgb<double>(shape, n, [&](auto i, int c) { return r[i].channel[c].error_estimate; });
+  out["evaluations"] = filled<long>(shape, n, [&](auto i) { return r[i].evaluations; });
+  out["hit"] = filled<bool>(shape, n, [&](auto i) { return ray(i).hit; });
+  out["t_entry"] = filled<double>(shape, n, [&](auto i) { return ray(i).hit ? ray(i).t_entry : nan; });
+  out["t_exit"] = filled<double>(shape, n, [&](auto i) { return ray(i).hit ? ray(i).t_exit : nan; });
+  out["optical_depth"] = filled_rgb<double>(shape, n, [&](auto i, int c) { return r[i].channel[c].optical_depth; });
+  out["tolerance_met"] = filled_rgb<bool>(shape, n, [&](auto i, int c) { return r[i].channel[c].tolerance_met; });
+  return out;
+}
+
 py::dict reference(const Scene& scene, const Points& origins, const Points& directions, double tol,
                    double max_work, const std::optional<std::string>& mode_name) {
   const std::optional<ProjectionMode> mode = mode_keyword(mode_name);
@@ -263,6 +293,9 @@ py::dict reference(const Scene& scene, const Points& origins, const Points& dire
   const auto keywords = discrete_keywords(scene, py::dict(py::arg("max_work") = max_work));
   cli::check_work(keywords->options, std::nullopt, tol, scene, static_cast<long>(rays.size()),
                   [&](long i) { return rays[i]; });
+  if (scene.color) return color_reference(leading_shape(origins, "origins"), interruptible([&] {
+                                            return color_reference_values(scene, rays, options);
+                                          }));
   const std::vector<ReferenceResult> r = interruptible([&] {
     std::vector<ReferenceResult> values(rays.size());
     reference_values(scene, rays, options, values);
@@ -307,9 +340,17 @@ py::dict discrete(const Scene& scene, const Points& origins, const Points& direc
   if (!config) throw std::invalid_argument("--method: required (riemann, alpha, trapezoid, exact_linear, moreland)");
   const std::vector<Ray> rays = make_rays(origins, directions);
   cli::check_work(keywords->options, config, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; });
-  const std::vector<DiscreteResult> r = interruptible([&] { return discrete_values(scene, rays, *config); });
   const auto shape = leading_shape(origins, "origins");
   py::dict out;
+  if (scene.color) {  // each channel cast alone: value (..., 3), samples summed over the channels
+    std::vector<std::vector<DiscreteResult>> r;
+    for (int c = 0; c < 3; ++c)
+      r.push_back(interruptible([&] { return discrete_values(channel_scene(scene, c), rays, *config); }));
+    out["value"] = filled_rgb<double>(shape, rays.size(), [&](auto i, int c) { return r[c][i].value; });
+    out["samples"] = filled<long>(shape, rays.size(), [&](auto i) { return r[0][i].samples + r[1][i].samples + r[2][i].samples; });
+    return out;
+  }
+  const std::vector<DiscreteResult> r = interruptible([&] { return discrete_values(scene, rays, *config); });
   out["value"] = filled<double>(shape, r.size(), [&](auto i) { return r[i].value; });
   out["samples"] = filled<long>(shape, r.size(), [&](auto i) { return r[i].samples; });
   return out;
@@ -328,6 +369,26 @@ py::array_t<double> render_projection(const Scene& scene, ProjectionMode mode, c
       interruptible([&] { return discrete_projection_values(scene, rays, *config); });
   py::array_t<double> a({camera.height, camera.width});
   std::transform(r.begin(), r.end(), a.mutable_data(), [](const DiscreteProjectionResult& v) { return v.value; });
+  return a;
+}
+
+// An RGB scene's image, (height, width, 3): the reference (one set of panels for the channels), or
+// each channel's discrete image.
+py::array_t<double> render_color(const Scene& scene, const Camera& camera, const std::optional<DiscreteConfig>& config,
+                                 const ReferenceOptions& options) {
+  const std::vector<Ray> rays = camera_rays(camera);
+  py::array_t<double> a({camera.height, camera.width, 3});
+  double* p = a.mutable_data();
+  if (!config) {
+    const auto r = interruptible([&] { return color_reference_values(scene, rays, options); });
+    for (std::size_t i = 0; i < r.size(); ++i)
+      for (int c = 0; c < 3; ++c) p[3 * i + c] = r[i].channel[c].value;
+    return a;
+  }
+  for (int c = 0; c < 3; ++c) {
+    const ValueImage image = interruptible([&] { return render_discrete_image(channel_scene(scene, c), camera, *config); });
+    for (std::size_t i = 0; i < image.values.size(); ++i) p[3 * i + c] = image.values[i];
+  }
   return a;
 }
 
@@ -352,6 +413,7 @@ py::array_t<double> render(const Scene& scene, double tol, std::optional<int> wi
     std::copy(ref.value.begin(), ref.value.end(), a.mutable_data());
     return a;
   }
+  if (scene.color) return render_color(scene, camera, config, options);
   const ValueImage image = interruptible([&] {
     return config ? render_discrete_image(scene, camera, *config) : render_reference_image(scene, camera, options);
   });
@@ -392,18 +454,8 @@ auto load_file(const std::filesystem::path& path, Load load) {
   }
 }
 
-// The module's functions integrate one channel: an RGB scene is a SceneFileError naming it.
-Scene grey_only(Scene scene, const std::string& name) {
-  try {
-    require_grey(scene, name, "the Python module");
-  } catch (const std::invalid_argument& e) {
-    throw SceneFileError(e.what());
-  }
-  return scene;
-}
-
 Scene from_file(const std::filesystem::path& path) {
-  return grey_only(load_file<SceneFileError>(path, [](const auto& p) { return load_scene(p); }), path.string());
+  return load_file<SceneFileError>(path, [](const auto& p) { return load_scene(p); });
 }
 
 py::dict box(const Scene& scene) {
@@ -586,31 +638,39 @@ PYBIND11_MODULE(vrv, m) {
   py::class_<Scene>(m, "Scene", "A vrv scene: volume box, field, transfer function, background, camera")
       .def_static("from_file", &from_file, py::arg("path"), "Load a scene file (TOML)")
       .def_static("from_toml", [](const std::string& text, const std::string& name) {
-                    return grey_only(parse_scene(text, name), name);
+                    return parse_scene(text, name);
                   }, py::arg("text"), py::arg("name") = "<toml>",
                   "Parse scene TOML text; `name` labels error messages")
       .def_static("default", &default_scene, "The embedded Marschner-Lobb scene (`vrv ray` without --scene)")
       .def_property_readonly("box", &box, "{'min': (x, y, z), 'max': (x, y, z)}")
       .def_property_readonly("dims", [](const Scene& s) { return s.dims; })
-      .def_property_readonly("background", [](const Scene& s) { return s.background; })
+      .def_property_readonly("background", [](const Scene& s) -> py::object {
+        if (s.color) return py::make_tuple(s.color->background[0], s.color->background[1], s.color->background[2]);
+        return py::float_(s.background);
+      }, "The background: a number, or (r, g, b) for an RGB scene")
+      .def_property_readonly("channels", &Scene::channel_count,
+                             "1 for a grey scene, 3 for an RGB one (docs/color.md): reference, discrete and render "
+                             "then give a trailing axis of 3 (R, G, B); verify and projections take grey scenes only")
       .def("reference", &reference, py::arg("origins"), py::arg("directions"), py::arg("tol") = 1e-12,
            py::kw_only(), py::arg("max_work") = 1e9, py::arg("mode") = py::none(),
            "Reference values along rays (arrays of shape (..., 3)): a dict of arrays value, "
            "error_estimate, evaluations, hit, t_entry, t_exit (NaN on a miss), optical_depth, tolerance_met; "
            "mode='xray' | 'xray_classified' | 'mip' | 'mip_classified': the projection's reference instead "
-           "(no optical_depth; MIP adds position and ambiguous)")
+           "(no optical_depth; MIP adds position and ambiguous); an RGB scene's value, error_estimate, "
+           "optical_depth and tolerance_met have a trailing axis of 3 (R, G, B), evaluations shared")
       .def("discrete", &discrete, py::arg("origins"), py::arg("directions"),
            "A discrete raycast along rays: method=..., and the options of `vrv ray` "
            "(strategy, rate, step, oversample, correction, ...) and max_work (default 1e9 samples, "
            "as --max-work); a dict of arrays value, samples; with mode='xray' | ... | 'mip_classified' "
            "the discrete projection (method riemann, trapezoid, simpson; max for MIP; strategy, rate, "
-           "step), MIP adding position")
+           "step), MIP adding position; an RGB scene's value has a trailing axis of 3, each channel "
+           "cast alone, samples summed")
       .def("render", &render, py::arg("tol") = 1e-12, py::arg("width") = py::none(),
            py::arg("height") = py::none(),
            "The scene camera's image as a (height, width) float64 array: the reference, or with "
            "method=... the discrete raycast (options as for `discrete`); max_work=1e9 as --max-work; "
            "mode=... (as `reference`) the projection's reference image, with method=... its discrete "
-           "version (as `discrete`)")
+           "version (as `discrete`); (height, width, 3) for an RGB scene")
       .def("rays", &rays, py::arg("width") = py::none(), py::arg("height") = py::none(),
            "The scene camera's rays: (origins, directions), each (height, width, 3)");
   m.def("verify", &verify_py, py::arg("scene"), py::arg("images"), py::arg("steps"), py::kw_only(),

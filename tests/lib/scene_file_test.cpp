@@ -338,7 +338,7 @@ std::vector<BadCase> bad_cases() {
       {with_transfer("[transfer]\nopacity = [[0, 0.1, 0.2, 0.3]]\ncolor = [[0, 1]]\n"), "transfer.opacity[0]",
        "a pair [value, y], got 4 numbers"},
       {with_transfer("[transfer]\nemission = [[0, 1, -2, 3]]\nextinction = [[0, 1]]\n"),
-       "transfer.emission[0]", "negative emission -2"},
+       "transfer.emission[0][2]", "negative emission -2"},
       {with_transfer("[transfer]\nemission = [[0, 1]]\nextinction = [[0, 1]]\n[background]\ncolor = [1, 2, 3]\n"),
        "background.color", "needs an RGB transfer function"},
       {with_transfer("[transfer]\nemission = [[0, 1, 2, 3]]\nextinction = [[0, 1]]\n[background]\n"

@@ -5,9 +5,11 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
+#include <unistd.h>
 #include <zlib.h>
 
 #include "tests/lib/volume/volume_fixtures.h"
@@ -56,17 +58,22 @@ TEST(MetaImageReader, AMissingDataFileIsNamedFromTheHeader) {
 namespace vrv {
 namespace {
 
-// A header and (optionally) a detached data file in the temporary directory, removed after.
+// A header volume.mhd and its data file volume.raw in a folder of the running test's own (ctest
+// runs tests in parallel: a shared name had one test read the other's files), removed after.
 struct MetaImageTempFiles {
-  std::filesystem::path header = std::filesystem::temp_directory_path() / "vrv_metaimage_place.mhd";
-  std::filesystem::path data = std::filesystem::temp_directory_path() / "vrv_metaimage_place.raw";
+  std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                              ("vrv_metaimage_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()) +
+                               "_" + std::to_string(::getpid()));
+  std::filesystem::path header = dir / "volume.mhd";
+  std::filesystem::path data = dir / "volume.raw";
   MetaImageTempFiles(const std::string& head, const std::string& bytes) {
+    std::filesystem::create_directories(dir);
     std::ofstream(header, std::ios::binary) << head;
     std::ofstream(data, std::ios::binary) << bytes;
   }
   ~MetaImageTempFiles() {
-    std::filesystem::remove(header);
-    std::filesystem::remove(data);
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
   }
 };
 
@@ -77,7 +84,7 @@ const std::string kMetaImageEightSamples = "NDims = 3\nDimSize = 2 2 2\nElementT
 TEST(MetaImageReader, ReadsTheDataWhereHeaderSizePutsThem) {
   for (const auto& [skip, prefix] : {std::pair{"5", "junk!"}, std::pair{"-1", "any length of junk"}}) {
     SCOPED_TRACE(skip);
-    MetaImageTempFiles t(kMetaImageEightSamples + "HeaderSize = " + skip + "\nElementDataFile = vrv_metaimage_place.raw\n",
+    MetaImageTempFiles t(kMetaImageEightSamples + "HeaderSize = " + skip + "\nElementDataFile = volume.raw\n",
                std::string(prefix) + "\x01\x02\x03\x04\x05\x06\x07\x08");
     const Volume v = read_metaimage(t.header);
     ASSERT_EQ(v.count(), 8u);
@@ -89,7 +96,7 @@ TEST(MetaImageReader, ReadsTheDataWhereHeaderSizePutsThem) {
 // inflate to the samples the header claims (1032:1 at most): before the samples are allocated.
 TEST(MetaImageReader, RefusesCompressedDataThatCannotHoldTheClaimedSamples) {
   MetaImageTempFiles t("NDims = 3\nDimSize = 1000 1000 100\nElementType = MET_UCHAR\nCompressedData = True\n"
-             "ElementDataFile = vrv_metaimage_place.raw\n",
+             "ElementDataFile = volume.raw\n",
              std::string(16, 'x'));
   try {
     read_metaimage(t.header);
@@ -120,7 +127,7 @@ TEST(MetaImageReader, InflatesAStreamLongerThanOneChunkSampleForSample) {
   packed.resize(packed_size);
   ASSERT_GT(packed.size(), std::size_t{1} << 20);
   const std::string head = "NDims = 3\nDimSize = 128 128 100\nElementType = MET_UCHAR\nCompressedData = True\n"
-                           "ElementDataFile = vrv_metaimage_place.raw\n";
+                           "ElementDataFile = volume.raw\n";
   {
     MetaImageTempFiles t(head, packed);
     const Volume v = read_metaimage(t.header);

@@ -1,0 +1,85 @@
+"""RGB scenes from Python (docs/color.md): Scene.reference, discrete and render give a trailing axis
+of the three channels; three equal channels are the grey scene bit for bit; every channel agrees
+with its own grey scene within the two estimates; verify and projections refuse an RGB scene."""
+import numpy as np
+import pytest
+
+import vrv
+
+HEAD = """[volume]
+min = [-1.0, -1.0, -1.0]
+max = [1.0, 1.0, 1.0]
+[field]
+kind = "marschner_lobb"
+[camera]
+width = 9
+height = 7
+"""
+EXTINCTION = "extinction = [[0.0, 0.1], [0.45, 1.5], [1.0, 0.4]]\n"
+EMISSION = [[0.0, 0.0, 0.3, 0.1], [0.5, 1.0, 0.3, 0.6], [0.5, 0.2, 0.9, 0.6], [1.0, 0.4, 0.0, 1.0]]
+BACKGROUND = (0.1, 0.0, 0.25)
+
+
+def points(pts):
+    return "[" + ", ".join("[" + ", ".join(repr(float(x)) for x in p) + "]" for p in pts) + "]"
+
+
+def rgb_scene(emission=EMISSION, background=BACKGROUND):
+    return vrv.Scene.from_toml(HEAD + "[transfer]\nemission = " + points(emission) + "\n" + EXTINCTION +
+                               "[background]\ncolor = [%r, %r, %r]\n" % background, "rgb.toml")
+
+
+def grey_scene(c, emission=EMISSION, background=BACKGROUND):
+    return vrv.Scene.from_toml(HEAD + "[transfer]\nemission = " + points([[p[0], p[1 + c]] for p in emission]) +
+                               "\n" + EXTINCTION + "[background]\nintensity = %r\n" % background[c], "grey.toml")
+
+
+def test_rgb_scene_has_three_channels():
+    s = rgb_scene()
+    assert s.channels == 3 and s.background == BACKGROUND
+    assert grey_scene(0).channels == 1 and grey_scene(0).background == BACKGROUND[0]
+
+
+def test_each_channel_is_its_grey_scene_within_the_estimates():
+    s = rgb_scene()
+    origins, directions = s.rays()
+    r = s.reference(origins, directions, tol=1e-11)
+    assert r["value"].shape == (7, 9, 3) and r["error_estimate"].shape == (7, 9, 3)
+    assert r["evaluations"].shape == (7, 9) and r["tolerance_met"].all()
+    for c in range(3):
+        g = grey_scene(c).reference(origins, directions, tol=1e-11)
+        assert (np.abs(r["value"][..., c] - g["value"]) <= r["error_estimate"][..., c] + g["error_estimate"]).all()
+        d = s.discrete(origins, directions, method="alpha", step=0.05)
+        dg = grey_scene(c).discrete(origins, directions, method="alpha", step=0.05)
+        assert np.array_equal(d["value"][..., c], dg["value"]), c
+    # The camera's own rays, not their (origin, direction) round trip through numpy: equal within
+    # the estimates, not bitwise.
+    assert (np.abs(s.render(tol=1e-11) - r["value"]) <= 2 * r["error_estimate"] + 1e-15).all()
+
+
+def test_three_equal_channels_are_the_grey_scene_bitwise():
+    same = [[p[0], p[1], p[1], p[1]] for p in EMISSION]
+    s = rgb_scene(same, (0.2, 0.2, 0.2))
+    g = grey_scene(0, same, (0.2, 0.2, 0.2))
+    origins, directions = g.rays()
+    for how in ({}, {"method": "trapezoid", "step": 0.04}):
+        rgb, grey = s.render(**how), g.render(**how)
+        assert rgb.shape == (7, 9, 3) and grey.shape == (7, 9)
+        for c in range(3):
+            assert np.array_equal(rgb[..., c], grey), (how, c)
+    r, rg = s.reference(origins, directions), g.reference(origins, directions)
+    for c in range(3):
+        assert np.array_equal(r["error_estimate"][..., c], rg["error_estimate"])
+    assert np.array_equal(r["evaluations"], rg["evaluations"])
+
+
+def test_verify_and_projections_refuse_an_rgb_scene():
+    s = rgb_scene()
+    origins, directions = s.rays()
+    image = s.render()[..., 0]
+    with pytest.raises(ValueError, match="the scene is RGB"):
+        vrv.verify(s, [image, image], [0.02, 0.01])
+    with pytest.raises(ValueError, match="the scene is RGB"):
+        s.reference(origins, directions, mode="mip")
+    with pytest.raises(ValueError, match="the scene is RGB"):
+        s.render(mode="xray")
