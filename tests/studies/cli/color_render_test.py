@@ -39,7 +39,6 @@ width = 20
 height = 16
 """
 GREY_EMISSION = [[0.0, 0.0], [0.4, 0.3], [0.4, 0.9], [1.0, 0.5]]
-RED, GREEN, BLUE = [[0.0, 0.0, 0.2, 0.1], [0.5, 1.0, 0.1, 0.4], [1.0, 0.3, 0.8, 0.0]], None, None
 
 
 def points(pts):
@@ -86,7 +85,7 @@ for suffix, kind in ((".exr", "float"), (".f64.tiff", "double"), (".png", "uint8
     assert names == ("R", "G", "B"), (suffix, names)
     assert data.shape == (16, 20, 3), (suffix, data.shape)
 # A swap of red and green (backgrounds too) is an error in R and G only, per channel.
-j = render(swapped, "swapped", "--method", "alpha", "--step", "0.05")
+render(swapped, "swapped", "--method", "alpha", "--step", "0.05")
 try:
     render(swapped, "swapped_vs", "--method", "alpha", "--step", "0.05", "--error-against", out / "ref.exr")
     raise AssertionError("a render of another scene was compared")
