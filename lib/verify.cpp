@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "lib/verify/channel_errors.h"
+#include "lib/verify/channel_order.h"
 #include "lib/verify/conventions.h"
 #include "lib/verify/convergence_orders.h"
 #include "lib/verify/fault_fit.h"
@@ -17,20 +18,23 @@
 namespace vrv {
 namespace {
 
-// The reference's tolerance check: its largest estimate and the pixels that miss `tol`; a
-// failure naming up to ten of them.
-void check_reference(const ReferenceImage& ref, double tol, int width, VerifyReport& rep) {
+// The reference's tolerance check over every channel: its largest estimate and the pixels where
+// a channel misses `tol`; a failure naming up to ten of them.
+void check_reference(const std::vector<ReferenceImage>& refs, double tol, int width, VerifyReport& rep) {
   ReferenceInfo& info = rep.reference;
   info.tol = tol;
-  info.from_cache = ref.from_cache;
-  info.cache_file = ref.cache_file;
-  for (std::size_t i = 0; i < ref.value.size(); ++i) {
-    info.max_error_estimate = std::max(info.max_error_estimate, ref.error_estimate[i]);
-    if (!(ref.error_estimate[i] <= tol) || !std::isfinite(ref.value[i])) {
-      ++info.missed;
-      if (info.missed_pixels.size() < 10)
-        info.missed_pixels.emplace_back(static_cast<int>(i % width), static_cast<int>(i / width));
+  info.from_cache = refs.front().from_cache;
+  info.cache_file = refs.front().cache_file;
+  for (std::size_t i = 0; i < refs.front().value.size(); ++i) {
+    bool missed = false;
+    for (const ReferenceImage& ref : refs) {
+      info.max_error_estimate = std::max(info.max_error_estimate, ref.error_estimate[i]);
+      missed = missed || !(ref.error_estimate[i] <= tol) || !std::isfinite(ref.value[i]);
     }
+    if (!missed) continue;
+    ++info.missed;
+    if (info.missed_pixels.size() < 10)
+      info.missed_pixels.emplace_back(static_cast<int>(i % width), static_cast<int>(i / width));
   }
   if (!info.missed) return;
   std::string where;
@@ -40,12 +44,38 @@ void check_reference(const ReferenceImage& ref, double tol, int width, VerifyRep
                                      info.missed > 10 ? " ..." : "", info.max_error_estimate));
 }
 
-void count_regions(const PixelGeometry& geo, ReferenceInfo& info) {
+// Hit and silhouette pixels are the same in every channel; a jump pixel crosses a jump of any
+// channel's transfer function.
+void count_regions(const std::vector<PixelGeometry>& geos, ReferenceInfo& info) {
+  const PixelGeometry& geo = geos.front();
   for (std::size_t i = 0; i < geo.hit.size(); ++i) {
     info.hit_pixels += geo.hit[i];
     info.silhouette_pixels += geo.region[i] == Region::silhouette;
-    info.jump_pixels += geo.region[i] == Region::tf_jump;
+    info.jump_pixels += std::any_of(geos.begin(), geos.end(), [&](const PixelGeometry& g) { return g.region[i] == Region::tf_jump; });
   }
+}
+
+void keep_reference_image(const std::vector<ReferenceImage>& refs, VerifyReport& rep) {
+  const std::size_t n = refs.front().value.size(), nc = refs.size();
+  rep.reference_channels = static_cast<int>(nc);
+  rep.reference_image.resize(n * nc);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t c = 0; c < nc; ++c) rep.reference_image[i * nc + c] = static_cast<float>(refs[c].value[i]);
+}
+
+// The channel the diagnosis reads: the first colour channel (the channel count when there is
+// none); for an RGB scene the colour channel with the largest error in the finest image, where a
+// fault of one channel (its colour table) shows.
+int diagnosed_channel(const VerifyReport& rep, const ChannelImage& first, bool rgb, Metric metric) {
+  const int nc = static_cast<int>(first.planes.size());
+  int colour = first_colour_channel(first);
+  if (!rgb) return colour;
+  const std::size_t finest = rep.channels.size() - nc;  // image-major, by decreasing step
+  for (int c = colour + 1; c < nc; ++c)
+    if (c != first.alpha && metric_value(rep.channels[finest + c].all(), metric) >
+                                metric_value(rep.channels[finest + colour].all(), metric))
+      colour = c;
+  return colour;
 }
 
 }  // namespace
@@ -74,10 +104,11 @@ VerificationWork verification_work(const Scene& scene, const VerifyOptions& opt,
 
 VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& given) {
-  require_grey(scene, "scene", "verify");
   VerifyOptions opt = given;
+  if (opt.mode) require_grey(scene, "scene", "verify with a projection mode");
   if (opt.mode && !opt.expected_order) opt.expected_order = expected_projection_order(*opt.mode, scene.transfer);
   check_inputs(images, opt);
+  const std::vector<int> truth = reference_channels(images.front(), scene.channel_count());
   const std::vector<const ImageWithStep*> sorted = sorted_by_step(images);
   const ChannelImage& first = images.front().image;
   VerifyReport rep;
@@ -88,19 +119,27 @@ VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>&
   rep.order_metric = opt.order_metric;
   if (opt.mode) rep.mode = std::string(projection_mode_name(*opt.mode));
 
-  const ReferenceImage ref = reference_image(scene, rep.camera, opt);
-  check_reference(ref, opt.reference_tol, rep.width, rep);
-  rep.reference_image.assign(ref.value.begin(), ref.value.end());
-  const PixelGeometry geo = pixel_geometry(scene, rep.camera, ref, opt);
-  count_regions(geo, rep.reference);
+  const std::vector<ReferenceImage> refs = reference_images(scene, rep.camera, opt);
+  check_reference(refs, opt.reference_tol, rep.width, rep);
+  keep_reference_image(refs, rep);
+  // Scene channel k as a grey scene (the field shared): what each channel's geometry and the
+  // diagnosis cast.
+  std::vector<Scene> channel_scenes;
+  for (int k = 0; k < scene.channel_count(); ++k) channel_scenes.push_back(channel_scene(scene, k));
+  std::vector<PixelGeometry> geos;
+  for (int k = 0; k < scene.channel_count(); ++k)
+    geos.push_back(pixel_geometry(channel_scenes[k], rep.camera, refs[k], opt));
+  count_regions(geos, rep.reference);
 
   const int nc = static_cast<int>(first.planes.size());
-  const double background = opt.mode ? 0.0 : scene.background;  // a projection has none
+  std::vector<double> backgrounds;  // a projection has none
+  for (int c = 0; c < nc; ++c) backgrounds.push_back(opt.mode ? 0.0 : channel_scenes[truth[c]].background);
   for (const ImageWithStep* im : sorted)
-    for (int c = 0; c < nc; ++c) rep.channels.push_back(channel_report(*im, c, ref, geo, background, opt));
-  judge_orders(rep, sorted, first.names, background, opt);
+    for (int c = 0; c < nc; ++c)
+      rep.channels.push_back(channel_report(*im, c, refs[truth[c]], geos[truth[c]], backgrounds[c], opt));
+  judge_orders(rep, sorted, first.names, backgrounds, opt);
 
-  const int colour = first_colour_channel(first);
+  const int colour = diagnosed_channel(rep, first, scene.color.has_value(), opt.order_metric);
   if (opt.mode) {
     if (opt.diagnose && colour < nc) rep.diagnosis = diagnose_projection(scene, rep.camera, *opt.mode, sorted, colour, opt);
     rep.expected_order = opt.expected_order;
@@ -108,9 +147,17 @@ VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>&
     rep.pass = rep.failures.empty();
     return rep;
   }
-  if (opt.diagnose && colour < nc) rep.diagnosis = diagnose(scene, rep.camera, sorted, colour, opt);
-  rep.faults = find_faults(rep, geo, nc, opt);
-  if (colour < nc) decompose_floor(rep, scene, sorted, colour, opt);
+  const int read = colour < nc ? colour : 0;
+  const Scene& diagnosed = channel_scenes[truth[read]];
+  if (scene.color) rep.diagnosis_channel = first.names[read];
+  if (opt.diagnose && colour < nc) rep.diagnosis = diagnose(diagnosed, rep.camera, sorted, colour, opt);
+  rep.faults = find_faults(rep, geos[truth[read]], nc, read, opt);
+  if (scene.color)
+    if (auto swap = swapped_channels(*sorted.back(), truth, refs, *scene.color, opt.alpha)) {
+      rep.failures.push_back(fmt::format("swapped channels: {}", swap->evidence));
+      rep.faults.push_back(std::move(*swap));
+    }
+  if (colour < nc) decompose_floor(rep, diagnosed, sorted, colour, opt);
   separate_conventions(rep, opt);
   rep.pass = rep.failures.empty();
   return rep;

@@ -94,7 +94,8 @@ ValueImage render_discrete_image(const Scene& scene, const Camera& camera,
 VerifyReport verify(const Scene& scene, const std::vector<ValueImage>& images,
                     const std::vector<double>& steps, const VerifyOptions& options = {});
 // The same for images of 1 to 4 channels as `vrv verify` reads them from files (grey, grey+alpha,
-// RGB, RGBA: lib/io/image_channels.h, e.g. channel_image() of an array).
+// RGB, RGBA: lib/io/image_channels.h, e.g. channel_image() of an array).  An RGB scene needs this
+// form, with three colour channels: each is judged against its own channel (docs/color.md).
 VerifyReport verify(const Scene& scene, const std::vector<ChannelImage>& images,
                     const std::vector<double>& steps, const VerifyOptions& options = {});
 

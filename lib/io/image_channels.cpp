@@ -80,8 +80,10 @@ ChannelImage read_channel_image(const fs::path& path) {
   request.max_channels = 4;
   request.max_side = kMaxSide;
   request.max_pixels = kMaxPixels;
+  request.keep_straight_alpha = true;
   const image_module::ReadResult read = image_module::read_file(path, request);
   ChannelImage img;
+  img.straight_alpha = read.straight_alpha;
   img.width = read.width;
   img.height = read.height;
   const int nc = read.channels;

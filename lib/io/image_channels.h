@@ -14,6 +14,9 @@ struct ChannelImage {
   std::vector<std::string> names;          // e.g. {"R", "G", "B", "A"} or {"Y"}
   std::vector<std::vector<double>> planes;  // one per channel, row-major, row 0 = top
   int alpha = -1;                           // index of the alpha channel, -1 without one
+  // The file declares its colour straight (not premultiplied by alpha: PNG, a TIFF with
+  // unassociated alpha) and it was read as stored; AlphaMode::as_stored then takes it straight.
+  bool straight_alpha = false;
   std::string pixel_type;                   // "uint8", "uint16", "half", "float", "double", ...
   // Spacing of the stored values near the image's largest magnitude: 1/255 (uint8), 1/65535
   // (uint16) as OpenImageIO scales them to [0, 1]; for floating types one ulp at the largest

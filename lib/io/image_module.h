@@ -14,7 +14,7 @@
 
 namespace vrv::image_module {
 
-inline constexpr int kAbiVersion = 3;
+inline constexpr int kAbiVersion = 4;
 // The C symbol the module exports: a `const Functions*`-returning function.
 inline constexpr const char* kEntrySymbol = "vrv_image_module_functions";
 
@@ -38,6 +38,9 @@ struct ReadRequest {
   int max_channels = 1;  // 1: one-channel images only; 4: grey, grey+alpha, RGB or RGBA
   int max_side = 1 << 16;
   long long max_pixels = 1LL << 28;
+  // Colour a file stores unassociated from alpha (straight: PNG; TIFF with unassociated extra
+  // samples) read as stored; otherwise OpenImageIO premultiplies it on reading.
+  bool keep_straight_alpha = false;
 };
 
 struct ReadResult {
@@ -49,6 +52,7 @@ struct ReadResult {
   int bits = 0;             // bits per sample as stored
   std::vector<std::string> channel_names;  // as stored (may be empty or shorter than channels)
   int alpha_channel = -1;                   // the reader's alpha channel, -1 when it names none
+  bool straight_alpha = false;  // keep_straight_alpha and the file stores straight colour (as read)
   std::vector<std::pair<std::string, std::string>> attributes;  // every metadata item, as text
   std::vector<float> floats;    // the pixels, when read as float32
   std::vector<double> doubles;  // the pixels, when read as float64

@@ -62,7 +62,9 @@ std::string read(const std::string& path, const ReadRequest& request, ReadResult
 }
 
 std::string read_captured(const std::string& path, const ReadRequest& request, ReadResult& result) try {
-  auto in = OIIO::ImageInput::open(path);
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, request.keep_straight_alpha ? &config : nullptr);
   if (!in) return one_line(fmt::format("cannot read: {}", OIIO::geterror()));
   const OIIO::ImageSpec& spec = in->spec();
   result.width = spec.width;
@@ -76,6 +78,7 @@ std::string read_captured(const std::string& path, const ReadRequest& request, R
   result.bits = spec.get_int_attribute("oiio:BitsPerSample", static_cast<int>(spec.format.size() * 8));
   result.channel_names = spec.channelnames;
   result.alpha_channel = spec.alpha_channel;
+  result.straight_alpha = request.keep_straight_alpha && spec.get_int_attribute("oiio:UnassociatedAlpha", 0) != 0;
   for (const OIIO::ParamValue& p : spec.extra_attribs)
     result.attributes.emplace_back(p.name().string(), p.get_string());
   if (!request.pixels) return {};

@@ -46,12 +46,13 @@ OrderReport self_convergence(const std::vector<const ImageWithStep*>& sorted, in
 }  // namespace
 
 void judge_orders(VerifyReport& rep, const std::vector<const ImageWithStep*>& sorted,
-                  const std::vector<std::string>& names, double background, const VerifyOptions& opt) {
+                  const std::vector<std::string>& names, const std::vector<double>& backgrounds,
+                  const VerifyOptions& opt) {
   const int nc = static_cast<int>(names.size());
   bool judged = false;
   for (int c = 0; c < nc; ++c) {
     OrderReport against = against_reference(rep, sorted.size(), nc, c, names[c], opt);
-    OrderReport self = self_convergence(sorted, c, names[c], background, opt);
+    OrderReport self = self_convergence(sorted, c, names[c], backgrounds[c], opt);
     if (!judged || severity(against.judgement.verdict) > severity(rep.verdict.verdict)) {
       rep.verdict = against.judgement;
       rep.verdict_channel = against.channel;

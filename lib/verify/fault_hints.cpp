@@ -69,7 +69,7 @@ bool has(const std::vector<Fault>& faults, FaultKind kind) {
   return std::any_of(faults.begin(), faults.end(), [&](const Fault& f) { return f.kind == kind; });
 }
 
-// What the heuristics read: the first colour channel of the finest and the coarsest image.
+// What the heuristics read: one channel of the finest and the coarsest image.
 struct Evidence {
   const VerifyReport& rep;
   const PixelGeometry& geometry;
@@ -196,15 +196,12 @@ std::optional<Fault> missing_opacity_correction(const VerifyReport& rep) {
 
 }  // namespace
 
-std::vector<Fault> find_faults(const VerifyReport& rep, const PixelGeometry& g, int channel_count,
+std::vector<Fault> find_faults(const VerifyReport& rep, const PixelGeometry& g, int channel_count, int colour,
                                const VerifyOptions& opt) {
   std::vector<Fault> faults;
   if (rep.channels.empty()) return faults;
-  // The first colour channel of the finest image (the images are sorted by decreasing step).
+  // The finest image is the last (the images are sorted by decreasing step).
   const std::size_t images = rep.channels.size() / channel_count;
-  int colour = 0;
-  while (colour < channel_count && rep.channels[colour].alpha) ++colour;
-  if (colour == channel_count) colour = 0;
   const ChannelReport& finest = rep.channels[(images - 1) * channel_count + colour];
   const Evidence e{rep, g, opt, channel_count, colour, images, finest, rep.channels[colour], finest.channel};
   const auto add = [&](std::optional<Fault> f) {

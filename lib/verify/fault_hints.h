@@ -11,8 +11,8 @@
 namespace vrv {
 
 // From a report with its channels, orders and diagnosis filled in (`channel_count` channels per
-// image), read on the first colour channel.
+// image), read on channel `colour` (the diagnosed one), whose pixels' geometry is `geometry`.
 std::vector<Fault> find_faults(const VerifyReport& report, const PixelGeometry& geometry, int channel_count,
-                               const VerifyOptions& options);
+                               int colour, const VerifyOptions& options);
 
 }  // namespace vrv

@@ -1,6 +1,8 @@
 #include "lib/verify/reference_image.h"
 
+#include <algorithm>
 #include <iostream>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -29,6 +31,48 @@ ReferenceImage render_reference(const Scene& scene, const Camera& camera, double
   return r;
 }
 
+// The three channels of an RGB scene from one walk per ray.  Each channel's optical depth is a
+// lower bound where that channel stopped early (its remaining emission negligible): the largest
+// of the three is kept in every channel, as the alpha channel's truth.
+std::vector<ReferenceImage> render_color_reference(const Scene& scene, const Camera& camera, double tol,
+                                                   bool progress) {
+  std::vector<ReferenceImage> r(3);
+  const long n = pixel_count(camera);
+  for (ReferenceImage& c : r) {
+    c.width = camera.width, c.height = camera.height;
+    c.value.resize(n), c.error_estimate.resize(n), c.optical_depth.resize(n);
+  }
+  Progress bar("reference", n, progress);
+  ImageLoopHooks hooks;
+  hooks.progress = [&](long done) { bar.advance(done); };
+  color_reference_pixels(scene, camera, {tol}, [&](long i, const ColorReferenceResult& v) {
+    double depth = 0;
+    for (const ReferenceResult& c : v.channel) depth = std::max(depth, c.optical_depth);
+    for (int c = 0; c < 3; ++c) {
+      r[c].value[i] = v.channel[c].value, r[c].error_estimate[i] = v.channel[c].error_estimate;
+      r[c].optical_depth[i] = depth;
+    }
+  }, hooks);
+  bar.finish();
+  return r;
+}
+
+// Where the cache keeps a reference: the key (the scene's text, its volume files' digest, the
+// projection's mode or the RGB channel: whatever makes the image differ) and its file; nothing
+// when the cache is off.
+struct CacheSlot {
+  fs::path file;
+  std::string key;
+};
+std::optional<CacheSlot> cache_slot(const Scene& scene, const Camera& camera, const VerifyOptions& opt,
+                                    const std::string& tag) {
+  if (opt.cache_dir.empty() || opt.scene_text.empty()) return std::nullopt;
+  CacheSlot slot;
+  slot.key = reference_cache_key(opt.scene_text + scene.field_files + tag, camera, opt.reference_tol);
+  slot.file = opt.cache_dir / reference_cache_name(slot.key);
+  return slot;
+}
+
 // An optional cache that cannot be written (a full disk) does not fail the computed run.
 void try_to_cache(const fs::path& dir, const fs::path& file, const std::string& key, ReferenceImage& r) {
   std::error_code ec;
@@ -45,21 +89,31 @@ void try_to_cache(const fs::path& dir, const fs::path& file, const std::string& 
 
 ReferenceImage reference_image(const Scene& scene, const Camera& camera, const VerifyOptions& opt) {
   require_grey(scene, "scene", "reference_image");
-  const bool cache = !opt.cache_dir.empty() && !opt.scene_text.empty();
-  std::string key;
-  fs::path file;
-  if (cache) {
-    // A volume's files change behind the same scene text: their digest joins the key (empty,
-    // and the key as before, for every other scene).
-    // A projection's mode joins it too (nothing joins it for emission-absorption).
-    const std::string mode = opt.mode ? projection_cache_tag(*opt.mode) : std::string();
-    key = reference_cache_key(opt.scene_text + scene.field_files + mode, camera, opt.reference_tol);
-    file = opt.cache_dir / reference_cache_name(key);
-    if (auto r = read_reference_cache(file, key, camera.width, camera.height)) return *r;
-  }
+  // Nothing joins the key for emission-absorption: grey entries keep the keys they always had.
+  const auto slot = cache_slot(scene, camera, opt, opt.mode ? projection_cache_tag(*opt.mode) : std::string());
+  if (slot)
+    if (auto r = read_reference_cache(slot->file, slot->key, camera.width, camera.height)) return *r;
   ReferenceImage r = opt.mode ? projection_reference_image(scene, camera, *opt.mode, opt.reference_tol, opt.progress)
                               : render_reference(scene, camera, opt.reference_tol, opt.progress);
-  if (cache) try_to_cache(opt.cache_dir, file, key, r);
+  if (slot) try_to_cache(opt.cache_dir, slot->file, slot->key, r);
+  return r;
+}
+
+std::vector<ReferenceImage> reference_images(const Scene& scene, const Camera& camera, const VerifyOptions& opt) {
+  if (!scene.color) return {reference_image(scene, camera, opt)};
+  if (opt.mode) require_grey(scene, "scene", "a projection's reference image");
+  std::vector<std::optional<CacheSlot>> slots;
+  std::vector<ReferenceImage> cached;
+  for (int c = 0; c < 3; ++c) {
+    slots.push_back(cache_slot(scene, camera, opt, fmt::format("#rgb channel {}", c)));
+    if (slots.back())
+      if (auto r = read_reference_cache(slots.back()->file, slots.back()->key, camera.width, camera.height))
+        cached.push_back(std::move(*r));
+  }
+  if (cached.size() == 3) return cached;
+  std::vector<ReferenceImage> r = render_color_reference(scene, camera, opt.reference_tol, opt.progress);
+  for (int c = 0; c < 3; ++c)
+    if (slots[c]) try_to_cache(opt.cache_dir, slots[c]->file, slots[c]->key, r[c]);
   return r;
 }
 

@@ -1,9 +1,13 @@
 #include "lib/verify/verify_inputs.h"
 
 #include <algorithm>
+#include <array>
+#include <cctype>
+#include <string_view>
 #include <cmath>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "lib/transfer_table.h"
 
@@ -63,7 +67,47 @@ double comparable(const ChannelImage& im, int c, std::size_t i, double backgroun
   const double v = im.planes[c][i];
   if (im.alpha < 0 || c == im.alpha) return v;
   const double a = im.planes[im.alpha][i];
-  return (mode == AlphaMode::straight ? v * a : v) + background * (1 - a);
+  const bool straight = mode == AlphaMode::straight || (mode == AlphaMode::as_stored && im.straight_alpha);
+  return (straight ? v * a : v) + background * (1 - a);
+}
+
+namespace {
+
+// 0, 1, 2 for a red, green or blue channel name ("R", "green", "rgba.B"); -1 otherwise.
+int colour_of_name(const std::string& name) {
+  const std::size_t dot = name.find_last_of('.');
+  std::string last = name.substr(dot == std::string::npos ? 0 : dot + 1);
+  std::transform(last.begin(), last.end(), last.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  constexpr std::array<std::array<std::string_view, 2>, 3> kNames{{{"r", "red"}, {"g", "green"}, {"b", "blue"}}};
+  for (int k = 0; k < 3; ++k)
+    if (last == kNames[k][0] || last == kNames[k][1]) return k;
+  return -1;
+}
+
+}  // namespace
+
+std::vector<int> reference_channels(const ImageWithStep& im, int scene_channels) {
+  const ChannelImage& image = im.image;
+  std::vector<int> truth(image.planes.size(), 0);
+  if (scene_channels == 1) return truth;
+  std::vector<int> colour;
+  for (int c = 0; c < static_cast<int>(image.planes.size()); ++c)
+    if (c != image.alpha) colour.push_back(c);
+  if (colour.size() != 3)
+    throw VerifyInputError(fmt::format("{}: {} colour channel(s) ({}), but the scene is RGB: give an image with "
+                                       "three colour channels (R, G, B)", im.name, colour.size(),
+                                       fmt::join(image.names, ", ")));
+  // By name when the three name three different colours, else in order.
+  std::array<int, 3> by_name{};
+  std::array<bool, 3> seen{};
+  bool named = true;
+  for (int k = 0; k < 3; ++k) {
+    by_name[k] = colour_of_name(image.names[colour[k]]);
+    named = named && by_name[k] >= 0 && !seen[by_name[k]];
+    if (by_name[k] >= 0) seen[by_name[k]] = true;
+  }
+  for (int k = 0; k < 3; ++k) truth[colour[k]] = named ? by_name[k] : k;
+  return truth;
 }
 
 int first_colour_channel(const ChannelImage& image) {

@@ -27,6 +27,13 @@ std::vector<const ImageWithStep*> sorted_by_step(const std::vector<ImageWithStep
 // over the background (after multiplying by alpha for straight colour), or the alpha itself.
 double comparable(const ChannelImage& image, int c, std::size_t i, double background, AlphaMode mode);
 
+// The scene channel each channel of `image` is judged against (alpha: 0, its truth the shared
+// optical depth).  A grey scene: 0 for every channel.  An RGB scene needs exactly three colour
+// channels: named R, G and B (or red, green, blue; any order, any case, after the last '.' of a
+// layer name) they are matched by name, otherwise taken in order as red, green and blue.
+// VerifyInputError naming the image for another count of colour channels.
+std::vector<int> reference_channels(const ImageWithStep& image, int scene_channels);
+
 // The first channel that is not alpha; the channel count when there is none.
 int first_colour_channel(const ChannelImage& image);
 

@@ -13,13 +13,14 @@ void apply(const VerifySettings& s, VerifyOptions& o) {
   if (!metric || *metric == Metric::fraction_over)
     throw std::invalid_argument(fmt::format("--order-metric: '{}' is not one of max, mean, rms, p99", s.order_metric));
   if (s.unit_distance < 0) throw std::invalid_argument("--unit-distance: must be positive");
-  if (s.alpha != "premultiplied" && s.alpha != "straight")
-    throw std::invalid_argument(fmt::format("--alpha: '{}' is not premultiplied or straight", s.alpha));
+  if (s.alpha != "auto" && s.alpha != "premultiplied" && s.alpha != "straight")
+    throw std::invalid_argument(fmt::format("--alpha: '{}' is not auto, premultiplied or straight", s.alpha));
   o.reference_tol = s.tol;
   o.order_tolerance = s.order_tolerance;
   o.order_metric = *metric;
   o.unit_distance = s.unit_distance;
-  o.alpha = s.alpha == "straight" ? AlphaMode::straight : AlphaMode::premultiplied;
+  o.alpha = s.alpha == "straight" ? AlphaMode::straight
+            : s.alpha == "premultiplied" ? AlphaMode::premultiplied : AlphaMode::as_stored;
 }
 
 }  // namespace vrv

@@ -14,6 +14,7 @@
 namespace vrv {
 
 enum class AlphaMode {
+  as_stored,      // as the file declares: straight where it says so (PNG), else premultiplied
   premultiplied,  // colour channels are premultiplied by alpha (OpenEXR's convention)
   straight,       // colour channels are not premultiplied: they are multiplied by alpha here
 };
@@ -30,7 +31,7 @@ struct VerifyOptions {
   // With an alpha channel, colour is taken as rendered over nothing, and vrv composites it over
   // the scene's background: C + background * (1 - A); the alpha channel itself is compared with
   // the reference opacity 1 - exp(-optical depth).
-  AlphaMode alpha = AlphaMode::premultiplied;
+  AlphaMode alpha = AlphaMode::as_stored;
   int silhouette_band = 2;        // pixels (Chebyshev distance) on each side of the outline
   int jump_samples = 512;         // field samples per ray to find transfer-function jump crossings
   bool diagnose = true;           // run the diagnosis (vrv's own models at the same steps)
@@ -61,7 +62,7 @@ struct VerifySettings {
   double order_tolerance = 0.25;  // --order-tolerance: positive
   std::string order_metric = "rms";  // --order-metric: max, mean, rms or p99
   double unit_distance = 0;      // --unit-distance: not negative
-  std::string alpha = "premultiplied";  // --alpha: premultiplied or straight
+  std::string alpha = "auto";  // --alpha: auto (as the file declares), premultiplied or straight
 };
 void apply(const VerifySettings& settings, VerifyOptions& options);
 

@@ -111,7 +111,7 @@ void write_verify_outputs(const fs::path& dir, const VerifyReport& rep,
   write_table_files(dir, "conventions", t.conventions, "none: no convention named (no expected order, or none matched)\n");
   for (const auto& [name, table] : extra) write_table_files(dir, name, table);
 
-  Image ref(rep.width, rep.height);
+  Image ref(rep.width, rep.height, 0, rep.reference_channels);
   std::copy(rep.reference_image.begin(), rep.reference_image.end(), ref.pixels.begin());
   write_exr(ref, dir / "reference.exr");
   for (std::size_t i = 0; i < rep.channels.size(); ++i) {

@@ -15,13 +15,14 @@ constexpr NameTable<Region, 5> kRegionNames{{{Region::outside, "outside"},
 
 constexpr NameTable<OrderKind, 2> kOrderKindNames{{{OrderKind::reference, "reference"}, {OrderKind::self, "self"}}};
 
-constexpr NameTable<FaultKind, 8> kFaultNames{{{FaultKind::quantisation, "quantisation"},
+constexpr NameTable<FaultKind, 9> kFaultNames{{{FaultKind::quantisation, "quantisation"},
                                                {FaultKind::half_step_offset, "half-step offset"},
                                                {FaultKind::constant_floor, "constant floor"},
                                                {FaultKind::first_order_border_band, "first-order border band"},
                                                {FaultKind::jitter, "jitter"},
                                                {FaultKind::error_at_tf_jumps, "error at transfer-function jumps"},
                                                {FaultKind::missing_opacity_correction, "missing opacity correction"},
+                                               {FaultKind::swapped_channels, "swapped channels"},
                                                {FaultKind::fitted, "fitted fault"}}};
 
 nlohmann::ordered_json number(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr; }
@@ -111,6 +112,7 @@ nlohmann::ordered_json to_json(const VerifyReport& rep) {
   j["reference"] = to_json(rep.reference);
   j["images"] = array_of(rep.channels);
   j["orders"] = array_of(rep.orders);
+  if (rep.diagnosis_channel) j["diagnosis_channel"] = *rep.diagnosis_channel;  // RGB only: grey JSON as before
   j["diagnosis"] = array_of(rep.diagnosis);
   nlohmann::ordered_json faults = nlohmann::ordered_json::array();
   for (const Fault& f : rep.faults)

@@ -74,10 +74,11 @@ enum class FaultKind {
   jitter,
   error_at_tf_jumps,
   missing_opacity_correction,
+  swapped_channels,  // an RGB image whose colour channels match the reference in another order
   fitted,  // an entry of the fitted fault catalogue (lib/verify/fault_fit.h); behaviour says which
 };
 // "quantisation", "half-step offset", "constant floor", "first-order border band", "jitter",
-// "error at transfer-function jumps", "missing opacity correction", "fitted fault"
+// "error at transfer-function jumps", "missing opacity correction", "swapped channels", "fitted fault"
 std::string_view fault_name(FaultKind kind);
 
 struct Fault {
@@ -134,7 +135,12 @@ struct VerifyReport {
   std::optional<double> expected_order;  // VerifyOptions::expected_order
   bool pass = true;  // reference within tolerance and, with an expected order, convergence at it
   std::vector<std::string> failures;  // why not, one line each
-  std::vector<float> reference_image;  // the reference values (for writing), row-major
+  std::vector<float> reference_image;  // the reference values (for writing), row-major, interleaved
+  int reference_channels = 1;          // 1 (grey) or 3 (an RGB scene: red, green, blue)
+  // An RGB scene's channel the diagnosis, fault hints and floor decomposition read (the colour
+  // channel with the largest error in the finest image); unset for a grey scene (the first
+  // colour channel).
+  std::optional<std::string> diagnosis_channel;
   std::optional<std::string> mode;     // a projection's mode (VerifyOptions::mode); none for EA
   std::vector<std::string> notes;      // what was not run, and why (projections)
 };

@@ -117,13 +117,15 @@ std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
     const DiscreteConfig config = *discrete_config(discrete_options(*c.render, h), scene);
     ChannelImage im;
     im.width = camera.width, im.height = camera.height;
-    im.names = {"Y"};
+    im.names = scene.color ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"Y"};
     im.pixel_type = "float";  // as `vrv render` writes it
-    std::vector<double> v = discrete_image(scene, camera, config);
     double largest = 0;
-    for (double& x : v) x = static_cast<float>(x), largest = std::max(largest, std::abs(x));
+    for (int k = 0; k < scene.channel_count(); ++k) {  // an RGB scene as vrv render casts it: a channel at a time
+      std::vector<double> v = discrete_image(channel_scene(scene, k), camera, config);
+      for (double& x : v) x = static_cast<float>(x), largest = std::max(largest, std::abs(x));
+      im.planes.push_back(std::move(v));
+    }
     im.quantum = largest > 0 ? std::ldexp(1.0, std::ilogb(largest) - 23) : 0;
-    im.planes = {std::move(v)};
     images.push_back({fmt::format("{} h={:g}", c.name, h), h, std::move(im)});
   }
   return images;
@@ -190,7 +192,6 @@ int run_gate(const GateOptions& o) {
       continue;
     }
     scenes.push_back(load_scene_or_default(c->scene.string()));
-    require_grey(scenes.back(), c->scene.string(), "vrv gate");
     steps.push_back(case_steps(*c, o.bounds));
     if (c->render && scene_mode(scene_text_or_default(c->scene.string())))
       throw std::invalid_argument(fmt::format("{}: case {}: render: the scene has a projection mode, which a render "

@@ -32,7 +32,7 @@ struct VerifyCliOptions {
   std::string bounds, case_name;
   std::string out;
   std::string report;  // --report FILE.html
-  std::string alpha = "premultiplied";
+  std::string alpha = "auto";
   std::optional<double> threshold;
   double tol = 1e-10;
   double order_tolerance = 0.25;
@@ -62,7 +62,6 @@ std::vector<double> parse_steps(const std::string& text) {
 int run_verify(const VerifyCliOptions& o) {
   const InterruptGuard interrupts;  // before any thread: SIGINT leaves --out as it was (published_folder.h)
   const Scene scene = load_scene_or_default(o.scene);
-  require_grey(scene, o.scene, "vrv verify");
   VerifyOptions opt;
   opt.scene_text = scene_text_or_default(o.scene);
   apply(VerifySettings{o.tol, o.order_tolerance, o.order_metric, o.unit_distance, o.alpha}, opt);
@@ -157,7 +156,8 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--out", o->out, "Write tables, error images, plots.json and meta.json (and with --plots the plot) into this directory");
   cmd->add_option("--report", o->report, "Write the verification as one self-contained HTML page (verdict, fault, "
                                          "plot, error maps, regions, catalogue, commands) to this file");
-  cmd->add_option("--alpha", o->alpha, "Colour channels with an alpha channel: premultiplied or straight")->capture_default_str();
+  cmd->add_option("--alpha", o->alpha, "Colour channels with an alpha channel: auto (straight where the file declares it, as PNG does; else "
+                  "premultiplied), premultiplied or straight")->capture_default_str();
   cmd->add_option("--threshold", o->threshold, "Count pixels with |error| above this (default 1e-3)");
   cmd->add_option("--tol", o->tol, "Absolute tolerance of the reference per pixel")->capture_default_str();
   cmd->add_option("--cache-dir", o->cache_dir, "Reference cache (default $XDG_CACHE_HOME/vrv or ~/.cache/vrv)");

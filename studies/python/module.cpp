@@ -678,7 +678,7 @@ PYBIND11_MODULE(vrv, m) {
         py::arg("order_metric") = "rms", py::arg("tol") = 1e-10, py::arg("threshold") = py::none(),
         py::arg("diagnose") = true, py::arg("unit_distance") = 0.0, py::arg("bounds") = py::none(),
         py::arg("case") = py::none(), py::arg("out") = py::none(), py::arg("plots") = false,
-        py::arg("max_work") = kDefaultVerifyWorkLimit, py::arg("alpha") = "premultiplied",
+        py::arg("max_work") = kDefaultVerifyWorkLimit, py::arg("alpha") = "auto",
         py::arg("report") = py::none(), py::arg("mode") = py::none(),
         "`vrv verify` in-process: a renderer's images of the scene's camera ((height, width) arrays, "
         "or (height, width, 3 or 4) for RGB and RGBA as `vrv verify` reads them; one per sample "
@@ -688,6 +688,6 @@ PYBIND11_MODULE(vrv, m) {
         "file (its [defaults], or `case`), whose rows are added and whose fail levels `pass` includes; "
         "`out`: a folder for its tables, error images and meta.json, with the log-log plot "
         "error_vs_step.{png,pdf} if `plots=True` (`vrv verify --plots`); `alpha`: colour with an alpha "
-        "channel is 'premultiplied' (the default) or 'straight', as --alpha; `report`: a file for the "
+        "channel is 'auto' (the default: straight where the file declares it, else premultiplied), 'premultiplied' or 'straight', as --alpha; `report`: a file for the "
         "verification as one self-contained HTML page, as --report");
 }

@@ -17,11 +17,12 @@ TEST(VerifyReportNames, EachKindHasItsOwnName) {
   EXPECT_EQ(regions, (std::set<std::string>{"outside", "interior", "silhouette", "tf_jump", "all"}));
   for (FaultKind f : {FaultKind::quantisation, FaultKind::half_step_offset, FaultKind::constant_floor,
                       FaultKind::first_order_border_band, FaultKind::jitter, FaultKind::error_at_tf_jumps,
-                      FaultKind::missing_opacity_correction, FaultKind::fitted})
+                      FaultKind::missing_opacity_correction, FaultKind::swapped_channels, FaultKind::fitted})
     faults.insert(std::string(fault_name(f)));
-  EXPECT_EQ(faults.size(), 8u);
+  EXPECT_EQ(faults.size(), 9u);
   EXPECT_TRUE(faults.count("missing opacity correction"));
   EXPECT_TRUE(faults.count("fitted fault"));
+  EXPECT_TRUE(faults.count("swapped channels"));
   EXPECT_NE(order_kind_name(OrderKind::reference), order_kind_name(OrderKind::self));
 }
 

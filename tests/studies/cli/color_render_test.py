@@ -8,7 +8,10 @@
 - Errors against a reference are reported per channel: a render whose red and green emission are
   swapped has errors in R and G and none in B.
 - A grey reference for an RGB render, a projection of an RGB scene, and the commands that handle
-  grey scenes only (verify, gate, export, ray, demo) are refused in one line, exit 2, nothing written.
+  grey scenes only (export, ray, demo) are refused in one line, exit 2, nothing written.
+- vrv verify and vrv gate judge each channel against its own: vrv's RGB renders pass, the same
+  files with red and blue exchanged fail naming the swap, a one-channel image is refused; an RGBA
+  PNG (straight colour, as PNG declares) is read straight by default (`--alpha auto`).
 
     color_render_test.py VRV OUT_DIR
 """
@@ -73,8 +76,8 @@ def read(path):
 
 
 EXTINCTION = "extinction = [[0.0, 0.1], [1.0, 2.0]]\n"
-rgb = scene("rgb.toml", "emission = " + points([[0.0, 0.0, 0.2, 0.1], [0.5, 1.0, 0.1, 0.4], [1.0, 0.3, 0.8, 0.0]])
-            + "\n" + EXTINCTION, "[background]\ncolor = [0.0, 0.1, 0.2]\n")
+RGB_TF = "emission = " + points([[0.0, 0.0, 0.2, 0.1], [0.5, 1.0, 0.1, 0.4], [1.0, 0.3, 0.8, 0.0]]) + "\n" + EXTINCTION
+rgb = scene("rgb.toml", RGB_TF, "[background]\ncolor = [0.0, 0.1, 0.2]\n")
 swapped = scene("swapped.toml", "emission = " + points([[0.0, 0.2, 0.0, 0.1], [0.5, 0.1, 1.0, 0.4], [1.0, 0.8, 0.3, 0.0]])
                 + "\n" + EXTINCTION, "[background]\ncolor = [0.1, 0.0, 0.2]\n")
 
@@ -128,9 +131,89 @@ assert "1 channel where the render has 3 (RGB)" in r.stderr, r.stderr
 r = run("render", "--scene", rgb, "--reference", "--mode", "mip", "-o", out / "x.exr", expect=2)
 assert "the scene is RGB" in r.stderr, r.stderr
 assert not (out / "x.exr").exists()
-for args in (("verify", "--scene", rgb, out / "discrete.exr"), ("export", "--scene", rgb, "--out", out / "exp"),
-             ("ray", "--scene", rgb), ("demo", "--scene", rgb)):
+for args in (("export", "--scene", rgb, "--out", out / "exp"), ("ray", "--scene", rgb), ("demo", "--scene", rgb)):
     r = run(*args, expect=2)
     assert r.stderr.count("\n") == 1 and "the scene is RGB" in r.stderr and f"vrv {args[0]}" in r.stderr, r.stderr
 assert not (out / "exp").exists()
+
+# vrv verify and vrv gate judge each channel against its own reference: vrv's own alpha renders
+# (EXR, steps from their provenance) pass; the same files with red and blue exchanged
+# fail naming the swap; a one-channel image of the RGB scene is refused in one line.
+steps = (0.1, 0.05, 0.025)
+rendered = []
+for h in steps:
+    render(rgb, f"v_{h}", "--method", "alpha", "--step", str(h))
+    rendered.append(out / f"v_{h}.exr")
+r = run("verify", "--scene", rgb, *rendered, "--quiet")
+report = json.loads(r.stdout.splitlines()[-1])
+assert report["pass"] and report["diagnosis_channel"] in ("R", "G", "B"), report
+assert [c["channel"] for c in report["images"][:3]] == ["R", "G", "B"], report["images"][:3]
+bgr = []
+for h, path in zip(steps, rendered):
+    data, _ = read(path)
+    spec = oiio.ImageSpec(20, 16, 3, oiio.FLOAT)
+    spec.channelnames = ("R", "G", "B")
+    bgr.append(out / f"bgr_{h}.exr")
+    o = oiio.ImageOutput.create(str(bgr[-1]))
+    assert o.open(str(bgr[-1]), spec) and o.write_image(np.ascontiguousarray(data[:, :, ::-1], dtype=np.float32))
+    o.close()
+r = run("verify", "--scene", rgb, *bgr, "--steps", ",".join(map(str, steps)), "--quiet", expect=1)
+report = json.loads(r.stdout.splitlines()[-1])
+assert "swapped channels" in [f["name"] for f in report["faults"]], report["faults"]
+assert any(f.startswith("swapped channels: ") for f in report["failures"]), report["failures"]
+grey = out / "grey_one.exr"
+render(scene("grey_one.toml", "emission = " + points(GREY_EMISSION) + "\n" + EXTINCTION), "grey_one",
+       "--method", "alpha", "--step", "0.05")
+r = run("verify", "--scene", rgb, grey, grey, "--steps", "0.1,0.05", expect=2)
+assert r.stderr.count("\n") == 1 and "but the scene is RGB" in r.stderr, r.stderr
+# RGBA in a PNG, which stores colour straight (and says so): colour over nothing and alpha from
+# renders over black and white (C = I0, A = 1 - (I1 - I0)), written as C / A in 16 bits.  `--alpha
+# auto` (the default) takes the file's word and matches the EXR renders' errors, as `--alpha
+# straight` does; the same pixels declared premultiplied are far off.
+def finest_rms(report):
+    finest = min(c["step"] for c in report["images"])
+    return max(c["regions"]["all"]["rms"] for c in report["images"] if c["step"] == finest and not c["alpha"])
+
+
+exr_rms = finest_rms(json.loads(run("verify", "--scene", rgb, *rendered, "--quiet").stdout.splitlines()[-1]))
+black = scene("black.toml", RGB_TF, "[background]\ncolor = [0.0, 0.0, 0.0]\n")
+white = scene("white.toml", RGB_TF, "[background]\ncolor = [1.0, 1.0, 1.0]\n")
+pngs = []
+for h in steps:
+    render(black, f"black_{h}", "--method", "alpha", "--step", str(h))
+    render(white, f"white_{h}", "--method", "alpha", "--step", str(h))
+    c, _ = read(out / f"black_{h}.f64.tiff")
+    w, _ = read(out / f"white_{h}.f64.tiff")
+    a = 1 - (w[:, :, :1] - c[:, :, :1])
+    rgba = np.concatenate([np.where(a > 0, c / np.maximum(a, 1e-300), 0), a], axis=2)
+    spec = oiio.ImageSpec(20, 16, 4, oiio.UINT16)
+    spec.attribute("oiio:UnassociatedAlpha", 1)  # write the straight values as given
+    pngs.append(out / f"straight_{h}.png")
+    o = oiio.ImageOutput.create(str(pngs[-1]))
+    assert o.open(str(pngs[-1]), spec) and o.write_image(np.ascontiguousarray(np.clip(rgba, 0, 1), dtype=np.float32))
+    o.close()
+as_png = {}
+for alpha in ("auto", "straight", "premultiplied"):
+    r = run("verify", "--scene", rgb, *pngs, "--steps", ",".join(map(str, steps)), "--alpha", alpha, "--quiet")
+    as_png[alpha] = json.loads(r.stdout.splitlines()[-1])
+assert [c["channel"] for c in as_png["auto"]["images"][:4]] == ["R", "G", "B", "A"], as_png["auto"]["images"][:4]
+assert finest_rms(as_png["auto"]) < exr_rms + 1e-4, (finest_rms(as_png["auto"]), exr_rms)
+# Declared straight, the pixels are read as stored (OpenImageIO would premultiply them on reading,
+# and `--alpha straight` then multiplied by alpha twice).
+assert finest_rms(as_png["straight"]) == finest_rms(as_png["auto"]), (finest_rms(as_png["straight"]),
+                                                                      finest_rms(as_png["auto"]))
+assert finest_rms(as_png["premultiplied"]) > 10 * finest_rms(as_png["auto"]), (finest_rms(as_png["premultiplied"]),
+                                                                              finest_rms(as_png["auto"]))
+bounds = out / "rgb_bounds.toml"
+bounds.write_text(f"""[[case]]
+name = "rgb_alpha"
+scene = "{rgb.name}"
+steps = [0.1, 0.05, 0.025]
+render = {{ method = "alpha" }}
+rms = {{ fail = 0.05 }}
+min_order = {{ fail = 0.75 }}
+""")
+r = run("gate", "--bounds", bounds, "--out", out / "gate")
+rows = (out / "gate" / "bounds.csv").read_text()
+assert "rgb_alpha" in rows and any(f"({c})" in rows for c in "RGB"), rows
 print("color render: ok")

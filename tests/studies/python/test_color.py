@@ -1,6 +1,7 @@
 """RGB scenes from Python (docs/color.md): Scene.reference, discrete and render give a trailing axis
 of the three channels; three equal channels are the grey scene bit for bit; every channel agrees
-with its own grey scene within the two estimates; verify and projections refuse an RGB scene."""
+with its own grey scene within the two estimates; verify judges each channel and names swapped
+channels; projections refuse an RGB scene."""
 import numpy as np
 import pytest
 
@@ -73,12 +74,28 @@ def test_three_equal_channels_are_the_grey_scene_bitwise():
     assert np.array_equal(r["evaluations"], rg["evaluations"])
 
 
-def test_verify_and_projections_refuse_an_rgb_scene():
+def test_verify_judges_each_channel_and_names_swapped_channels():
+    s = rgb_scene()
+    steps = [0.08, 0.04, 0.02]
+    images = [s.render(method="alpha", step=h) for h in steps]
+    report = vrv.verify(s, images, steps)
+    assert report["pass"], report["failures"]
+    assert [c["channel"] for c in report["images"][:3]] == ["R", "G", "B"]
+    assert report["diagnosis_channel"] in ("R", "G", "B")
+    assert report["diagnosis"][0]["rms"] < 1e-12, report["diagnosis"][0]
+    swapped = vrv.verify(s, [im[..., ::-1].copy() for im in images], steps)
+    assert not swapped["pass"]
+    assert "swapped channels" in [f["name"] for f in swapped["faults"]], swapped["faults"]
+    with pytest.raises(ValueError, match="but the scene is RGB"):
+        vrv.verify(s, [im[..., 0].copy() for im in images], steps)
+
+
+def test_projections_refuse_an_rgb_scene():
     s = rgb_scene()
     origins, directions = s.rays()
     image = s.render()[..., 0]
     with pytest.raises(ValueError, match="the scene is RGB"):
-        vrv.verify(s, [image, image], [0.02, 0.01])
+        vrv.verify(s, [image, image], [0.02, 0.01], mode="mip")
     with pytest.raises(ValueError, match="the scene is RGB"):
         s.reference(origins, directions, mode="mip")
     with pytest.raises(ValueError, match="the scene is RGB"):
