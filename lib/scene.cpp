@@ -29,8 +29,8 @@ void require_grey(const Scene& scene, std::string_view source, std::string_view 
   if (!scene.color) return;
   throw std::invalid_argument(fmt::format(
       "{}: transfer: the scene is RGB (three-valued points), which {} does not handle yet (grey scenes "
-      "only); vrv render draws and measures RGB scenes, vrv verify and vrv gate judge their images, and "
-      "the library integrates them",
+      "only); vrv render and vrv ray integrate RGB scenes, vrv export writes them, vrv verify and vrv gate "
+      "judge their images, and the library integrates them",
       source, what));
 }
 

@@ -650,13 +650,15 @@ std::string exported_scene_toml(std::string_view toml_text, std::string_view sou
     doc.insert_or_assign("field", std::move(field));
   }
   if (transfer) {
-    auto curve = [](const std::vector<ControlPoint>& pts) {
-      toml::array a;
-      for (const ControlPoint& p : pts) a.push_back(toml::array{p.v, p.y});
-      return a;
-    };
-    doc.insert_or_assign("transfer", toml::table{{"opacity", curve(transfer->opacity)},
-                                                 {"color", curve(transfer->color)},
+    toml::array opacity, color;
+    for (const ControlPoint& p : transfer->opacity) opacity.push_back(toml::array{p.v, p.y});
+    for (const std::vector<double>& p : transfer->color) {
+      toml::array point;
+      for (double x : p) point.push_back(x);
+      color.push_back(std::move(point));
+    }
+    doc.insert_or_assign("transfer", toml::table{{"opacity", std::move(opacity)},
+                                                 {"color", std::move(color)},
                                                  {"unit_length", transfer->unit_length}});
   }
   std::ostringstream out;

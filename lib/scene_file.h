@@ -42,7 +42,8 @@ std::string scene_toml(std::string_view toml_text, std::string_view source_name)
 // [field] made the source of a node-layout trilinear grid of `grid_nodes` when given, and its
 // [transfer] replaced by opacity/colour points when given.
 struct OpacityColourPoints {
-  std::vector<ControlPoint> opacity, color;
+  std::vector<ControlPoint> opacity;
+  std::vector<std::vector<double>> color;  // [v, c] (grey) or [v, r, g, b] (RGB)
   double unit_length = 1;
 };
 std::string exported_scene_toml(std::string_view toml_text, std::string_view source_name,

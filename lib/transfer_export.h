@@ -8,11 +8,13 @@
 // opacity = 1 - exp(-tau L), colour = g / tau; where tau = 0 the colour is its limit within the
 // segment (emission and extinction vanishing together), 0 only where the scene emits without
 // absorbing or neither does anywhere near.
+#include <array>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "lib/scene.h"
 #include "lib/transfer_function.h"
 
 namespace vrv {
@@ -41,5 +43,17 @@ std::string transfer_csv(const std::vector<TransferRow>& rows);
 // "emission_without_extinction": true when g > 0 where tau = 0 somewhere (inexpressible as
 // opacity and colour).
 nlohmann::ordered_json transfer_json(const TransferFunction& tf, double unit_distance, int per_segment);
+
+// An RGB scene's channels tabulated at the same values (the union of their breakpoints; a row
+// where any channel changes), so that row i is one value in all three tables; the extinction,
+// hence the opacity, is every channel's.
+std::array<std::vector<TransferRow>, 3> tabulate_color_transfer(const ColorChannels& color, double unit_distance,
+                                                                int per_segment);
+// CSV: "value,emission_r,emission_g,emission_b,extinction,opacity,color_r,color_g,color_b".
+std::string color_transfer_csv(const std::array<std::vector<TransferRow>, 3>& rows);
+// As transfer_json with "channels": ["R", "G", "B"] and colour points [v, r, g, b]: an RGB
+// opacity/colour scene's own points (exact) when the channels' points share their values, else
+// the joint table's rows (not exact; the gaps are the largest over the channels).
+nlohmann::ordered_json color_transfer_json(const ColorChannels& color, double unit_distance, int per_segment);
 
 }  // namespace vrv

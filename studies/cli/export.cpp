@@ -139,9 +139,17 @@ ExportedScene exported_scene(const Scene& scene, const ExportedNodes& v, const E
   if (scene.transfer.convention() != Convention::opacity_color) {
     OpacityColourPoints t;
     t.unit_length = opt.unit_distance;
-    for (const TransferRow& r : tabulate_transfer(scene.transfer, opt.unit_distance, opt.table_points)) {
-      t.opacity.push_back({r.value, r.opacity});
-      t.color.push_back({r.value, r.color});
+    if (scene.color) {
+      const auto rows = tabulate_color_transfer(*scene.color, opt.unit_distance, opt.table_points);
+      for (std::size_t i = 0; i < rows[0].size(); ++i) {
+        t.opacity.push_back({rows[0][i].value, rows[0][i].opacity});
+        t.color.push_back({rows[0][i].value, rows[0][i].color, rows[1][i].color, rows[2][i].color});
+      }
+    } else {
+      for (const TransferRow& r : tabulate_transfer(scene.transfer, opt.unit_distance, opt.table_points)) {
+        t.opacity.push_back({r.value, r.opacity});
+        t.color.push_back({r.value, r.color});
+      }
     }
     transfer = t;
   }
@@ -174,7 +182,7 @@ nlohmann::ordered_json manifest(const Scene& scene, const Camera& camera, const 
     j["scene_file"] = "scene.toml";
     j["scene_file_hash"] = scene_hash(parse_scene(exported.toml, "scene.toml"));
   }
-  j["background"] = scene.background;
+  j["background"] = scene.color ? nlohmann::ordered_json(scene.color->background) : nlohmann::ordered_json(scene.background);
   j["integral"] = "I = integral of g(f(s)) exp(-integral_entry^s tau(f(u)) du) ds + background exp(-integral tau), over the ray clipped to the box";
   auto names = nlohmann::ordered_json::array();
   for (const auto& f : files) names.push_back(f.name);
@@ -244,7 +252,6 @@ void run_export(const ExportOptions& opt) {
     throw std::invalid_argument(fmt::format("--table-points: must be in [1, 1048576], got {}", opt.table_points));
   const InterruptGuard interrupts;  // SIGINT leaves --out as it was (published_folder.h)
   const Scene scene = load_scene_or_default(opt.scene, memory_limit_bytes(opt.max_memory_gib));
-  require_grey(scene, opt.scene, "vrv export");
   const Camera camera = scene_camera(scene);  // as vrv render has it
   std::optional<std::array<int, 3>> resolution;
   if (!opt.resolution.empty()) resolution = parse_resolution(opt.resolution);
@@ -256,14 +263,15 @@ void run_export(const ExportOptions& opt) {
   const ExportedNodes v = sample_volume(scene, resolution);
 
   std::vector<OutputFile> files = field_files(v, opt);
+  const double unit = scene.transfer.convention() == Convention::opacity_color ? scene.transfer.unit_length()
+                                                                              : opt.unit_distance;
   files.push_back({"transfer_function.csv",
-                   transfer_csv(tabulate_transfer(scene.transfer,
-                                                  scene.transfer.convention() == Convention::opacity_color
-                                                      ? scene.transfer.unit_length()
-                                                      : opt.unit_distance,
-                                                  opt.table_points))});
+                   scene.color ? color_transfer_csv(tabulate_color_transfer(*scene.color, unit, opt.table_points))
+                               : transfer_csv(tabulate_transfer(scene.transfer, unit, opt.table_points))});
   files.push_back({"transfer_function.json",
-                   transfer_json(scene.transfer, opt.unit_distance, opt.table_points).dump(2) + "\n"});
+                   (scene.color ? color_transfer_json(*scene.color, opt.unit_distance, opt.table_points)
+                                : transfer_json(scene.transfer, opt.unit_distance, opt.table_points))
+                           .dump(2) + "\n"});
   files.push_back({"camera.json", camera_json(camera).dump(2) + "\n"});
   files.push_back({"rays.npy", rays_npy(camera)});
   const ExportedScene exported = exported_scene(scene, v, opt);

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "lib/rays_file.h"
+#include "lib/reference_channels.h"
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "studies/cli/cli_support.h"
@@ -60,6 +61,40 @@ Answer discrete_answer(const DiscreteResult& r) {
   return {j, std::isfinite(r.value), true};
 }
 
+// An RGB scene's ray: the grey answer's keys, with value, error_estimate and optical_depth (each
+// channel's own: a channel stops early where its remaining emission cannot matter) one per channel.
+Answer color_reference_answer(const ColorReferenceResult& r) {
+  nlohmann::ordered_json j = to_json(r.channel[0]);
+  Answer a{{}, true, r.tolerance_met()};
+  for (const char* key : {"value", "error_estimate", "optical_depth"}) j[key] = nlohmann::ordered_json::array();
+  for (const ReferenceResult& c : r.channel) {
+    j["value"].push_back(finite_or_null(c.value));
+    j["error_estimate"].push_back(finite_or_null(c.error_estimate));
+    j["optical_depth"].push_back(finite_or_null(c.optical_depth));
+    a.finite = a.finite && std::isfinite(c.value) && std::isfinite(c.error_estimate);
+  }
+  j["evaluations"] = r.evaluations;
+  j["tolerance_met"] = a.tolerance_met;
+  a.json = std::move(j);
+  return a;
+}
+
+// Each channel cast alone with its own transfer function and background, as vrv render does.
+Answer color_discrete_answer(const Scene& scene, const Ray& ray, const DiscreteConfig& config) {
+  nlohmann::ordered_json j;
+  j["value"] = nlohmann::ordered_json::array();
+  long samples = 0;
+  bool finite = true;
+  for (int c = 0; c < 3; ++c) {
+    const DiscreteResult r = discrete_raycast(channel_scene(scene, c), ray, config);
+    j["value"].push_back(finite_or_null(r.value));
+    samples += r.samples;
+    finite = finite && std::isfinite(r.value);
+  }
+  j["samples"] = samples;
+  return {j, finite, true};
+}
+
 Answer projection_answer(const Scene& scene, const Ray& ray, const RayOptions& opt, const ProjectionSetup& p) {
   if (p.discrete) {
     const DiscreteProjectionResult r = discrete_projection(scene, ray, *p.discrete);
@@ -72,6 +107,9 @@ Answer projection_answer(const Scene& scene, const Ray& ray, const RayOptions& o
 Answer answer(const Scene& scene, const Ray& ray, const RayOptions& opt,
               const std::optional<DiscreteConfig>& discrete) {
   if (opt.projection) return projection_answer(scene, ray, opt, *opt.projection);
+  if (scene.color)
+    return discrete ? color_discrete_answer(scene, ray, *discrete)
+                    : color_reference_answer(integrate_color_reference(scene, ray, {opt.tol}));
   if (discrete) return discrete_answer(discrete_raycast(scene, ray, *discrete));
   return reference_answer(integrate_reference(scene, ray, {opt.tol}));
 }
@@ -85,16 +123,23 @@ void print_text(const Answer& a, const std::optional<DiscreteConfig>& discrete) 
     }
     return;
   }
-  fmt::print("value          {:.17g}\n", j["value"].get<double>());
+  // A number, or an RGB scene's three (the answer is finite: nothing is null).
+  const auto numbers = [](const nlohmann::ordered_json& v, const char* format) {
+    if (!v.is_array()) return fmt::format(fmt::runtime(format), v.get<double>());
+    std::string s;
+    for (const auto& x : v) s += fmt::format(fmt::runtime(s.empty() ? "{}" : " {}"), fmt::format(fmt::runtime(format), x.get<double>()));
+    return s;
+  };
+  fmt::print("value          {}\n", numbers(j["value"], "{:.17g}"));
   if (discrete) {
     fmt::print("samples        {}\n", j["samples"].get<long>());
     return;
   }
-  fmt::print("error_estimate {:.3g}\nevaluations    {}\n", j["error_estimate"].get<double>(),
+  fmt::print("error_estimate {}\nevaluations    {}\n", numbers(j["error_estimate"], "{:.3g}"),
              j["evaluations"].get<long>());
   if (!j["t_entry"].is_null())
-    fmt::print("t_entry        {:.17g}\nt_exit         {:.17g}\noptical_depth  {:.17g}\n",
-               j["t_entry"].get<double>(), j["t_exit"].get<double>(), j["optical_depth"].get<double>());
+    fmt::print("t_entry        {:.17g}\nt_exit         {:.17g}\noptical_depth  {}\n",
+               j["t_entry"].get<double>(), j["t_exit"].get<double>(), numbers(j["optical_depth"], "{:.17g}"));
   else
     fmt::print("(the ray misses the volume: value is the background)\n");
   fmt::print("tolerance_met  {}\n", a.tolerance_met);
@@ -221,7 +266,10 @@ void run_one(const Scene& scene, const RayOptions& opt, const std::optional<Disc
   if (!a.tolerance_met) {
     // Under tol, the estimate missed nothing: a work limit stopped the refinement (it still bounds
     // the error); saying "estimate > tol" there read as a contradiction.
-    const double estimate = a.json["error_estimate"].get<double>();
+    double estimate = 0;  // an RGB ray's largest
+    for (const auto& e : a.json["error_estimate"].is_array() ? a.json["error_estimate"]
+                                                             : nlohmann::ordered_json::array({a.json["error_estimate"]}))
+      estimate = std::max(estimate, e.get<double>());
     const std::string why =
         estimate > opt.tol ? fmt::format("error estimate {:.3g} > --tol {:g}", estimate, opt.tol)
                            : fmt::format("a work limit ended the refinement (the error estimate {:.3g} still "
@@ -240,8 +288,8 @@ void run_ray(RayOptions& opt) {
   if (!opt.rays.empty() && (!opt.origin.empty() || !opt.direction.empty()))
     throw std::invalid_argument("--rays: give either --rays or --origin/--direction, not both");
   const Scene scene = load_scene_or_default(opt.scene);
-  require_grey(scene, opt.scene, "vrv ray");
   opt.projection = projection_setup(chosen_mode(opt.mode, scene_text_or_default(opt.scene)), opt.discrete, scene);
+  if (opt.projection) require_grey(scene, opt.scene, "vrv ray --mode");
   // A projection's work is estimated as the emission-absorption cast's of the same sampling.
   const auto discrete = opt.projection ? opt.projection->work : discrete_config(opt.discrete, scene);
   if (!opt.rays.empty()) run_rays(scene, opt, discrete);

@@ -8,7 +8,9 @@
 - Errors against a reference are reported per channel: a render whose red and green emission are
   swapped has errors in R and G and none in B.
 - A grey reference for an RGB render, a projection of an RGB scene, and the commands that handle
-  grey scenes only (export, ray, demo) are refused in one line, exit 2, nothing written.
+  grey scenes only (demo) and projections are refused in one line, exit 2, nothing written.
+- vrv ray gives each channel's value, estimate and optical depth; each matches its grey scene.
+- vrv export of an RGB scene writes one table whose channel columns are each channel's grey export.
 - vrv verify and vrv gate judge each channel against its own: vrv's RGB renders pass, the same
   files with red and blue exchanged fail naming the swap, a one-channel image is refused; an RGBA
   PNG (straight colour, as PNG declares) is read straight by default (`--alpha auto`).
@@ -131,10 +133,72 @@ assert "1 channel where the render has 3 (RGB)" in r.stderr, r.stderr
 r = run("render", "--scene", rgb, "--reference", "--mode", "mip", "-o", out / "x.exr", expect=2)
 assert "the scene is RGB" in r.stderr, r.stderr
 assert not (out / "x.exr").exists()
-for args in (("export", "--scene", rgb, "--out", out / "exp"), ("ray", "--scene", rgb), ("demo", "--scene", rgb)):
+for args in (("demo", "--scene", rgb),):
     r = run(*args, expect=2)
     assert r.stderr.count("\n") == 1 and "the scene is RGB" in r.stderr and f"vrv {args[0]}" in r.stderr, r.stderr
-assert not (out / "exp").exists()
+
+# vrv ray on an RGB scene: a value, estimate and optical depth per channel, each channel within the
+# two estimates of its own grey scene's reference and its discrete cast bit for bit; a rays file
+# the same per line; a projection refused.
+ray = ("--origin", "0.3,-0.2,-3", "--direction", "-0.1,0.05,1")
+one = json.loads(run("ray", "--scene", rgb, *ray, "--json").stdout)
+disc = json.loads(run("ray", "--scene", rgb, *ray, "--json", "--method", "alpha", "--step", "0.05").stdout)
+assert len(one["value"]) == 3 and len(one["error_estimate"]) == 3 and one["tolerance_met"], one
+for c, name in enumerate("RGB"):
+    grey_c = scene(f"ray_{name}.toml", "emission = " + points([[p[0], p[1 + c]] for p in
+                   [[0.0, 0.0, 0.2, 0.1], [0.5, 1.0, 0.1, 0.4], [1.0, 0.3, 0.8, 0.0]]]) + "\n" + EXTINCTION,
+                   f"[background]\nintensity = {[0.0, 0.1, 0.2][c]}\n")
+    g = json.loads(run("ray", "--scene", grey_c, *ray, "--json").stdout)
+    assert abs(one["value"][c] - g["value"]) <= one["error_estimate"][c] + g["error_estimate"], (name, one, g)
+    gd = json.loads(run("ray", "--scene", grey_c, *ray, "--json", "--method", "alpha", "--step", "0.05").stdout)
+    assert disc["value"][c] == gd["value"], (name, disc, gd)
+text = run("ray", "--scene", rgb, *ray).stdout
+assert text.splitlines()[0].split()[1:] == [f"{v:.17g}" for v in one["value"]], text
+rays_file = out / "rays.jsonl"
+rays_file.write_text('{"origin": [0.3, -0.2, -3], "direction": [-0.1, 0.05, 1], "id": 7}\n')
+line = json.loads(run("ray", "--scene", rgb, "--rays", rays_file, "--quiet").stdout)
+assert line["id"] == 7 and line["value"] == one["value"], line
+r = run("ray", "--scene", rgb, *ray, "--mode", "mip", expect=2)
+assert "the scene is RGB" in r.stderr and "vrv ray --mode" in r.stderr, r.stderr
+
+# vrv export of an RGB scene: one table for the three channels, each channel's columns (repeats
+# aside) exactly what exporting that channel as a grey scene writes; colour points [v, r, g, b] in the JSON and in
+# the scene.toml it writes, which reads back as an RGB scene.
+run("export", "--scene", rgb, "--out", out / "exp", "--table-points", "4")
+lines = (out / "exp" / "transfer_function.csv").read_text().splitlines()
+assert lines[0] == "value,emission_r,emission_g,emission_b,extinction,opacity,color_r,color_g,color_b", lines[0]
+table = [line.split(",") for line in lines[1:]]
+emission = [[0.0, 0.0, 0.2, 0.1], [0.5, 1.0, 0.1, 0.4], [1.0, 0.3, 0.8, 0.0]]
+for c, name in enumerate("RGB"):
+    one = scene(f"channel_{name}.toml", "emission = " + points([[p[0], p[1 + c]] for p in emission]) + "\n" + EXTINCTION,
+                f"[background]\nintensity = {[0.0, 0.1, 0.2][c]}\n")
+    run("export", "--scene", one, "--out", out / f"exp_{name}", "--table-points", "4")
+    grey_rows = [line.split(",") for line in (out / f"exp_{name}" / "transfer_function.csv").read_text().splitlines()[1:]]
+    # A row is where any channel changes: a channel's own columns may repeat a row there.
+    columns = [(r[0], r[1 + c], r[4], r[5], r[6 + c]) for r in table]
+    columns = [row for i, row in enumerate(columns) if i == 0 or row != columns[i - 1]]
+    assert columns == [tuple(r) for r in grey_rows], name
+exported = json.loads((out / "exp" / "transfer_function.json").read_text())
+assert exported["channels"] == ["R", "G", "B"] and not exported["exact"], exported.keys()
+assert all(len(p) == 4 for p in exported["color"]) and len(exported["color"]) == len(table)
+manifest = json.loads((out / "exp" / "export.json").read_text())
+assert manifest["background"] == [0.0, 0.1, 0.2], manifest["background"]
+# An opacity/colour RGB scene's own points, exactly.
+oc_colour = [[0.0, 0.1, 0.2, 0.3], [0.4, 0.9, 0.5, 0.0], [1.0, 0.2, 0.7, 1.0]]
+oc = scene("rgb_oc.toml", "opacity = [[0.0, 0.02], [1.0, 0.3]]\ncolor = " + points(oc_colour) + "\nunit_length = 0.05\n",
+           "[background]\ncolor = [0.0, 0.1, 0.2]\n")
+run("export", "--scene", oc, "--out", out / "exp_oc")
+exported_oc = json.loads((out / "exp_oc" / "transfer_function.json").read_text())
+assert exported_oc["exact"] and exported_oc["color"] == oc_colour, exported_oc["color"]
+assert exported_oc["opacity"] == [[0.0, 0.02], [1.0, 0.3]] and exported_oc["unit_distance"] == 0.05
+
+# The exported RGB scene is each channel's exported grey scene: a discrete render bit for bit.
+render(out / "exp" / "scene.toml", "exp_rgb", "--method", "alpha", "--step", "0.05")
+exp_rgb, _ = read(out / "exp_rgb.f64.tiff")
+for c, name in enumerate("RGB"):
+    render(out / f"exp_{name}" / "scene.toml", f"exp_{name}", "--method", "alpha", "--step", "0.05")
+    exp_grey, _ = read(out / f"exp_{name}.f64.tiff")
+    assert np.array_equal(exp_rgb[:, :, c], exp_grey[:, :, 0]), name
 
 # vrv verify and vrv gate judge each channel against its own reference: vrv's own alpha renders
 # (EXR, steps from their provenance) pass; the same files with red and blue exchanged
