@@ -246,16 +246,18 @@ std::string maps_section(const VerifyReport& rep, const ScratchFolder& scratch) 
                      c.nan_count ? fmt::format(", {} NaN pixels", c.nan_count) : std::string());
     s += html_colour_bar(range) + "</figcaption></figure>\n";
   }
-  Image ref(rep.width, rep.height);
+  // An RGB scene's reference in colour, every channel on the one scale.
+  Image ref(rep.width, rep.height, 0, rep.reference_channels);
   std::copy(rep.reference_image.begin(), rep.reference_image.end(), ref.pixels.begin());
   const auto [lo, hi] = std::minmax_element(ref.pixels.begin(), ref.pixels.end());
   const double top = *hi > *lo ? *hi : *lo + 1;
   const fs::path png = scratch.file("reference.png");
   write_png_preview(ref, png, *lo, top);
   s += fmt::format("<figure><img class=\"reference\" alt=\"the reference image\" width=\"{}\" height=\"{}\" "
-                   "src=\"{}\"><figcaption><b>The reference</b>, grey from {} (black) to {} (white)</figcaption>"
+                   "src=\"{}\"><figcaption><b>The reference</b>, {} from {} (black) to {} (white)</figcaption>"
                    "</figure>\n",
-                   rep.width * scale, rep.height * scale, data_uri(png), g3(*lo), g3(top));
+                   rep.width * scale, rep.height * scale, data_uri(png),
+                   rep.reference_channels == 3 ? "each channel" : "grey", g3(*lo), g3(top));
   return s + "</div></section>\n";
 }
 

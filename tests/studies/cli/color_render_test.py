@@ -208,10 +208,25 @@ rendered = []
 for h in steps:
     render(rgb, f"v_{h}", "--method", "alpha", "--step", str(h))
     rendered.append(out / f"v_{h}.exr")
-r = run("verify", "--scene", rgb, *rendered, "--quiet")
+r = run("verify", "--scene", rgb, *rendered, "--quiet", "--out", out / "verify_rgb", "--report", out / "rgb.html")
 report = json.loads(r.stdout.splitlines()[-1])
+# The reference written and shown in colour (the page's reference once overran a grey buffer).
+ref_written, ref_names = read(out / "verify_rgb" / "reference.exr")
+assert ref_names == ("R", "G", "B") and ref_written.shape == (16, 20, 3), (ref_names, ref_written.shape)
+page = (out / "rgb.html").read_text()
+assert "<b>The reference</b>, each channel from" in page and "swapped channels" not in page
 assert report["pass"] and report["diagnosis_channel"] in ("R", "G", "B"), report
 assert [c["channel"] for c in report["images"][:3]] == ["R", "G", "B"], report["images"][:3]
+# The three channels' references come from the cache the second time, the report otherwise equal.
+cached = []
+for _ in range(2):
+    cached.append(json.loads(run("verify", "--scene", rgb, *rendered, "--quiet", "--cache-dir",
+                                 out / "cache").stdout.splitlines()[-1]))
+assert not cached[0]["reference"]["from_cache"] and cached[1]["reference"]["from_cache"]
+assert len(list((out / "cache").iterdir())) == 3
+for c in cached:
+    del c["reference"]["from_cache"], c["reference"]["cache_file"]
+assert cached[0] == cached[1]
 bgr = []
 for h, path in zip(steps, rendered):
     data, _ = read(path)
