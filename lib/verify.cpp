@@ -51,7 +51,8 @@ void count_regions(const std::vector<PixelGeometry>& geos, ReferenceInfo& info) 
   for (std::size_t i = 0; i < geo.hit.size(); ++i) {
     info.hit_pixels += geo.hit[i];
     info.silhouette_pixels += geo.region[i] == Region::silhouette;
-    info.jump_pixels += std::any_of(geos.begin(), geos.end(), [&](const PixelGeometry& g) { return g.region[i] == Region::tf_jump; });
+    info.jump_pixels +=
+        std::any_of(geos.begin(), geos.end(), [&](const PixelGeometry& g) { return g.region[i] == Region::tf_jump; });
   }
 }
 
