@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -25,15 +26,22 @@ double ulp_at(double largest, int mantissa) {
   return std::ldexp(1.0, std::ilogb(largest) - mantissa);
 }
 
-// The quantum of ChannelImage for a stored pixel type (the image module's names).
-double quantum_of(const fs::path& path, const std::string& type, double largest) {
+// The quantum of ChannelImage for a stored pixel type (the image module's names); NaN for a type
+// it does not know.
+double quantum_or_nan(const std::string& type, double largest) {
   if (type == "uint8") return 1.0 / 255;
   if (type == "uint16") return 1.0 / 65535;
   if (type == "uint" || type == "uint32") return 1.0 / 4294967295.0;
   if (type == "half") return ulp_at(largest, 10);
   if (type == "float") return ulp_at(largest, 23);
   if (type == "double") return ulp_at(largest, 52);
-  throw_file_error(path, fmt::format("pixel type {} is not supported", type));
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+double quantum_of(const fs::path& path, const std::string& type, double largest) {
+  const double q = quantum_or_nan(type, largest);
+  if (std::isnan(q)) throw_file_error(path, fmt::format("pixel type {} is not supported", type));
+  return q;
 }
 
 // A renderer's numpy array saved with numpy.save: read by lib/io/npy.h (OpenImageIO does not).
@@ -71,6 +79,13 @@ ChannelImage channel_image(const NpyArray& a, const std::string& name) {
   img.pixel_type = a.dtype == "<f4" ? "float" : "double";
   img.quantum = quantum_of(path, img.pixel_type, largest);
   return img;
+}
+
+double stored_quantum(const std::string& pixel_type, double largest) {
+  const double q = quantum_or_nan(pixel_type, largest);
+  if (std::isnan(q))
+    throw std::invalid_argument(fmt::format("stored_quantum: pixel type {} is not supported", pixel_type));
+  return q;
 }
 
 ChannelImage read_channel_image(const fs::path& path) {

@@ -28,6 +28,11 @@ struct ChannelImage {
   }
 };
 
+// The quantum a ChannelImage of `pixel_type` ("uint8", "uint16", "half", "float", "double", ...)
+// gets at its largest |value| `largest`: an image made in memory (a gate's render) as if written
+// in that type.  std::invalid_argument for a type the readers do not know.
+double stored_quantum(const std::string& pixel_type, double largest);
+
 // Reads the first subimage of anything OpenImageIO reads (EXR, TIFF, PFM, PNG, ...), 1 to 4
 // channels, or a numpy .npy array (float32 or float64, (height, width) or (height, width, 1..4)).  Throws std::runtime_error, one line naming the file and the reason, when it cannot
 // be read, is deep, volumetric, empty, larger than 65536 on a side or has more than 4 channels.

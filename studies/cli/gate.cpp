@@ -125,7 +125,7 @@ std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
       for (double& x : v) x = static_cast<float>(x), largest = std::max(largest, std::abs(x));
       im.planes.push_back(std::move(v));
     }
-    im.quantum = largest > 0 ? std::ldexp(1.0, std::ilogb(largest) - 23) : 0;
+    im.quantum = stored_quantum(im.pixel_type, largest);
     images.push_back({fmt::format("{} h={:g}", c.name, h), h, std::move(im)});
   }
   return images;

@@ -2,7 +2,9 @@
 // naming the image or the option.
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -65,6 +67,39 @@ TEST(VerifySettings, EachBadValueIsRefusedNamingItsOption) {
   EXPECT_EQ(o.order_tolerance, 0.5);
   EXPECT_EQ(o.order_metric, Metric::p99);
   EXPECT_EQ(o.unit_distance, 2);
+}
+
+// An RGB scene's reference channel per image channel: by name (any order, any case, a layer's
+// last part), in order when the names do not name three different colours; alpha reads channel 0.
+TEST(ReferenceChannels, ByNameElseInOrder) {
+  const auto truth = [](std::vector<std::string> names, int alpha = -1) {
+    ImageWithStep im{"im.exr", 0.1, {}};
+    im.image.names = names;
+    im.image.planes.assign(names.size(), std::vector<double>(1));
+    im.image.alpha = alpha;
+    return reference_channels(im, 3);
+  };
+  EXPECT_EQ(truth({"B", "R", "G"}), (std::vector<int>{2, 0, 1}));
+  EXPECT_EQ(truth({"rgba.g", "rgba.b", "rgba.r", "rgba.A"}, 3), (std::vector<int>{1, 2, 0, 0}));
+  EXPECT_EQ(truth({"Blue", "Green", "Red"}), (std::vector<int>{2, 1, 0}));
+  EXPECT_EQ(truth({"X", "Y", "Z"}), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(truth({"R", "R", "B"}), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(truth({"A", "B", "G", "R"}, 0), (std::vector<int>{0, 2, 1, 0}));
+  ImageWithStep grey{"grey.exr", 0.1, {}};
+  grey.image.names = {"Y"};
+  grey.image.planes.assign(1, std::vector<double>(1));
+  EXPECT_EQ(reference_channels(grey, 1), (std::vector<int>{0}));
+  EXPECT_THROW(reference_channels(grey, 3), VerifyInputError);
+}
+
+// The quantum an in-memory image gets for its pixel type, as a file of that type would.
+TEST(StoredQuantum, IsTheTypesStep) {
+  EXPECT_EQ(stored_quantum("uint8", 7.0), 1.0 / 255);
+  EXPECT_EQ(stored_quantum("uint16", 7.0), 1.0 / 65535);
+  EXPECT_EQ(stored_quantum("float", 0.75), std::ldexp(1.0, -24));
+  EXPECT_EQ(stored_quantum("double", 1.0), std::ldexp(1.0, -52));
+  EXPECT_EQ(stored_quantum("float", 0.0), 0.0);
+  EXPECT_THROW(stored_quantum("complex", 1.0), std::invalid_argument);
 }
 
 }  // namespace
