@@ -93,7 +93,7 @@ std::vector<DiscreteProjectionResult> discrete_projection_values(const Scene& sc
 
 std::vector<DiscreteResult> discrete_values(const Scene& scene, std::span<const Ray> rays,
                                             const DiscreteConfig& config) {
-  require_grey(scene, "scene", "discrete_values (cast each channel_scene(scene, c))");
+  require_grey(scene, "scene", "discrete_values (discrete_channel_values casts every channel)");
   validate(config, std::holds_alternative<GridField>(scene.field));
   std::vector<DiscreteResult> out(rays.size());
   visit_field(scene, [&](const auto& field) {

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "lib/camera.h"
+#include "lib/discrete_channels.h"
 #include "lib/discrete_raycast.h"
 #include "lib/reference_channels.h"
 #include "lib/gate.h"
@@ -53,7 +54,8 @@ void reference_values(const Scene& scene, std::span<const Ray> rays,
 // The functions here take grey scenes and throw std::invalid_argument for an RGB one (Scene::color,
 // docs/color.md) but this: the three channels' references along each ray, one set of panels for
 // all three.  Throws std::invalid_argument for a grey scene.  A discrete cast of an RGB scene is
-// discrete_values() of each channel_scene(scene, c).
+// discrete_channel_values() or discrete_channel_planes() (lib/discrete_channels.h): each channel
+// cast alone, as vrv render does.
 std::vector<ColorReferenceResult> color_reference_values(const Scene& scene, std::span<const Ray> rays,
                                                          const ReferenceOptions& options = {});
 

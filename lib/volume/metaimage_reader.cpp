@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -65,25 +64,6 @@ const std::string* find_any(const Header& h, std::initializer_list<std::string_v
   return nullptr;
 }
 
-std::vector<double> numbers(const std::filesystem::path& file, std::string_view key, std::string_view text,
-                            std::size_t count) {
-  std::vector<double> out;
-  const char* p = text.data();
-  const char* end = text.data() + text.size();
-  while (p < end) {
-    while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
-    if (p == end) break;
-    double x = 0;
-    const auto [next, ec] = std::from_chars(p, end, x);
-    if (ec != std::errc() || !std::isfinite(x))
-      volume_fail(file, key, fmt::format("\"{}\" is not a list of finite numbers", text.substr(0, 80)));
-    out.push_back(x);
-    p = next;
-  }
-  if (out.size() != count) volume_fail(file, key, fmt::format("{} numbers, expected {}", out.size(), count));
-  return out;
-}
-
 bool boolean(const std::filesystem::path& file, std::string_view key, const std::string* text, bool fallback) {
   if (!text) return fallback;
   std::string t = *text;
@@ -110,9 +90,9 @@ void check_header(const Header& h, const std::filesystem::path& file) {
     volume_fail(file, "ObjectType", fmt::format("{} is not an Image", t->substr(0, 80)));
   const std::string* ndims = find_any(h, {"NDims"});
   if (!ndims) volume_fail(file, "NDims", "missing");
-  if (numbers(file, "NDims", *ndims, 1)[0] != 3)
+  if (header_numbers(file, "NDims", *ndims, 1)[0] != 3)
     volume_fail(file, "NDims", fmt::format("{} not supported (a 3-D scalar volume only; a time series is refused)", *ndims));
-  if (const auto* c = find_any(h, {"ElementNumberOfChannels"}); c && numbers(file, "ElementNumberOfChannels", *c, 1)[0] != 1)
+  if (const auto* c = find_any(h, {"ElementNumberOfChannels"}); c && header_numbers(file, "ElementNumberOfChannels", *c, 1)[0] != 1)
     volume_fail(file, "ElementNumberOfChannels", fmt::format("{} components not supported (one only)", *c));
   if (!boolean(file, "BinaryData", find_any(h, {"BinaryData"}), true))
     volume_fail(file, "BinaryData", "ASCII data not supported (binary only)");
@@ -120,10 +100,10 @@ void check_header(const Header& h, const std::filesystem::path& file) {
 
 void set_geometry(Volume& v, const Header& h, const std::filesystem::path& file) {
   std::vector<double> spacing{1, 1, 1}, offset{0, 0, 0}, matrix{1, 0, 0, 0, 1, 0, 0, 0, 1};
-  if (const auto* s = find_any(h, {"ElementSpacing", "ElementSize"})) spacing = numbers(file, "ElementSpacing", *s, 3);
-  if (const auto* s = find_any(h, {"Offset", "Position", "Origin"})) offset = numbers(file, "Offset", *s, 3);
+  if (const auto* s = find_any(h, {"ElementSpacing", "ElementSize"})) spacing = header_numbers(file, "ElementSpacing", *s, 3);
+  if (const auto* s = find_any(h, {"Offset", "Position", "Origin"})) offset = header_numbers(file, "Offset", *s, 3);
   if (const auto* s = find_any(h, {"TransformMatrix", "Rotation", "Orientation"}))
-    matrix = numbers(file, "TransformMatrix", *s, 9);
+    matrix = header_numbers(file, "TransformMatrix", *s, 9);
   Eigen::Matrix3d steps;
   for (int a = 0; a < 3; ++a)
     for (int w = 0; w < 3; ++w) steps(w, a) = matrix[3 * a + w] * spacing[a];
@@ -156,7 +136,7 @@ DataPlace find_data(const Header& h, const std::filesystem::path& file, Volume& 
     volume_fail(file, "ElementDataFile", e.what());
   }
   double skip = 0;
-  if (const auto* s = find_any(h, {"HeaderSize"})) skip = numbers(file, "HeaderSize", *s, 1)[0];
+  if (const auto* s = find_any(h, {"HeaderSize"})) skip = header_numbers(file, "HeaderSize", *s, 1)[0];
   if (skip == -1) skip = static_cast<double>(size - std::min<std::uint64_t>(size, need));
   if (!(skip >= 0) || skip != std::floor(skip) || skip > static_cast<double>(size))
     volume_fail(file, "HeaderSize", fmt::format("{} is not a byte offset within the data file's {} bytes", skip, size));
@@ -180,7 +160,7 @@ VolumeSamples read_data(const Header& h, const DataPlace& d, const std::filesyst
   }
   std::uint64_t size = d.available;
   if (const auto* s = find_any(h, {"CompressedDataSize"})) {
-    const double c = numbers(file, "CompressedDataSize", *s, 1)[0];
+    const double c = header_numbers(file, "CompressedDataSize", *s, 1)[0];
     if (!(c >= 0) || c > static_cast<double>(d.available))
       volume_fail(file, "CompressedDataSize", fmt::format("{} bytes, but {} follow the header", *s, d.available));
     size = static_cast<std::uint64_t>(c);
@@ -201,7 +181,7 @@ Volume read_metaimage(const std::filesystem::path& file, const VolumeReadOptions
   const std::string* dim = find_any(h, {"DimSize"});
   if (!dim) volume_fail(file, "DimSize", "missing");
   std::array<std::int64_t, 3> dims{};
-  const auto d = numbers(file, "DimSize", *dim, 3);
+  const auto d = header_numbers(file, "DimSize", *dim, 3);
   for (int a = 0; a < 3; ++a) {
     if (d[a] != std::floor(d[a]) || !(std::abs(d[a]) < 1e15)) volume_fail(file, "DimSize", fmt::format("{} is not a whole number", d[a]));
     dims[a] = static_cast<std::int64_t>(d[a]);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <bit>
+#include <cctype>
+#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -19,6 +21,25 @@ namespace vrv {
 
 void volume_fail(const std::filesystem::path& file, std::string_view what, std::string_view reason) {
   throw VolumeFileError(error_line(file.string(), what, reason));
+}
+
+std::vector<double> header_numbers(const std::filesystem::path& file, std::string_view what, std::string_view text,
+                                   std::size_t count) {
+  std::vector<double> out;
+  const char* p = text.data();
+  const char* end = p + text.size();
+  while (p < end) {
+    while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
+    if (p == end) break;
+    double x = 0;
+    const auto [next, ec] = std::from_chars(p, end, x);
+    if (ec != std::errc() || !std::isfinite(x))
+      volume_fail(file, what, fmt::format("\"{}\" is not a list of finite numbers", text.substr(0, 80)));
+    out.push_back(x);
+    p = next;
+  }
+  if (out.size() != count) volume_fail(file, what, fmt::format("{} numbers, expected {}", out.size(), count));
+  return out;
 }
 
 std::string_view to_string(ScalarType t) {

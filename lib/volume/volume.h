@@ -33,6 +33,11 @@ class VolumeFileError : public std::runtime_error {
 [[noreturn]] void volume_fail(const std::filesystem::path& file, std::string_view what,
                               std::string_view reason);
 
+// A header value that is a list of exactly `count` finite numbers separated by white space (the
+// MetaImage and VTI headers' spacing, origin, sizes); volume_fail naming `what` otherwise.
+std::vector<double> header_numbers(const std::filesystem::path& file, std::string_view what, std::string_view text,
+                                   std::size_t count);
+
 enum class ScalarType { u8, i8, u16, i16, u32, i32, f32, f64 };
 std::string_view to_string(ScalarType t);
 std::size_t scalar_bytes(ScalarType t);

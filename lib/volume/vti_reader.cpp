@@ -24,24 +24,6 @@ namespace {
 
 using Path = std::filesystem::path;
 
-std::vector<double> numbers(const Path& file, std::string_view what, std::string_view text, std::size_t count) {
-  std::vector<double> out;
-  const char* p = text.data();
-  const char* end = p + text.size();
-  while (true) {
-    while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
-    if (p == end) break;
-    double x = 0;
-    const auto [next, ec] = std::from_chars(p, end, x);
-    if (ec != std::errc() || !std::isfinite(x))
-      volume_fail(file, what, fmt::format("\"{}\" is not a list of finite numbers", text.substr(0, 80)));
-    out.push_back(x);
-    p = next;
-  }
-  if (out.size() != count) volume_fail(file, what, fmt::format("{} numbers, expected {}", out.size(), count));
-  return out;
-}
-
 ScalarType array_type(const Path& file, std::string_view t) {
   static const std::pair<std::string_view, ScalarType> types[] = {
       {"UInt8", ScalarType::u8},   {"Int8", ScalarType::i8},    {"UInt16", ScalarType::u16},
@@ -202,14 +184,14 @@ Volume read_vti(const Path& file, const VolumeReadOptions& options) {
   const Encoding e = encoding(file, root);
   const pugi::xml_node image = root.child("ImageData");
   if (!image) volume_fail(file, "ImageData", "missing");
-  const auto extent = numbers(file, "WholeExtent", image.attribute("WholeExtent").as_string(), 6);
-  const auto origin = numbers(file, "Origin", image.attribute("Origin").as_string("0 0 0"), 3);
-  const auto spacing = numbers(file, "Spacing", image.attribute("Spacing").as_string("1 1 1"), 3);
-  const auto direction = numbers(file, "Direction", image.attribute("Direction").as_string("1 0 0 0 1 0 0 0 1"), 9);
+  const auto extent = header_numbers(file, "WholeExtent", image.attribute("WholeExtent").as_string(), 6);
+  const auto origin = header_numbers(file, "Origin", image.attribute("Origin").as_string("0 0 0"), 3);
+  const auto spacing = header_numbers(file, "Spacing", image.attribute("Spacing").as_string("1 1 1"), 3);
+  const auto direction = header_numbers(file, "Direction", image.attribute("Direction").as_string("1 0 0 0 1 0 0 0 1"), 9);
   const pugi::xml_node piece = image.child("Piece");
   if (!piece) volume_fail(file, "Piece", "missing");
   if (piece.next_sibling("Piece")) volume_fail(file, "Piece", "several pieces not supported (one piece only)");
-  if (piece.attribute("Extent") && numbers(file, "Piece.Extent", piece.attribute("Extent").as_string(), 6) != extent)
+  if (piece.attribute("Extent") && header_numbers(file, "Piece.Extent", piece.attribute("Extent").as_string(), 6) != extent)
     volume_fail(file, "Piece.Extent", "differs from the WholeExtent (one piece covering it only)");
 
   Volume v;

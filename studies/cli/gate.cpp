@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "lib/bounds_file.h"
+#include "lib/discrete_channels.h"
 #include "lib/io/error_line.h"
 #include "lib/io/output_paths.h"
 #include "lib/verify/verify_output.h"
@@ -120,11 +121,9 @@ std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
     im.names = scene.color ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"Y"};
     im.pixel_type = "float";  // as `vrv render` writes it
     double largest = 0;
-    for (int k = 0; k < scene.channel_count(); ++k) {  // an RGB scene as vrv render casts it: a channel at a time
-      std::vector<double> v = discrete_image(channel_scene(scene, k), camera, config);
-      for (double& x : v) x = static_cast<float>(x), largest = std::max(largest, std::abs(x));
-      im.planes.push_back(std::move(v));
-    }
+    im.planes = discrete_channel_planes(scene, camera, config);  // as vrv render casts it
+    for (auto& plane : im.planes)
+      for (double& x : plane) x = static_cast<float>(x), largest = std::max(largest, std::abs(x));
     im.quantum = stored_quantum(im.pixel_type, largest);
     images.push_back({fmt::format("{} h={:g}", c.name, h), h, std::move(im)});
   }

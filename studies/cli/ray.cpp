@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/discrete_channels.h"
 #include "lib/rays_file.h"
 #include "lib/reference_channels.h"
 #include "lib/util/parallel.h"
@@ -81,18 +82,12 @@ Answer color_reference_answer(const ColorReferenceResult& r) {
 
 // Each channel cast alone with its own transfer function and background, as vrv render does.
 Answer color_discrete_answer(const Scene& scene, const Ray& ray, const DiscreteConfig& config) {
+  const ChannelsDiscreteResult r = discrete_channel_values(scene, std::span<const Ray>(&ray, 1), config).front();
   nlohmann::ordered_json j;
   j["value"] = nlohmann::ordered_json::array();
-  long samples = 0;
-  bool finite = true;
-  for (int c = 0; c < 3; ++c) {
-    const DiscreteResult r = discrete_raycast(channel_scene(scene, c), ray, config);
-    j["value"].push_back(finite_or_null(r.value));
-    samples += r.samples;
-    finite = finite && std::isfinite(r.value);
-  }
-  j["samples"] = samples;
-  return {j, finite, true};
+  for (double v : r.value) j["value"].push_back(finite_or_null(v));
+  j["samples"] = r.samples;
+  return {j, std::all_of(r.value.begin(), r.value.end(), [](double v) { return std::isfinite(v); }), true};
 }
 
 Answer projection_answer(const Scene& scene, const Ray& ray, const RayOptions& opt, const ProjectionSetup& p) {

@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 
 #include "lib/camera.h"
+#include "lib/discrete_channels.h"
 #include "lib/discrete_raycast.h"
 #include "lib/image_loop.h"
 #include "lib/io/image_io.h"
@@ -229,29 +230,14 @@ Rendered render_reference(const Scene& scene, const Camera& camera, double tol, 
   return planes.finish();
 }
 
-// One caster per channel (an RGB scene's share the extinction, so each composites the same
-// opacities with its own colour); a grey scene's one caster is the grey render's.
+// Each channel cast alone (lib/discrete_channels.h).
 Rendered render_discrete(const Scene& scene, const Camera& camera, const DiscreteConfig& config,
                          bool quiet) {
-  const int channels = scene.channel_count();
-  PixelPlanes planes(camera, channels);
+  PixelPlanes planes(camera, scene.channel_count());
   Progress bar("render", pixel_count(camera), !quiet);
-  visit_field(scene, [&](const auto& field) {
-    using F = std::decay_t<decltype(field)>;
-    std::vector<DiscreteRaycaster<F>> casters;
-    for (int c = 0; c < channels; ++c)
-      casters.emplace_back(field, scene.box, scene.color ? scene.color->transfer[c] : scene.transfer,
-                           scene.color ? scene.color->background[c] : scene.background, config);
-    image_loop_into(camera, {}, [&](const Ray& ray) {
-      PixelResult p{{}, 0, 0.0, true};
-      for (int c = 0; c < channels; ++c) {
-        const DiscreteResult v = casters[c].cast(ray);
-        p.value[c] = v.value;
-        p.work += v.samples;
-      }
-      return p;
-    }, [&](long i, const PixelResult& p) { planes.put(i, p); }, progress_hooks(bar));
-  });
+  discrete_channel_pixels(scene, camera, config, [&](long i, const ChannelsDiscreteResult& r) {
+    planes.put(i, {r.value, r.samples, 0.0, true});
+  }, progress_hooks(bar));
   bar.finish();
   return planes.finish();
 }

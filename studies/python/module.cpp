@@ -343,11 +343,9 @@ py::dict discrete(const Scene& scene, const Points& origins, const Points& direc
   const auto shape = leading_shape(origins, "origins");
   py::dict out;
   if (scene.color) {  // each channel cast alone: value (..., 3), samples summed over the channels
-    std::vector<std::vector<DiscreteResult>> r;
-    for (int c = 0; c < 3; ++c)
-      r.push_back(interruptible([&] { return discrete_values(channel_scene(scene, c), rays, *config); }));
-    out["value"] = filled_rgb<double>(shape, rays.size(), [&](auto i, int c) { return r[c][i].value; });
-    out["samples"] = filled<long>(shape, rays.size(), [&](auto i) { return r[0][i].samples + r[1][i].samples + r[2][i].samples; });
+    const auto r = interruptible([&] { return discrete_channel_values(scene, rays, *config); });
+    out["value"] = filled_rgb<double>(shape, rays.size(), [&](auto i, int c) { return r[i].value[c]; });
+    out["samples"] = filled<long>(shape, rays.size(), [&](auto i) { return r[i].samples; });
     return out;
   }
   const std::vector<DiscreteResult> r = interruptible([&] { return discrete_values(scene, rays, *config); });
@@ -385,10 +383,9 @@ py::array_t<double> render_color(const Scene& scene, const Camera& camera, const
       for (int c = 0; c < 3; ++c) p[3 * i + c] = r[i].channel[c].value;
     return a;
   }
-  for (int c = 0; c < 3; ++c) {
-    const ValueImage image = interruptible([&] { return render_discrete_image(channel_scene(scene, c), camera, *config); });
-    for (std::size_t i = 0; i < image.values.size(); ++i) p[3 * i + c] = image.values[i];
-  }
+  const auto planes = interruptible([&] { return discrete_channel_planes(scene, camera, *config); });
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t i = 0; i < planes[c].size(); ++i) p[3 * i + c] = planes[c][i];
   return a;
 }
 

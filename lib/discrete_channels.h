@@ -1,0 +1,69 @@
+#pragma once
+// The discrete raycast of every channel of a scene: a grey scene's one, an RGB scene's three, each
+// cast alone with its channel's transfer function and background.  The channels share the
+// extinction, so each composites the same opacities with its own colour; this is how vrv render,
+// vrv gate, vrv ray and the Python module cast a scene, from this one place.
+#include <array>
+#include <span>
+#include <vector>
+
+#include "lib/discrete_raycast.h"
+#include "lib/image_loop.h"
+#include "lib/scene.h"
+
+namespace vrv {
+
+// A ray's value in each channel (the first scene.channel_count() entries) and the samples taken
+// over all of them.
+struct ChannelsDiscreteResult {
+  std::array<double, 3> value{};
+  long samples = 0;
+};
+
+// One DiscreteRaycaster per channel of the scene; the scene and field must outlive it.
+template <class F>
+class DiscreteChannelCaster {
+ public:
+  DiscreteChannelCaster(const F& field, const Scene& scene, const DiscreteConfig& config) {
+    casters_.reserve(scene.channel_count());
+    for (int c = 0; c < scene.channel_count(); ++c)
+      casters_.emplace_back(field, scene.box, scene.color ? scene.color->transfer[c] : scene.transfer,
+                            scene.color ? scene.color->background[c] : scene.background, config);
+  }
+
+  ChannelsDiscreteResult cast(const Ray& ray) const {
+    ChannelsDiscreteResult r;
+    for (std::size_t c = 0; c < casters_.size(); ++c) {
+      const DiscreteResult v = casters_[c].cast(ray);
+      r.value[c] = v.value;
+      r.samples += v.samples;
+    }
+    return r;
+  }
+
+ private:
+  std::vector<DiscreteRaycaster<F>> casters_;
+};
+
+// put(position, ChannelsDiscreteResult) for each pixel of the camera (or of `subset`), through the
+// image loop (lib/image_loop.h).  `config` is taken as validated.
+template <class Put>
+void discrete_channel_pixels(const Scene& scene, const Camera& camera, const DiscreteConfig& config, Put&& put,
+                             const ImageLoopHooks& hooks = {}, std::span<const long> subset = {}) {
+  visit_field(scene, [&](const auto& field) {
+    const DiscreteChannelCaster caster(field, scene, config);
+    image_loop_into(camera, subset, [&](const Ray& ray) { return caster.cast(ray); }, put, hooks);
+  });
+}
+
+// The same along rays, in parallel, one slot per ray.  Throws std::invalid_argument (naming the
+// option) when validate(config, grid field) refuses the configuration.
+std::vector<ChannelsDiscreteResult> discrete_channel_values(const Scene& scene, std::span<const Ray> rays,
+                                                            const DiscreteConfig& config);
+
+// A camera's image, one plane per channel (row-major, row 0 at the top); validates the camera
+// and the configuration as discrete_channel_values does.
+std::vector<std::vector<double>> discrete_channel_planes(const Scene& scene, const Camera& camera,
+                                                         const DiscreteConfig& config);
+
+}  // namespace vrv
