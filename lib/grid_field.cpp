@@ -89,6 +89,7 @@ void GridField::summarise() {
         }
     spread_ = hi - lo;
     max_abs_ = std::max(std::abs(lo), std::abs(hi));
+    min_node_ = lo, max_node_ = hi;
   });
   max_slope_ = max_slope_.cwiseQuotient(spacing_);
 }

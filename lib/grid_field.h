@@ -58,6 +58,8 @@ class GridField {
   // kind) stays within them there.  The reference skips a stretch on which the transfer function
   // is zero over that range (empty space, exactly; lib/reference_integrator.h).
   std::pair<double, double> node_range_between(const Vec3& p, const Vec3& q) const;
+  // The smallest and largest node value of the whole grid.
+  std::pair<double, double> node_range() const { return {min_node_, max_node_}; }
   // Empty space in bulk: the stretches of the ray (within iv, sorted, disjoint, each ending on a
   // brick plane or an end of iv) that cross only bricks of kBrickCells³ cells whose nodes, with a
   // one-node halo (a point's rounding into the next cell), satisfy transparent(lo, hi).  Every
@@ -101,7 +103,7 @@ class GridField {
   std::pair<double, double> brick_range_at(const Ray& ray, double t) const;
   double nearest_value(const double u[3]) const;
   double trilinear_value(const double u[3]) const;
-  void summarise();  // max_slope_, spread_ and max_abs_ from the node values
+  void summarise();  // max_slope_, spread_, max_abs_ and the node range from the node values
 
 
   Box box_;
@@ -114,6 +116,7 @@ class GridField {
   Vec3 max_slope_ = Vec3::Zero();  // largest |node difference| / spacing per axis
   double spread_ = 0;              // max - min node value
   double max_abs_ = 0;             // largest |node value|
+  double min_node_ = 0, max_node_ = 0;
   struct BrickRanges {
     std::once_flag made;
     Index3 count{};

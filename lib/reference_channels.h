@@ -53,6 +53,13 @@ struct AllChannelsTransparent {
       if (!tf.transparent_on(lo, hi)) return false;
     return true;
   }
+  // Every channel transparent somewhere in [lo, hi] (not necessarily at one value: a gate may say
+  // yes where no stretch is empty, never no where one is).
+  bool transparent_somewhere(double lo, double hi) const {
+    for (const TransferFunction& tf : color.transfer)
+      if (!tf.transparent_somewhere(lo, hi)) return false;
+    return true;
+  }
 };
 
 template <ScalarField F>

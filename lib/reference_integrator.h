@@ -282,10 +282,23 @@ inline double first_panel_count(double h0, double a, double b) { return std::max
 
 namespace detail {
 
+// Whether the field can hold empty space at all: false when the transfer function is transparent
+// at no value its nodes reach (widened as below), so no cell or brick need be looked at (a scene
+// without empty space pays nothing for the search).  `tf`: anything with transparent_on(lo, hi)
+// and transparent_somewhere(lo, hi) (a transfer function, or every channel of an RGB one); `acc`:
+// a RayAccumulator or anything with its interface (ChannelAccumulators).
+template <ScalarField F, class Transparency, class Accumulator>
+bool may_hold_empty_space(const F& field, const Transparency& tf, const Accumulator& acc) {
+  if constexpr (requires { field.node_range(); }) {
+    const auto [lo, hi] = field.node_range();
+    const double margin = field.value_noise() + acc.position_error();
+    return tf.transparent_somewhere(lo - margin, hi + margin);
+  }
+  return true;
+}
+
 // Empty space, skipped exactly: a grid cell whose nodes (widened by the field's rounding and the
 // far ray's position error) all map to g = tau = 0 adds neither light nor depth.
-// `tf`: anything with transparent_on(lo, hi) (a transfer function, or every channel of an RGB one);
-// `acc`: a RayAccumulator or anything with its interface (ChannelAccumulators).
 template <ScalarField F, class Transparency, class Accumulator>
 bool empty_stretch(const F& field, const Ray& ray, double a, double b, const Transparency& tf,
                    const Accumulator& acc) {
@@ -302,11 +315,13 @@ bool empty_stretch(const F& field, const Ray& ray, double a, double b, const Tra
 // cut) and no break is made inside it.  Elsewhere the breaks are the field's own, to the bit.
 template <ScalarField F, class Transparency, class Accumulator>
 std::vector<double> cuts_around_empty_space(const F& field, const Ray& ray, Interval iv, const Transparency& tf,
-                                            const Accumulator& acc, std::vector<Interval>& skipped) {
+                                            const Accumulator& acc, bool may_be_empty, std::vector<Interval>& skipped) {
   if constexpr (requires { F::kBrickCells; }) {
-    const double margin = field.value_noise() + acc.position_error();
-    field.append_transparent_spans(
-        ray, iv, [&](double lo, double hi) { return tf.transparent_on(lo - margin, hi + margin); }, skipped);
+    if (may_be_empty) {
+      const double margin = field.value_noise() + acc.position_error();
+      field.append_transparent_spans(
+          ray, iv, [&](double lo, double hi) { return tf.transparent_on(lo - margin, hi + margin); }, skipped);
+    }
   }
   std::vector<double> cuts{iv.t0};
   double from = iv.t0;
@@ -334,7 +349,8 @@ long walk_ray(const F& field, const RayFrame& frame, const Transparency& tf, con
   const Ray& local = frame.local;
   const Interval iv = frame.iv;
   std::vector<Interval> skipped;
-  const std::vector<double> cuts = cuts_around_empty_space(field, local, iv, tf, acc, skipped);
+  const bool may_be_empty = may_hold_empty_space(field, tf, acc);
+  const std::vector<double> cuts = cuts_around_empty_space(field, local, iv, tf, acc, may_be_empty, skipped);
   std::size_t next_skipped = 0;
   long evaluations = 0;
   const int degree = field.degree_along_ray();
@@ -350,7 +366,7 @@ long walk_ray(const F& field, const RayFrame& frame, const Transparency& tf, con
         acc.give_up(a);
         break;
       }
-      if (empty_stretch(field, local, a, b, tf, acc)) continue;
+      if (may_be_empty && empty_stretch(field, local, a, b, tf, acc)) continue;
       acc.consume(fit_panel(field, local, a, b, degree + 1, evaluations));
       continue;
     }

@@ -51,6 +51,12 @@ bool PiecewiseLinear::zero_on(double lo, double hi) const {
                      [&](const ControlPoint& p) { return p.v < lo || p.v > hi || p.y == 0; });
 }
 
+void PiecewiseLinear::append_zero_candidates(double lo, double hi, std::vector<double>& out) const {
+  out.push_back(lo), out.push_back(hi);
+  for (const ControlPoint& p : points_)
+    if (p.v >= lo && p.v <= hi) out.push_back(p.v);
+}
+
 double PiecewiseLinear::max_abs_slope() const {
   double s = 0;
   for (std::size_t i = 1; i < points_.size(); ++i) {
@@ -98,6 +104,22 @@ bool TransferFunction::transparent_on(double lo, double hi) const {
   // Opacity 0 is tau 0, and g = color x tau.
   if (convention_ == Convention::opacity_color) return first_.zero_on(lo, hi);
   return first_.zero_on(lo, hi) && second_.zero_on(lo, hi);
+}
+
+bool TransferFunction::transparent_somewhere(double lo, double hi) const {
+  // Each curve is linear between its control points, so the set where both are zero, within
+  // [lo, hi], is a union of intervals (open or closed) ending at lo, hi or a control point: it
+  // holds one of those ends or the midpoint of two consecutive ones.
+  std::vector<double> ends;
+  first_.append_zero_candidates(lo, hi, ends);
+  if (convention_ != Convention::opacity_color) second_.append_zero_candidates(lo, hi, ends);
+  std::sort(ends.begin(), ends.end());
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  for (std::size_t i = 0; i < ends.size(); ++i) {
+    if (transparent_on(ends[i], ends[i])) return true;
+    if (i + 1 < ends.size() && transparent_on(0.5 * (ends[i] + ends[i + 1]), 0.5 * (ends[i] + ends[i + 1]))) return true;
+  }
+  return false;
 }
 
 TransferFunction::Slopes TransferFunction::slope_bounds(double v_lo, double v_hi) const {

@@ -43,6 +43,9 @@ class PiecewiseLinear {
   double max_abs_slope() const;
   // Zero at every value in [lo, hi] (jumps included).
   bool zero_on(double lo, double hi) const;
+  // lo, hi and the control points between them (appended to out): where the function may start
+  // or stop being zero in [lo, hi].
+  void append_zero_candidates(double lo, double hi, std::vector<double>& out) const;
 
  private:
   std::vector<ControlPoint> points_;
@@ -119,6 +122,9 @@ class TransferFunction {
   Slopes slope_bounds(double v_lo, double v_hi) const;
   // g = tau = 0 at every value in [lo, hi]: a stretch whose values stay there adds nothing.
   bool transparent_on(double lo, double hi) const;
+  // g = tau = 0 at some value in [lo, hi]: false means no stretch of values in it is transparent,
+  // so a field whose values stay there has no empty space to look for.
+  bool transparent_somewhere(double lo, double hi) const;
   // |g(v+) - g(v-)| and |tau(v+) - tau(v-)|: nonzero only at the jumps of a step function.
   Slopes jump_at(double v) const;
   // g(v+) - g(v-) and tau(v+) - tau(v-), signed (zero but at a jump).

@@ -73,6 +73,23 @@ TEST(ReferenceIntegratorGrid, EmptyCellsAreSkippedExactly) {
   }
 }
 
+// Empty space inside a zero stretch open at both ends (jumps at 0.5 and 0.7, no control point
+// between): the gate that spares scenes without empty space the search (may_hold_empty_space)
+// still finds it (the grid's range, about 0.2 to 0.9, is transparent at none of its ends nor at the
+// jumps: only between them), and those cells are skipped.
+TEST(ReferenceIntegratorGrid, EmptySpaceBetweenTwoJumpsIsStillSkipped) {
+  const GridField grid(kBox, {21, 6, 5}, GridLayout::node, Interpolation::trilinear, [](const Vec3& p) {
+    return p.x() < 0 ? 0.6 : 0.55 + 0.35 * std::sin(3 * p.y() + p.z());  // 0.2 to 0.9 for x >= 0
+  });
+  const PiecewiseLinear hole = curve({{0.0, 1.0}, {0.5, 1.0}, {0.5, 0.0}, {0.7, 0.0}, {0.7, 1.0}});
+  const TransferFunction tf = TransferFunction::emission_extinction(hole, hole);
+  const Ray ray = make_ray(Vec3(-3, 0.1, 0.2), Vec3(1, 0.05, 0.02));
+  const ReferenceResult skipped = integrate_reference(grid, kBox, tf, 0, ray, {1e-12});
+  const ReferenceResult every = integrate_reference(WithoutSkipping{grid}, kBox, tf, 0, ray, {1e-12});
+  EXPECT_EQ(skipped.value, every.value);
+  EXPECT_LT(skipped.evaluations, 0.7 * every.evaluations) << skipped.evaluations << " of " << every.evaluations;
+}
+
 // The grid as the reference saw it before bricks: empty space skipped cell by cell only.
 struct CellByCellSkipping : WithoutSkipping {
   std::pair<double, double> node_range_between(const Vec3& p, const Vec3& q) const {
@@ -136,6 +153,33 @@ TEST(TransferFunction, TransparentOnlyWhereBothCurvesAreZero) {
                                                               curve({{0.0, 1.0}, {1.0, 1.0}}), 1.0);
   EXPECT_TRUE(oc.transparent_on(0.0, 0.4));  // opacity 0: no extinction, so no light either
   EXPECT_FALSE(oc.transparent_on(0.0, 0.41));
+}
+
+// The gate before any empty-space search: transparent at some value of the range, including a
+// zero stretch open at both ends (a jump down into it and a jump up out of it, no control point
+// inside), one where only a midpoint of the range's ends is transparent, and a single value.
+TEST(TransferFunction, TransparentSomewhereFindsEveryZeroStretch) {
+  const TransferFunction ee = TransferFunction::emission_extinction(
+      curve({{0.0, 0.0}, {0.2, 0.0}, {1.0, 1.0}}), curve({{0.0, 0.0}, {0.3, 0.0}, {1.0, 2.0}}));
+  EXPECT_TRUE(ee.transparent_somewhere(0.1, 5));
+  EXPECT_TRUE(ee.transparent_somewhere(-3, -2));   // below the first point: constant 0
+  EXPECT_FALSE(ee.transparent_somewhere(0.2000001, 5));
+  EXPECT_TRUE(ee.transparent_somewhere(0.2, 0.2));
+  const TransferFunction open = TransferFunction::emission_extinction(
+      curve({{0.0, 1.0}, {0.5, 1.0}, {0.5, 0.0}, {0.7, 0.0}, {0.7, 1.0}}),
+      curve({{0.0, 1.0}, {0.5, 1.0}, {0.5, 0.0}, {0.7, 0.0}, {0.7, 1.0}}));
+  EXPECT_FALSE(open.transparent_on(0.5, 0.5));
+  EXPECT_FALSE(open.transparent_on(0.7, 0.7));
+  EXPECT_TRUE(open.transparent_somewhere(0.0, 1.0));  // (0.5, 0.7): only a midpoint shows it
+  EXPECT_TRUE(open.transparent_somewhere(0.55, 0.65));
+  EXPECT_FALSE(open.transparent_somewhere(0.7, 1.0));
+  const TransferFunction oc = TransferFunction::opacity_color(curve({{0.0, 0.0}, {0.4, 0.0}, {1.0, 0.5}}),
+                                                              curve({{0.0, 1.0}, {1.0, 1.0}}), 1.0);
+  EXPECT_TRUE(oc.transparent_somewhere(0.3, 2.0));
+  EXPECT_FALSE(oc.transparent_somewhere(0.41, 2.0));
+  const TransferFunction never = TransferFunction::opacity_color(curve({{0.0, 0.1}, {1.0, 0.5}}),
+                                                                 curve({{0.0, 0.0}, {1.0, 1.0}}), 1.0);
+  EXPECT_FALSE(never.transparent_somewhere(-1e300, 1e300));
 }
 
 }  // namespace
