@@ -31,24 +31,24 @@ STEPS = [0.04, 0.02, 0.01, 0.005, 0.0025]
 
 
 def wall(cmd):
-    """The command's wall seconds and its stdout."""
+    """The command's wall seconds and what it printed (stdout, then stderr)."""
     start = time.perf_counter()
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=3600)
     took = time.perf_counter() - start
     if proc.returncode not in (0, 1):
         sys.exit(f"thread_scaling: {' '.join(cmd)} exited {proc.returncode}: {proc.stderr.strip()}")
-    return took, proc.stdout
+    return took, proc.stdout + proc.stderr
 
 
-def pixel_seconds(stdout):
-    """The pixels' time `vrv render` prints ("vrv render: N pixels (...) in S s")."""
-    m = re.search(r"^vrv render: .* in ([0-9.]+) s$", stdout, re.M)
+def pixel_seconds(printed):
+    """The pixels' time `vrv render` prints on stderr ("vrv render: N pixels (...) in S s")."""
+    m = re.search(r"^vrv render: .* in ([0-9.]+) s$", printed, re.M)
     if not m:
-        sys.exit(f"thread_scaling: no pixel time in vrv render's output: {stdout.strip()[:200]}")
+        sys.exit(f"thread_scaling: no pixel time in vrv render's output: {printed.strip()[:200]}")
     return float(m.group(1))
 
 
-def median_by_threads(make_cmd, rounds, measure=lambda took, stdout: took):
+def median_by_threads(make_cmd, rounds, measure=lambda took, printed: took):
     times = {1: [], 2: []}
     for _ in range(rounds):
         for threads in (1, 2):
@@ -75,7 +75,7 @@ def main():
                                 "--threads", str(t), "-o", str(scratch / f"ref{t}.exr")]
         render = median_by_threads(render_cmd, args.rounds)
         rows.append((f"render --reference, grid 64³, {args.size}²", render))
-        pixels = median_by_threads(render_cmd, args.rounds, lambda took, stdout: pixel_seconds(stdout))
+        pixels = median_by_threads(render_cmd, args.rounds, lambda took, printed: pixel_seconds(printed))
         rows.append(("the same, its pixels alone (the time `vrv render` reports)", pixels))
         images = []
         for h in STEPS:
