@@ -59,32 +59,35 @@ std::vector<fs::path> candidates() {
   return paths;
 }
 
-const Functions* load() {
+// The first candidate that is a file; else throws the message naming every place looked at.
+fs::path locate() {
   std::string tried;
   for (const fs::path& path : candidates()) {
     std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) {
-      tried += fmt::format("{}{} (missing)", tried.empty() ? "" : ", ", path.string());
-      continue;
-    }
-    // RTLD_LOCAL: OpenImageIO's dependencies stay out of vrv's own symbol lookups.
-    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!handle) {
-      const char* why = dlerror();
-      throw std::runtime_error(fmt::format("image I/O: cannot load the image module {}: {}",
-                                           path.string(), why ? why : "unknown reason"));
-    }
-    using Entry = const Functions* (*)();
-    const auto entry = reinterpret_cast<Entry>(dlsym(handle, kEntrySymbol));
-    const Functions* f = entry ? entry() : nullptr;
-    if (!f || f->abi_version != kAbiVersion || !f->write || !f->read)
-      throw std::runtime_error(fmt::format(
-          "image I/O: {} is not an image module of this vrv build (rebuild vrv)", path.string()));
-    return f;  // never unloaded: OpenImageIO keeps threads and static state
+    if (fs::is_regular_file(path, ec)) return path;
+    tried += fmt::format("{}{} (missing)", tried.empty() ? "" : ", ", path.string());
   }
   throw std::runtime_error(fmt::format(
       "image I/O: the image module {} was not found (looked at {}; set VRV_IMAGE_MODULE to its path)",
       VRV_IMAGE_MODULE_FILE, tried));
+}
+
+const Functions* load() {
+  const fs::path path = locate();
+  // RTLD_LOCAL: OpenImageIO's dependencies stay out of vrv's own symbol lookups.
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle) {
+    const char* why = dlerror();
+    throw std::runtime_error(fmt::format("image I/O: cannot load the image module {}: {}", path.string(),
+                                         why ? why : "unknown reason"));
+  }
+  using Entry = const Functions* (*)();
+  const auto entry = reinterpret_cast<Entry>(dlsym(handle, kEntrySymbol));
+  const Functions* f = entry ? entry() : nullptr;
+  if (!f || f->abi_version != kAbiVersion || !f->write || !f->read)
+    throw std::runtime_error(fmt::format(
+        "image I/O: {} is not an image module of this vrv build (rebuild vrv)", path.string()));
+  return f;  // never unloaded: OpenImageIO keeps threads and static state
 }
 
 }  // namespace
@@ -95,6 +98,19 @@ const Functions& functions() {
   std::lock_guard lock(mutex);
   if (!loaded) loaded = load();  // a failed load throws and is retried by the next call
   return *loaded;
+}
+
+BackgroundLoad::BackgroundLoad() {
+  locate();
+  load_ = std::async(std::launch::async, [] { functions(); });
+}
+
+BackgroundLoad::~BackgroundLoad() {
+  if (load_.valid()) load_.wait();  // an error here was the caller's to take from wait()
+}
+
+void BackgroundLoad::wait() {
+  if (load_.valid()) load_.get();
 }
 
 ReadResult read_file(const std::filesystem::path& path, const ReadRequest& request) {

@@ -8,6 +8,7 @@
 // kAbiVersion guards against a module left over from another build of this interface.  Errors
 // cross it as strings (never exceptions): "" means success, anything else is a one-line reason.
 #include <filesystem>
+#include <future>
 #include <string>
 #include <utility>
 #include <vector>
@@ -72,6 +73,23 @@ struct Functions {
 // the configured install prefix's, then (only for code running from it) the build tree's.
 // Throws std::runtime_error with one line naming where it looked when it cannot be loaded.
 const Functions& functions();
+
+// Loads the module on a thread of its own while the caller computes: a render overlaps the 0.3 to
+// 0.5 s of dynamic loading instead of waiting for it.  A module found nowhere is refused here, at
+// once and with functions()'s message, so a render does not run for nothing; one that is found but
+// cannot be loaded is reported by wait().  The destructor waits for the load.
+class BackgroundLoad {
+ public:
+  BackgroundLoad();
+  ~BackgroundLoad();
+  BackgroundLoad(const BackgroundLoad&) = delete;
+  BackgroundLoad& operator=(const BackgroundLoad&) = delete;
+  // The module loaded; throws its load error (std::runtime_error, one line).
+  void wait();
+
+ private:
+  std::future<void> load_;
+};
 
 // Reads `path` with the loaded module as `request` asks.  Throws std::runtime_error, one line
 // "<path>: <reason>", when the file is missing, a directory, or the module refuses it.

@@ -392,7 +392,9 @@ void run_render(const RenderOptions& opt) {
                             : fmt::format("{} reference tol={:g}", mode, opt.tol);
   }
   check_outputs(out, opt.error_against);
-  image_module::functions();  // a missing image module fails now, not after the render
+  // The image module loads beside the render (a missing one fails now, not after it).
+  parallel_for_index(64, [](long) {});  // TBB's workers first: dlopen's lock would stall their start
+  image_module::BackgroundLoad image_io;
   std::optional<ImageF64> ref;
   if (!opt.error_against.empty())
     ref = read_reference_image(opt.error_against, camera, provenance.scene_hash, scene.channel_count());
@@ -423,6 +425,7 @@ void run_render(const RenderOptions& opt) {
                            discrete ? "--method " + opt.discrete.method : std::string("reference"),
                            seconds);
 
+  image_io.wait();
   write_exr(r.image, out.exr, &provenance);
   write_tiff_f64(r.values, out.f64, &provenance);
   const float max_value = *std::max_element(r.image.pixels.begin(), r.image.pixels.end());

@@ -502,4 +502,16 @@ set(ENV{VRV_IMAGE_MODULE} ${OUT}/no_such_module.so)
 expect_exit(ray_without_module 0 "" "" ray --origin -3,0.5,0 --direction 1,0,0 --json)
 expect_exit(render_without_module 2 "^vrv: error: .*image module .*no_such_module.so" ""
   render --reference --width 2 --height 2 --quiet -o ${OUT}/nomodule.exr)
+# A module that is there but cannot be loaded: the render ran beside the load (lines before the
+# error are the render's own), then exit 2 naming the file, and nothing written.
+file(WRITE ${OUT}/not_a_module.so "not a shared library")
+set(ENV{VRV_IMAGE_MODULE} ${OUT}/not_a_module.so)
+execute_process(COMMAND ${VRV} render --reference --width 2 --height 2 --quiet -o ${OUT}/badmodule.exr
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+string(STRIP "${err}" err)
+string(REGEX REPLACE "^.*\n" "" last "${err}")
+if(NOT rc EQUAL 2 OR NOT last MATCHES "^vrv: error: image I/O: cannot load the image module .*not_a_module.so"
+   OR EXISTS ${OUT}/badmodule.exr OR EXISTS ${OUT}/badmodule.png)
+  message(FATAL_ERROR "render_unloadable_module: expected exit 2 naming the module and nothing written, got ${rc}:\n${err}")
+endif()
 unset(ENV{VRV_IMAGE_MODULE})
