@@ -117,7 +117,8 @@ bool TransferFunction::transparent_somewhere(double lo, double hi) const {
   ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
   for (std::size_t i = 0; i < ends.size(); ++i) {
     if (transparent_on(ends[i], ends[i])) return true;
-    if (i + 1 < ends.size() && transparent_on(0.5 * (ends[i] + ends[i + 1]), 0.5 * (ends[i] + ends[i + 1]))) return true;
+    const double mid = i + 1 < ends.size() ? 0.5 * ends[i] + 0.5 * ends[i + 1] : ends[i];  // no overflow
+    if (transparent_on(mid, mid)) return true;
   }
   return false;
 }

@@ -75,6 +75,11 @@ TEST(TransferFunction, TransparentSomewhereFindsEveryZeroStretch) {
   const TransferFunction never = TransferFunction::opacity_color(curve({{0.0, 0.1}, {1.0, 0.5}}),
                                                                  curve({{0.0, 0.0}, {1.0, 1.0}}), 1.0);
   EXPECT_FALSE(never.transparent_somewhere(-1e300, 1e300));
+  // A zero stretch between two jumps found between ends near the largest double (no overflow).
+  const TransferFunction far = TransferFunction::emission_extinction(
+      curve({{1e308, 1.0}, {1.5e308, 1.0}, {1.5e308, 0.0}, {1.7e308, 0.0}, {1.7e308, 1.0}}),
+      curve({{1e308, 1.0}, {1.5e308, 1.0}, {1.5e308, 0.0}, {1.7e308, 0.0}, {1.7e308, 1.0}}));
+  EXPECT_TRUE(far.transparent_somewhere(1.2e308, 1.79e308));
 }
 
 }  // namespace
