@@ -20,6 +20,7 @@
 
 #include "lib/camera.h"
 #include "lib/discrete_channels.h"
+#include "lib/discrete_error_bound.h"
 #include "lib/discrete_raycast.h"
 #include "lib/reference_channels.h"
 #include "lib/gate.h"

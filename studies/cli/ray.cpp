@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "lib/discrete_channels.h"
+#include "lib/discrete_error_bound.h"
 #include "lib/rays_file.h"
 #include "lib/reference_channels.h"
 #include "lib/util/parallel.h"
@@ -38,6 +39,7 @@ struct RayOptions {
   int threads = 0;
   bool quiet = false;
   std::string mode;  // --mode: a projection instead of emission-absorption
+  bool bound = false;  // --bound: the discrete raycast's a-priori error bound beside its value
   std::optional<ProjectionSetup> projection;
   DiscreteOptions discrete;
   CLI::Option* tol_option = nullptr;
@@ -105,9 +107,26 @@ Answer answer(const Scene& scene, const Ray& ray, const RayOptions& opt,
   if (scene.color)
     return discrete ? color_discrete_answer(scene, ray, *discrete)
                     : color_reference_answer(integrate_color_reference(scene, ray, {opt.tol}));
-  if (discrete) return discrete_answer(discrete_raycast(scene, ray, *discrete));
+  if (discrete) {
+    Answer a = discrete_answer(discrete_raycast(scene, ray, *discrete));
+    if (opt.bound) a.json["error_bound"] = finite_or_null(discrete_error_bound(scene, ray, *discrete).bound);
+    return a;
+  }
   return reference_answer(integrate_reference(scene, ray, {opt.tol}));
 }
+
+// --bound asks for a grey discrete raycast the bound covers (lib/discrete_error_bound.h): refused
+// before anything runs otherwise, with the reason.
+void check_bound_request(const Scene& scene, const RayOptions& opt, const std::optional<DiscreteConfig>& discrete) {
+  if (!opt.bound) return;
+  if (opt.projection || !discrete)
+    throw std::invalid_argument("--bound: applies to a discrete raycast (--method), not to the reference or --mode");
+  if (const std::string why = why_no_error_bound(scene, *discrete); !why.empty())
+    throw std::invalid_argument(fmt::format("--bound: no a-priori bound is derived for {} (docs/error-bounds.md)", why));
+}
+
+// The bound costs about kErrorBoundEvaluationsPerSegment field evaluations per sample more.
+double work_factor(const RayOptions& opt) { return opt.bound ? 1 + kErrorBoundEvaluationsPerSegment : 1; }
 
 void print_text(const Answer& a, const std::optional<DiscreteConfig>& discrete) {
   const auto& j = a.json;
@@ -128,6 +147,7 @@ void print_text(const Answer& a, const std::optional<DiscreteConfig>& discrete) 
   fmt::print("value          {}\n", numbers(j["value"], "{:.17g}"));
   if (discrete) {
     fmt::print("samples        {}\n", j["samples"].get<long>());
+    if (j.contains("error_bound")) fmt::print("error_bound    {:.3g}\n", j["error_bound"].get<double>());
     return;
   }
   fmt::print("error_estimate {}\nevaluations    {}\n", numbers(j["error_estimate"], "{:.3g}"),
@@ -176,7 +196,7 @@ std::vector<RayLine> read_rays_input(const std::string& path) {
 // 100,000, which are then estimated exactly), the rest estimated from the file's size.  Standard input and devices are checked once read (they cannot
 // be read twice).
 void refuse_long_rays_file(const Scene& scene, const RayOptions& opt, const std::optional<DiscreteConfig>& discrete) {
-  const double per_ray = diagonal_work(discrete, opt.tol, scene);
+  const double per_ray = diagonal_work(discrete, opt.tol, scene) * work_factor(opt);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(opt.rays, ec) || !(per_ray > 0)) return;  // /dev/zero never ends
   std::ifstream in(opt.rays, std::ios::binary);
@@ -197,7 +217,8 @@ void run_rays(const Scene& scene, const RayOptions& opt, const std::optional<Dis
   refuse_long_rays_file(scene, opt, discrete);
   const std::vector<RayLine> rays = read_rays_input(opt.rays);
   const long n = static_cast<long>(rays.size());
-  const double work = estimate_work(discrete, opt.tol, scene, n, [&](long i) { return rays[i].ray; });
+  const double work =
+      estimate_work(discrete, opt.tol, scene, n, [&](long i) { return rays[i].ray; }) * work_factor(opt);
   if (work > opt.discrete.max_work) refuse_rays_file(opt, discrete.has_value(), n, work, "");
   std::vector<Answer> answers(rays.size());
   {
@@ -245,7 +266,8 @@ void run_one(const Scene& scene, const RayOptions& opt, const std::optional<Disc
   if (opt.threads_option->count() > 0)
     throw std::invalid_argument("--threads: applies to --rays only (one ray runs on one thread)");
   const Ray ray = ray_from_options(opt);
-  const double work = check_work(opt.discrete, discrete, opt.tol, scene, 1, [&](long) { return ray; });
+  const double work = estimate_work(discrete, opt.tol, scene, 1, [&](long) { return ray; }) * work_factor(opt);
+  if (work > opt.discrete.max_work) refuse_work(opt.discrete, discrete.has_value(), work, 1);
   if (work > 1e8 && !opt.quiet && isatty(STDERR_FILENO))  // one ray has no progress steps
     std::cerr << fmt::format("vrv ray: about {:.3g} field evaluations...\n", work);
   const Answer a = answer(scene, ray, opt, discrete);
@@ -287,6 +309,7 @@ void run_ray(RayOptions& opt) {
   if (opt.projection) require_grey(scene, opt.scene, "vrv ray --mode");
   // A projection's work is estimated as the emission-absorption cast's of the same sampling.
   const auto discrete = opt.projection ? opt.projection->work : discrete_config(opt.discrete, scene);
+  check_bound_request(scene, opt, discrete);
   if (!opt.rays.empty()) run_rays(scene, opt, discrete);
   else run_one(scene, opt, discrete);
 }
@@ -315,6 +338,9 @@ void add_ray_command(CLI::App& app) {
       "--threads", opt->threads, "Threads for --rays (default: all cores); results do not depend on it");
   cmd->add_flag("--quiet", opt->quiet, "No progress bar on stderr");
   add_discrete_options(*cmd, opt->discrete);
+  cmd->add_flag("--bound", opt->bound,
+                "With --method: also the raycast's a-priori error bound, |value - I| <= error_bound "
+                "(docs/error-bounds.md; about 18 field evaluations per sample)");
   add_mode_option(*cmd, opt->mode);
   cmd->callback([opt] { run_ray(*opt); });
 }

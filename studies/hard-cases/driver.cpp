@@ -14,17 +14,25 @@ namespace vrv {
 
 std::vector<StudyCheck> hard_case_checks(const HardCasesResult& result) {
   std::vector<StudyCheck> checks;
-  // A row with a bound (the reference's own estimate, or a stated max_error whose derivation is
-  // next to it in the study file) checks the error against it; a row without one is a
-  // finiteness check only, says so and is labelled `finite` (not `derived`: nothing is derived).
+  // A row with a bound (the reference's own estimate, a stated max_error whose derivation is next
+  // to it in the study file, or the rule's a-priori bound) checks the error against it; a row
+  // without one is a finiteness check only, says so and is labelled `finite`.
   for (const CaseRow& r : result.cases) {
     const bool bounded = std::isfinite(r.bound);
-    std::string detail = !r.finite  ? std::string("value not finite")
-                         : r.reference ? "error against the truth within the reference's own estimate (+ the truth's), "
-                                         "estimate within its tol"
-                         : bounded     ? "error against the reference within the stated max_error (derived in the file)"
-                                       : fmt::format("finiteness only: no error bound stated (error {:.3g}, recorded "
-                                                     "in cases.csv)", r.error);
+    std::string detail;
+    if (!r.finite) {
+      detail = "value not finite";
+    } else if (r.bound_source == BoundSource::reference) {
+      detail = "error against the truth within the reference's own estimate (+ the truth's), estimate within its tol";
+    } else if (r.bound_source == BoundSource::stated) {
+      detail = "error against the reference within the stated max_error (derived in the file)";
+    } else if (r.bound_source == BoundSource::a_priori) {
+      detail = "error against the truth within the rule's a-priori bound (+ the truth's estimate; "
+               "lib/discrete_error_bound.h)";
+    } else {
+      detail = fmt::format("finiteness only: no error bound stated or derived (error {:.3g}, recorded in cases.csv)",
+                           r.error);
+    }
     checks.push_back({fmt::format("{} / {}{}", r.case_name, r.method, bounded || !r.finite ? "" : ": finite"),
                       r.error, r.bound, r.pass, std::move(detail),
                       bounded || !r.finite ? CheckKind::derived : CheckKind::finite});

@@ -37,13 +37,19 @@ struct HardCasesStudy {
   std::vector<HardCase> cases;
 };
 
+// Where a row's bound comes from.
+enum class BoundSource { reference, stated, a_priori, none };
+
 // One row of a hard-cases study: one method on one case.
 struct CaseRow {
   std::string case_name, method;
   bool reference = false;
   double value = 0;
   double error = 0;   // |value - reference at reference_tol|
-  double bound = 0;   // reference: its error_estimate; discrete: max_error, or NaN (none stated)
+  // reference: its error_estimate; discrete: the stated max_error, else the a-priori bound
+  // (lib/discrete_error_bound.h) where one is derived, else NaN.
+  double bound = 0;
+  BoundSource bound_source = BoundSource::none;
   bool finite = false;
   long samples = 0;   // discrete: field samples; reference: field evaluations
   bool pass = false;
@@ -72,7 +78,8 @@ HardCasesStudy load_hard_cases_study(const std::filesystem::path& path);
 // Per case the truth (reference at reference_tol), then every (case, method) in parallel, each
 // into its own slot.  quick runs the same cases (they are cheap).  A case passes when every row
 // is finite and, for reference rows, error <= error_estimate + truth's estimate and
-// error_estimate <= tol, and, for discrete rows with max_error, error <= max_error.
+// error_estimate <= tol, for discrete rows with max_error, error <= max_error, and for discrete
+// rows with an a-priori bound, error <= bound + truth's estimate.
 // checkpoint (studies/engine/checkpoint.h): each case's truth and each (case, method) row.
 // Field evaluations of the run (the same for --quick), on each case's own ray.
 StudyWork hard_cases_work(const HardCasesStudy& study);
@@ -94,8 +101,8 @@ void write_hard_case_tables(const std::filesystem::path& dir, const HardCasesStu
                             const HardCasesResult& result);
 nlohmann::json case_summary_json(const HardCasesResult& result);
 
-// One check per (case, method): against the reference's own estimate or the stated max_error
-// (kind derived), or, with no bound stated, that the value is finite (kind finite).
+// One check per (case, method): against the reference's own estimate, the stated max_error or the
+// a-priori bound (kind derived), or, with none of them, that the value is finite (kind finite).
 std::vector<StudyCheck> hard_case_checks(const HardCasesResult& result);
 
 }  // namespace vrv

@@ -330,16 +330,32 @@ py::dict discrete_projection(const Scene& scene, const Points& origins, const Po
   return out;
 }
 
+// bound=True (taken out of kw): the a-priori error bound beside the value, as `vrv ray --bound`.
+bool take_bound(py::dict& kw) {
+  if (!kw.contains("bound")) return false;
+  const py::object value = kw["bound"];
+  PyDict_DelItemString(kw.ptr(), "bound");
+  if (!py::isinstance<py::bool_>(value)) throw std::invalid_argument("bound: must be True or False");
+  return value.cast<bool>();
+}
+
 py::dict discrete(const Scene& scene, const Points& origins, const Points& directions,
                   const py::kwargs& given) {
   py::dict kw;
   const std::optional<ProjectionMode> mode = mode_keyword(take_mode(given, kw));
+  const bool bound = take_bound(kw);
+  if (mode && bound) throw std::invalid_argument("bound: applies to emission-absorption, not to mode=...");
   if (mode) return discrete_projection(scene, origins, directions, *mode, kw);
   const auto keywords = discrete_keywords(scene, kw);
   const auto& config = keywords->config;
   if (!config) throw std::invalid_argument("--method: required (riemann, alpha, trapezoid, exact_linear, moreland)");
+  if (bound)
+    if (const std::string why = why_no_error_bound(scene, *config); !why.empty())
+      throw std::invalid_argument(fmt::format("bound: no a-priori bound is derived for {} (docs/error-bounds.md)", why));
   const std::vector<Ray> rays = make_rays(origins, directions);
-  cli::check_work(keywords->options, config, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; });
+  const double work = cli::estimate_work(config, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; }) *
+                      (bound ? 1 + kErrorBoundEvaluationsPerSegment : 1);
+  if (work > keywords->options.max_work) cli::refuse_work(keywords->options, true, work, static_cast<long>(rays.size()));
   const auto shape = leading_shape(origins, "origins");
   py::dict out;
   if (scene.color) {  // each channel cast alone: value (..., 3), samples summed over the channels
@@ -351,6 +367,16 @@ py::dict discrete(const Scene& scene, const Points& origins, const Points& direc
   const std::vector<DiscreteResult> r = interruptible([&] { return discrete_values(scene, rays, *config); });
   out["value"] = filled<double>(shape, r.size(), [&](auto i) { return r[i].value; });
   out["samples"] = filled<long>(shape, r.size(), [&](auto i) { return r[i].samples; });
+  if (bound) {
+    const std::vector<double> b = interruptible([&] {
+      std::vector<double> bounds(rays.size());
+      parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
+        bounds[static_cast<std::size_t>(i)] = discrete_error_bound(scene, rays[static_cast<std::size_t>(i)], *config).bound;
+      });
+      return bounds;
+    });
+    out["error_bound"] = filled<double>(shape, b.size(), [&](auto i) { return b[i]; });
+  }
   return out;
 }
 
@@ -658,7 +684,8 @@ PYBIND11_MODULE(vrv, m) {
       .def("discrete", &discrete, py::arg("origins"), py::arg("directions"),
            "A discrete raycast along rays: method=..., and the options of `vrv ray` "
            "(strategy, rate, step, oversample, correction, ...) and max_work (default 1e9 samples, "
-           "as --max-work); a dict of arrays value, samples; with mode='xray' | ... | 'mip_classified' "
+           "as --max-work); a dict of arrays value, samples, and with bound=True error_bound, the "
+           "a-priori bound |value - I| <= error_bound (docs/error-bounds.md; as `vrv ray --bound`); with mode='xray' | ... | 'mip_classified' "
            "the discrete projection (method riemann, trapezoid, simpson; max for MIP; strategy, rate, "
            "step), MIP adding position; an RGB scene's value has a trailing axis of 3, each channel "
            "cast alone, samples summed")

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "lib/discrete_error_bound.h"
 #include "lib/util/parallel.h"
 #include "tests/studies/engine/bad_study_file.h"
 
@@ -47,8 +48,9 @@ TEST(HardCases, HardCasesQuickPassesAndItsTablesHaveNoNan) {
   EXPECT_EQ(one, two);
 }
 
-// A discrete row with no stated bound is a finiteness check and is labelled `finite`, never
-// `derived`; a stated max_error and the reference's own estimate are `derived` (issue 29).
+// A discrete row with no bound (stated or a-priori) is a finiteness check and is labelled `finite`,
+// never `derived`; a stated max_error, the a-priori bound and the reference's own estimate are
+// `derived` (issue 29).
 TEST(HardCases, RowsWithoutABoundAreLabelledFiniteNotDerived) {
   const HardCasesStudy study = load_hard_cases_study(kHardCases);
   const HardCasesResult r = run_hard_cases(study, /*progress=*/false);
@@ -63,6 +65,25 @@ TEST(HardCases, RowsWithoutABoundAreLabelledFiniteNotDerived) {
   }
   EXPECT_GT(finite, 0);  // the committed study has both kinds of row
   EXPECT_GT(derived, 0);
+}
+
+// Every discrete row without a stated max_error whose configuration the a-priori bound covers is
+// checked against it (issue 29); those left `finite` are the ones it does not cover.
+TEST(HardCases, DiscreteRowsUseTheAPrioriBoundWhereItExists) {
+  const HardCasesStudy study = load_hard_cases_study(kHardCases);
+  const HardCasesResult r = run_hard_cases(study, /*progress=*/false);
+  std::size_t j = 0, a_priori = 0;
+  for (const HardCase& c : study.cases)
+    for (const HardCaseMethod& m : c.methods) {
+      const CaseRow& row = r.cases[j++];
+      if (m.reference || m.max_error) continue;
+      const bool covered = discrete_error_bound(c.scene, make_ray(c.origin, c.direction), m.config).available();
+      EXPECT_EQ(row.bound_source, covered ? BoundSource::a_priori : BoundSource::none) << row.case_name << " " << row.method;
+      if (!covered) continue;
+      ++a_priori;
+      EXPECT_TRUE(row.pass) << row.case_name << " " << row.method;
+    }
+  EXPECT_GE(a_priori, 15u);
 }
 
 // The parser under test, for bad_study_file.h's helpers.

@@ -67,6 +67,25 @@ def test_discrete_is_bitwise_vrv_ray_method(tmp_path):
         assert (r["value"][i], r["samples"][i]) == (line["value"], line["samples"])
 
 
+def test_discrete_bound_is_vrv_ray_bound_and_holds(tmp_path):
+    """bound=True: the a-priori bound per ray, bitwise `vrv ray --bound`, and above the error against
+    the reference (docs/error-bounds.md); refused with the reason where none is derived."""
+    scene = vrv.Scene.default()
+    options = dict(method="trapezoid", strategy="step", step=0.02)
+    r = scene.discrete(ORIGINS, DIRECTIONS, bound=True, **options)
+    lines = cli_rays(tmp_path, "--bound", *[f"--{k}={v}" for k, v in options.items()])
+    assert list(r["error_bound"]) == [line["error_bound"] for line in lines]
+    reference = scene.reference(ORIGINS, DIRECTIONS, tol=1e-13)
+    error = np.abs(r["value"] - reference["value"])
+    assert np.all(error <= r["error_bound"] + reference["error_estimate"])
+    assert r["error_bound"][3] == 0  # the miss: the background, exactly
+    assert "error_bound" not in scene.discrete(ORIGINS, DIRECTIONS, **options)
+    with pytest.raises(ValueError, match=r"^bound: no a-priori bound is derived for oversampling"):
+        scene.discrete(ORIGINS, DIRECTIONS, method="alpha", step=0.02, oversample=4, bound=True)
+    with pytest.raises(ValueError, match=r"^bound: must be True or False"):
+        scene.discrete(ORIGINS, DIRECTIONS, method="alpha", step=0.02, bound=1)
+
+
 def test_opacity_colour_conventions_are_bitwise_vrv_ray(tmp_path):
     """The renderer conventions of `vrv ray` (--opacity-unit, --color, --table-size, --table-lookup)
     as keywords, named as on the command line."""
