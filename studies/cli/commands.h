@@ -12,5 +12,6 @@ void add_export_command(CLI::App& app);
 void add_verify_command(CLI::App& app);
 void add_gate_command(CLI::App& app);
 void add_scene_command(CLI::App& app);
+void add_plan_command(CLI::App& app);
 
 }  // namespace vrv::cli

@@ -120,6 +120,7 @@ int main(int argc, char** argv) {
   vrv::cli::add_ray_command(app);
   vrv::cli::add_render_command(app);
   vrv::cli::add_study_command(app);
+  vrv::cli::add_plan_command(app);
   vrv::cli::add_export_command(app);
   vrv::cli::add_verify_command(app);
   vrv::cli::add_gate_command(app);

@@ -26,6 +26,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "lib/discrete_plan.h"
 #include "lib/image_loop.h"  // pixel_ray
 #include "lib/io/npy.h"
 #include "lib/io/output_paths.h"
@@ -575,6 +576,15 @@ std::string python_call(const std::vector<double>& steps, std::optional<double> 
 // `vrv verify` in-process: the report as a dict (the JSON line `vrv verify` prints: to_json of
 // lib/verify.h, with the bounds' rows and `pass` including them when a bounds file is given),
 // and its files written into `out` when given, with the plot unless `plots` is false.
+// vrv.plan: `vrv plan` in-process (lib/discrete_plan.h), its JSON as Python objects.
+py::object plan_py(const Scene& scene, double target, const std::string& metric, const std::string& rules,
+                   const std::string& strategy, int width, int height, double max_work) {
+  const PlanOptions options = plan_options(target, metric, rules, strategy, max_work);
+  const Camera camera = scene_camera(scene, width, height);
+  const DiscretePlan plan = interruptible([&] { return plan_discrete(scene, camera, options); });
+  return py::module_::import("json").attr("loads")(to_json(plan).dump());
+}
+
 py::object verify_py(const Scene& scene, const py::sequence& images, const std::vector<double>& steps,
                      std::optional<double> expected_order, double order_tolerance,
                      const std::string& order_metric, double tol, std::optional<double> threshold,
@@ -697,6 +707,13 @@ PYBIND11_MODULE(vrv, m) {
            "version (as `discrete`); (height, width, 3) for an RGB scene")
       .def("rays", &rays, py::arg("width") = py::none(), py::arg("height") = py::none(),
            "The scene camera's rays: (origins, directions), each (height, width, 3)");
+  m.def("plan", &plan_py, py::arg("scene"), py::arg("target"), py::kw_only(), py::arg("metric") = "max",
+        py::arg("rules") = "riemann,alpha,trapezoid,exact_linear", py::arg("strategy") = "step", py::arg("width") = 32,
+        py::arg("height") = 32, py::arg("max_work") = 1e9,
+        "`vrv plan` in-process: per rule the largest step whose estimated error (max or rms over the scene camera's "
+        "width x height pixels) is within `target`, predicted before rendering (docs/error-bounds.md); a dict with "
+        "`ranked` (cheapest first: rule, strategy, step, estimated_error, met, samples_per_ray, seconds_per_sample, "
+        "seconds) and `evaluations`");
   m.def("verify", &verify_py, py::arg("scene"), py::arg("images"), py::arg("steps"), py::kw_only(),
         py::arg("expected_order") = py::none(), py::arg("order_tolerance") = 0.25,
         py::arg("order_metric") = "rms", py::arg("tol") = 1e-10, py::arg("threshold") = py::none(),

@@ -12,80 +12,18 @@
 #include <gtest/gtest.h>
 
 #include "lib/discrete_error_bound.h"
+#include "tests/lib/discrete_error_scenes.h"
 #include "lib/reference_integrator.h"
 #include "lib/vrv.h"
 
 namespace vrv::discrete_error_bound_test {
 
-std::string scene_text(const std::string& field, const std::string& transfer, double background = 0) {
-  return fmt::format(R"([volume]
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 1.0, 1.0]
-dims = [32, 32, 32]
-[field]
-{}
-[transfer]
-{}
-[background]
-intensity = {}
-)",
-                     field, transfer, background);
-}
+using discrete_error_scenes::Case;
+using discrete_error_scenes::cases;
+using discrete_error_scenes::config;
+using discrete_error_scenes::scene_text;
 
-// The hard-cases study's transfer function: kinks at 0.3, 0.4, 0.5, 0.7 (scaled extinction).
-std::string kinked(double extinction_scale) {
-  return fmt::format("emission = [[0.0, 0.0], [0.3, 0.1], [0.5, 1.0], [0.7, 0.2], [1.0, 0.5]]\n"
-                     "extinction = [[0.0, 0.0], [0.4, {}], [1.0, {}]]",
-                     0.8 * extinction_scale, 0.3 * extinction_scale);
-}
-constexpr const char* kJump = "emission = [[0.0, 0.1], [0.45, 0.1], [0.45, 0.9], [1.0, 0.9]]\n"
-                              "extinction = [[0.0, 0.5], [0.6, 0.5], [0.6, 2.0], [1.0, 2.0]]";
-
-constexpr const char* kGrid = "kind = \"grid\"\nresolution = [20, 20, 20]\n[field.source]\nkind = \"marschner_lobb\"";
-
-constexpr const char* kNearest =
-    "kind = \"grid\"\nresolution = [20, 20, 20]\ninterpolation = \"nearest\"\n[field.source]\nkind = \"marschner_lobb\"";
-
-struct Case {
-  std::string name;
-  std::string text;
-};
-
-std::vector<Case> cases() {
-  return {
-      {"ml_kinked", scene_text("kind = \"marschner_lobb\"", kinked(1))},
-      {"ml_thick", scene_text("kind = \"marschner_lobb\"", kinked(200))},
-      {"ml_thin", scene_text("kind = \"marschner_lobb\"", kinked(1e-9), 0.25)},
-      {"ml_jump", scene_text("kind = \"marschner_lobb\"", kJump, 0.5)},
-      {"grid_kinked", scene_text(kGrid, kinked(1))},
-      {"nearest_jump", scene_text(kNearest, kJump)},
-      {"ramp_jump", scene_text("kind = \"linear_ramp\"\ngradient = [0.3, 0.2, 0.1]\noffset = 0.5", kJump)},
-  };
-}
-
-DiscreteConfig config(SegmentRule rule, Strategy strategy, double step_or_rate) {
-  DiscreteConfig c;
-  c.rule = rule;
-  c.sampling.strategy = strategy;
-  c.sampling.dims = {32, 32, 32};
-  (strategy == Strategy::step || strategy == Strategy::vtk || strategy == Strategy::inviwo ? c.sampling.step
-                                                                                          : c.sampling.rate) =
-      step_or_rate;
-  return c;
-}
-
-// Origins on a sphere of radius 3 aimed at uniform points of the box (every ray hits it); fixed seed.
-std::vector<Ray> rays() {
-  std::mt19937_64 rng(29);
-  std::normal_distribution<double> normal;
-  std::uniform_real_distribution<double> inside(-1, 1);
-  std::vector<Ray> out;
-  for (int i = 0; i < 40; ++i) {
-    const Vec3 o = 3 * Vec3(normal(rng), normal(rng), normal(rng)).normalized();
-    out.push_back(make_ray(o, Vec3(inside(rng), inside(rng), inside(rng)) - o));
-  }
-  return out;
-}
+std::vector<Ray> rays() { return discrete_error_scenes::rays(40, 29); }
 
 struct Measured {
   double error = 0, bound = 0;

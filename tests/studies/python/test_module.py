@@ -86,6 +86,29 @@ def test_discrete_bound_is_vrv_ray_bound_and_holds(tmp_path):
         scene.discrete(ORIGINS, DIRECTIONS, method="alpha", step=0.02, bound=1)
 
 
+def test_plan_is_vrv_plan_and_its_choice_meets_the_target():
+    """vrv.plan: the rules `vrv plan --json` ranks, at the same steps; the chosen step's image meets
+    the target against the reference (docs/error-bounds.md)."""
+    scene = vrv.Scene.default()
+    p = vrv.plan(scene, 1e-3, width=12, height=12)
+    code, out, err = cli("plan", "--target", "1e-3", "--width", "12", "--height", "12", "--json")
+    assert code == 0, err
+    cli_plan = json.loads(out)
+    # The steps are the same; the order may differ where two rules' measured seconds are close.
+    assert sorted((r["rule"], r["step"]) for r in p["ranked"]) == sorted((r["rule"], r["step"]) for r in cli_plan["ranked"])
+    chosen = p["ranked"][0]
+    assert chosen["met"]
+    origins, directions = scene.rays(width=12, height=12)
+    reference = scene.reference(origins, directions, tol=1e-12)["value"]
+    image = scene.discrete(origins, directions, method=chosen["rule"], strategy=chosen["strategy"],
+                           step=chosen["step"])["value"]
+    assert np.max(np.abs(image - reference)) <= 1e-3
+    with pytest.raises(ValueError, match=r"^--metric: unknown value 'p99'"):
+        vrv.plan(scene, 1e-3, metric="p99")
+    with pytest.raises(ValueError, match=r"^--rules: no estimate is made for rule moreland"):
+        vrv.plan(scene, 1e-3, rules="moreland")
+
+
 def test_opacity_colour_conventions_are_bitwise_vrv_ray(tmp_path):
     """The renderer conventions of `vrv ray` (--opacity-unit, --color, --table-size, --table-lookup)
     as keywords, named as on the command line."""

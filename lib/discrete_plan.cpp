@@ -1,0 +1,200 @@
+#include "lib/discrete_plan.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "lib/discrete_error_bound.h"
+#include "lib/discrete_error_estimate.h"
+#include "lib/util/parallel.h"
+#include "lib/vrv.h"
+#include "lib/work_estimate.h"
+
+namespace vrv {
+
+void validate(const PlanOptions& o) {
+  if (!(o.target > 0) || !std::isfinite(o.target))
+    throw std::invalid_argument(fmt::format("--target: must be a positive finite error, got {}", o.target));
+  if (o.metric != Metric::max && o.metric != Metric::rms)
+    throw std::invalid_argument(fmt::format("--metric: max or rms, got {}", metric_name(o.metric)));
+  if (o.rules.empty()) throw std::invalid_argument("--rules: at least one rule");
+  if (o.strategy != Strategy::step && o.strategy != Strategy::vtk && o.strategy != Strategy::inviwo)
+    throw std::invalid_argument(
+        fmt::format("--strategy: a step-based placement (step, vtk, inviwo), got {}", strategy_name(o.strategy)));
+  if (!(o.max_work > 0)) throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", o.max_work));
+}
+
+PlanOptions plan_options(double target, std::string_view metric, std::string_view rules, std::string_view strategy,
+                         double max_work) {
+  PlanOptions p;
+  p.target = target;
+  p.max_work = max_work;
+  const auto m = parse_metric(metric);
+  if (!m || (*m != Metric::max && *m != Metric::rms))
+    throw std::invalid_argument(fmt::format("--metric: unknown value '{}' (max or rms)", metric));
+  p.metric = *m;
+  p.rules.clear();
+  for (std::size_t start = 0; start <= rules.size();) {
+    const std::size_t comma = std::min(rules.find(',', start), rules.size());
+    const std::string_view name = rules.substr(start, comma - start);
+    const auto rule = parse_segment_rule(name);
+    if (!rule)
+      throw std::invalid_argument(fmt::format("--rules: unknown rule '{}' (riemann, alpha, trapezoid, exact_linear)", name));
+    p.rules.push_back(*rule);
+    start = comma + 1;
+  }
+  const auto s = parse_strategy(strategy);
+  if (!s) throw std::invalid_argument(fmt::format("--strategy: unknown value '{}' (step, vtk, inviwo)", strategy));
+  p.strategy = *s;
+  validate(p);
+  return p;
+}
+
+namespace {
+
+struct ImageEstimate {
+  double step = 0, error = 0, samples_per_ray = 0;
+};
+
+ImageEstimate estimate_image(const Scene& scene, const std::vector<Ray>& rays, const DiscreteConfig& config,
+                             Metric metric, long& evaluations) {
+  std::vector<double> errors(rays.size());
+  std::vector<long> work(rays.size()), samples(rays.size());
+  parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
+    const auto k = static_cast<std::size_t>(i);
+    const DiscreteErrorEstimate e = estimate_discrete_error(scene, rays[k], config);
+    errors[k] = e.error;
+    work[k] = e.evaluations;
+    samples[k] = static_cast<long>(discrete_samples(config, scene, rays[k]));
+  });
+  ErrorSums sums;
+  double total = 0;
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    sums.add(errors[k]);
+    evaluations += work[k];
+    total += static_cast<double>(samples[k]);
+  }
+  return {config.sampling.step, metric_value(sums.stats(), metric), total / static_cast<double>(rays.size())};
+}
+
+// Seconds per sample of the rule at this step, from one render of the camera.
+double seconds_per_sample(const Scene& scene, const Camera& camera, const DiscreteConfig& config) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const ValueImage image = render_discrete_image(scene, camera, config);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return image.work > 0 ? seconds / static_cast<double>(image.work) : 0.0;
+}
+
+// Field evaluations of an image estimate at this step, at most: every ray as long as the box's
+// diagonal, each segment's proxy and sample.
+double estimate_work(std::size_t rays, double longest, double step) {
+  return static_cast<double>(rays) * (longest / step + 2) * (1 + kErrorBoundEvaluationsPerSegment);
+}
+
+// The largest step whose estimate meets the target, as a brute-force search would find it on a
+// ladder of steps (errors are not monotone in the step where samples meet breakpoints): down from
+// half the box's diagonal by factors of kLadder until one meets it, then bisected (in log h)
+// against the step above it.
+PlannedRule plan_rule(const Scene& scene, const std::vector<Ray>& rays, SegmentRule rule, const PlanOptions& o,
+                      long& evaluations) {
+  constexpr double kLadder = 1.25;
+  constexpr int kBisections = 4;
+  // The estimate misses by a few percent where the steps resolve the field and by more at a few
+  // samples per ray (3% at 12 per ray, tests/lib/discrete_error_estimate_test.cpp): a step is taken
+  // where its estimate is within this share of the target.
+  constexpr double kMargin = 0.9;
+  const double aim = kMargin * o.target;
+  PlannedRule out;
+  out.config.rule = rule;
+  out.config.sampling.strategy = o.strategy;
+  out.config.sampling.dims = scene.dims;
+  const auto at = [&](double step) {
+    DiscreteConfig c = out.config;
+    c.sampling.step = step;
+    ++out.estimates;
+    return estimate_image(scene, rays, c, o.metric, evaluations);
+  };
+  const double longest = (scene.box.max - scene.box.min).norm();
+  std::optional<ImageEstimate> met, last;
+  for (double step = longest / 2; estimate_work(rays.size(), longest, step) <= o.max_work; step /= kLadder) {
+    const ImageEstimate e = at(step);
+    if (e.error <= aim) {
+      met = e;
+      break;
+    }
+    last = e;
+  }
+  if (met && last) {
+    double above = last->step;
+    for (int i = 0; i < kBisections; ++i) {
+      const ImageEstimate e = at(std::sqrt(met->step * above));
+      (e.error <= aim ? met : last) = e;
+      above = last->step;
+    }
+  }
+  if (!met && !last)
+    throw std::invalid_argument(fmt::format("--max-work: one estimate of this camera takes about {:.3g} field "
+                                            "evaluations, above {:.3g}; make the camera smaller or allow it with --max-work",
+                                            estimate_work(rays.size(), longest, longest / 2), o.max_work));
+  const ImageEstimate chosen = met ? *met : *last;
+  out.met = met.has_value();
+  out.config.sampling.step = chosen.step;
+  out.estimated_error = chosen.error;
+  out.samples_per_ray = chosen.samples_per_ray;
+  return out;
+}
+
+}  // namespace
+
+DiscretePlan plan_discrete(const Scene& scene, const Camera& camera, const PlanOptions& options) {
+  validate(options);
+  require_grey(scene, "the scene", "vrv plan");
+  DiscretePlan plan;
+  const std::vector<Ray> rays = camera_rays(camera);
+  const Vec3 extent = scene.box.max - scene.box.min;
+  // A voxel of the scene's nominal grid: a cheap step for the warm-up render.
+  const double voxel = std::min({extent.x() / scene.dims[0], extent.y() / scene.dims[1], extent.z() / scene.dims[2]});
+  // The first render of a process also starts TBB's threads: not a cost of the first rule.
+  DiscreteConfig warm;
+  warm.sampling.strategy = Strategy::step;
+  warm.sampling.step = voxel;
+  render_discrete_image(scene, camera, warm);
+  for (SegmentRule rule : options.rules) {
+    DiscreteConfig probe;
+    probe.rule = rule;
+    if (const std::string why = why_no_error_bound(scene, probe); !why.empty())
+      throw std::invalid_argument(fmt::format("--rules: no estimate is made for {} (docs/error-bounds.md)", why));
+    PlannedRule r = plan_rule(scene, rays, rule, options, plan.evaluations);
+    r.seconds_per_sample = seconds_per_sample(scene, camera, r.config);
+    r.seconds = r.samples_per_ray * static_cast<double>(rays.size()) * r.seconds_per_sample;
+    plan.ranked.push_back(r);
+  }
+  std::stable_sort(plan.ranked.begin(), plan.ranked.end(), [](const PlannedRule& a, const PlannedRule& b) {
+    return a.met != b.met ? a.met : a.seconds < b.seconds;
+  });
+  return plan;
+}
+
+nlohmann::ordered_json to_json(const DiscretePlan& plan) {
+  nlohmann::ordered_json j;
+  j["ranked"] = nlohmann::ordered_json::array();
+  for (const PlannedRule& r : plan.ranked)
+    j["ranked"].push_back({{"rule", segment_rule_name(r.config.rule)},
+                           {"strategy", strategy_name(r.config.sampling.strategy)},
+                           {"step", r.config.sampling.step},
+                           {"estimated_error", r.estimated_error},
+                           {"met", r.met},
+                           {"samples_per_ray", r.samples_per_ray},
+                           {"seconds_per_sample", r.seconds_per_sample},
+                           {"seconds", r.seconds},
+                           {"estimates", r.estimates}});
+  j["evaluations"] = plan.evaluations;
+  return j;
+}
+
+}  // namespace vrv

@@ -1,0 +1,118 @@
+// vrv plan: which discrete raycast meets an error target on a scene's camera at the least cost,
+// predicted before anything is rendered (lib/discrete_plan.h); --check renders the chosen one and
+// its reference and compares the measured error with the prediction.
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "lib/discrete_plan.h"
+#include "lib/metrics.h"
+#include "lib/vrv.h"
+#include "studies/cli/cli_support.h"
+#include "studies/cli/commands.h"
+
+namespace vrv::cli {
+namespace {
+
+struct PlanCommandOptions {
+  std::string scene;
+  double target = 0;
+  std::string metric = "max";
+  std::string rules = "riemann,alpha,trapezoid,exact_linear";
+  std::string strategy = "step";
+  std::optional<int> width = 32, height = 32;
+  double max_work = 1e9;
+  bool check = false;
+  double tol = 1e-10;
+  bool json = false;
+};
+
+struct Check {
+  double measured = 0;
+  bool met = false;
+};
+
+// The chosen configuration's image against the reference, over the same pixels.
+Check check_plan(const Scene& scene, const Camera& camera, const PlannedRule& chosen, const PlanOptions& p, double tol) {
+  const ValueImage reference = render_reference_image(scene, camera, {tol});
+  const ValueImage discrete = render_discrete_image(scene, camera, chosen.config);
+  ErrorSums sums;
+  for (std::size_t i = 0; i < reference.values.size(); ++i) sums.add(discrete.values[i] - reference.values[i]);
+  const double measured = metric_value(sums.stats(), p.metric);
+  return {measured, measured <= p.target};
+}
+
+void run_plan(const PlanCommandOptions& o) {
+  const PlanOptions p = plan_options(o.target, o.metric, o.rules, o.strategy, o.max_work);
+  if (!(o.tol > 0) || !std::isfinite(o.tol)) throw std::invalid_argument(fmt::format("--tol: must be a positive finite number, got {}", o.tol));
+  const Scene scene = load_scene_or_default(o.scene);
+  require_grey(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv plan");
+  const Camera camera = scene_camera(scene, o.width, o.height);
+  const DiscretePlan plan = plan_discrete(scene, camera, p);
+  const PlannedRule& chosen = plan.ranked.front();
+  std::optional<Check> check;
+  if (o.check && chosen.met) check = check_plan(scene, camera, chosen, p, o.tol);
+  if (o.json) {
+    nlohmann::ordered_json j;
+    j["target"] = p.target;
+    j["metric"] = metric_name(p.metric);
+    j["pixels"] = camera.width * camera.height;
+    j.update(to_json(plan));
+    if (check) j["check"] = {{"measured_error", check->measured}, {"met", check->met}};
+    std::cout << j.dump() << '\n';
+  } else {
+    fmt::print("target: {} error {:g} over {}x{} pixels of the scene camera\n", metric_name(p.metric), p.target,
+               camera.width, camera.height);
+    fmt::print("{:<13} {:>11} {:>15} {:>12} {:>11} {:>11}  {}\n", "rule", "step", "estimated", "samples/ray",
+               "s/sample", "seconds", "met");
+    for (const PlannedRule& r : plan.ranked)
+      fmt::print("{:<13} {:>11.4g} {:>15.3g} {:>12.1f} {:>11.3g} {:>11.3g}  {}\n", segment_rule_name(r.config.rule),
+                 r.config.sampling.step, r.estimated_error, r.samples_per_ray, r.seconds_per_sample, r.seconds,
+                 r.met ? "yes" : "no");
+    if (chosen.met)
+      fmt::print("chosen: --method {} --strategy {} --step {:.6g}\n", segment_rule_name(chosen.config.rule),
+                 strategy_name(chosen.config.sampling.strategy), chosen.config.sampling.step);
+    if (check)
+      fmt::print("check: measured {} error {:.3g} (estimated {:.3g}): {}\n", metric_name(p.metric), check->measured,
+                 chosen.estimated_error, check->met ? "within the target" : "ABOVE the target");
+  }
+  std::cout << std::flush;
+  if (!chosen.met)
+    throw CommandFailed(kExitCheckFailed, fmt::format("vrv plan: no rule meets {} error {:g} within --max-work {:g}",
+                                                      metric_name(p.metric), p.target, p.max_work));
+  if (check && !check->met)
+    throw CommandFailed(kExitCheckFailed, fmt::format("vrv plan: --check: the measured {} error {:.3g} is above the "
+                                                      "target {:g}", metric_name(p.metric), check->measured, p.target));
+}
+
+}  // namespace
+
+void add_plan_command(CLI::App& app) {
+  auto opt = std::make_shared<PlanCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "plan", "Which discrete raycast meets an error target at the least cost, predicted before rendering");
+  cmd->footer(
+      "Per rule, the largest step whose estimated image error (docs/error-bounds.md, \"Estimates\") is within "
+      "--target over the camera's pixels, its samples per ray and measured seconds per sample; ranked cheapest "
+      "first.\nExit: 0; 1 no rule meets the target, or --check measured an error above it; 2 bad input.");
+  cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
+  cmd->add_option("--target", opt->target, "The error the image may have")->required();
+  cmd->add_option("--metric", opt->metric, "Over the pixels: max or rms")->capture_default_str();
+  cmd->add_option("--rules", opt->rules, "Rules to plan, comma-separated")->capture_default_str();
+  cmd->add_option("--strategy", opt->strategy, "A step-based placement: step, vtk or inviwo")->capture_default_str();
+  cmd->add_option("--width", opt->width, "Camera width (pixels)")->capture_default_str();
+  cmd->add_option("--height", opt->height, "Camera height (pixels)")->capture_default_str();
+  cmd->add_option("--max-work", opt->max_work, "Field evaluations one image estimate may take")->capture_default_str();
+  cmd->add_flag("--check", opt->check, "Render the chosen configuration and its reference; compare the errors");
+  cmd->add_option("--tol", opt->tol, "The reference's tolerance for --check")->capture_default_str();
+  cmd->add_flag("--json", opt->json, "One JSON line");
+  cmd->callback([opt] { run_plan(*opt); });
+}
+
+}  // namespace vrv::cli
