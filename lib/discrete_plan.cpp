@@ -154,6 +154,16 @@ PlannedRule plan_rule(const Scene& scene, const std::vector<Ray>& rays, SegmentR
 DiscretePlan plan_discrete(const Scene& scene, const Camera& camera, const PlanOptions& options) {
   validate(options);
   require_grey(scene, "the scene", "vrv plan");
+  // Everything asked is checked before any work: the scene, then each rule.
+  DiscreteConfig probe;
+  probe.sampling.strategy = options.strategy;
+  if (const std::string why = why_no_error_bound(scene, probe); !why.empty())
+    throw std::invalid_argument(fmt::format("the scene: no estimate is made for {} (docs/error-bounds.md)", why));
+  for (SegmentRule rule : options.rules) {
+    probe.rule = rule;
+    if (const std::string why = why_no_error_bound(scene, probe); !why.empty())
+      throw std::invalid_argument(fmt::format("--rules: no estimate is made for {} (docs/error-bounds.md)", why));
+  }
   DiscretePlan plan;
   const std::vector<Ray> rays = camera_rays(camera);
   const Vec3 extent = scene.box.max - scene.box.min;
@@ -165,10 +175,6 @@ DiscretePlan plan_discrete(const Scene& scene, const Camera& camera, const PlanO
   warm.sampling.step = voxel;
   render_discrete_image(scene, camera, warm);
   for (SegmentRule rule : options.rules) {
-    DiscreteConfig probe;
-    probe.rule = rule;
-    if (const std::string why = why_no_error_bound(scene, probe); !why.empty())
-      throw std::invalid_argument(fmt::format("--rules: no estimate is made for {} (docs/error-bounds.md)", why));
     PlannedRule r = plan_rule(scene, rays, rule, options, plan.evaluations);
     r.seconds_per_sample = seconds_per_sample(scene, camera, r.config);
     r.seconds = r.samples_per_ray * static_cast<double>(rays.size()) * r.seconds_per_sample;

@@ -286,6 +286,9 @@ expect_failure(plan_bad_rule "--rules: unknown rule 'simpson'" plan --target 1e-
 expect_failure(plan_moreland "--rules: no estimate is made for rule moreland" plan --target 1e-3 --rules moreland)
 expect_failure(plan_rate_strategy "--strategy: a step-based placement" plan --target 1e-3 --strategy entry_exit_corner)
 expect_failure(plan_work "--max-work" plan --target 1e-3 --max-work 10)
+file(WRITE ${OUT}/plan_opacity.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nopacity = [[0, 0], [1, 0.5]]\ncolor = [[0, 1], [1, 1]]\n")
+expect_failure(plan_opacity_scene "the scene: no estimate is made for an opacity/colour transfer function" plan
+  --scene ${OUT}/plan_opacity.toml --target 1e-3)
 expect_failure(correction_needs_alpha "--correction" ray --origin 0,0,0 --direction 1,0,0 --method riemann --correction lacroute)
 expect_failure(unknown_method "--method" ray --origin 0,0,0 --direction 1,0,0 --method simpson)
 expect_failure(vtk_needs_step "--step" ray --origin 0,0,0 --direction 1,0,0 --method riemann --strategy vtk)
