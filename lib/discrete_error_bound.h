@@ -26,23 +26,41 @@
 namespace vrv {
 
 struct DiscreteErrorBound {
-  // Why no bound is derived for this configuration (empty when one is): the bound covers plain
-  // double-precision raycasts (rules riemann, alpha, trapezoid, exact_linear; one sample per
-  // step; no correction, termination, skipping, tables or pre-classification; an
-  // emission/extinction transfer function; a strategy without a partial step).
+  // Why no bound is derived (empty when one is): an RGB scene, an opacity/colour transfer function,
+  // or a strategy with a partial step (why_no_error_bound).
   std::string unavailable;
   double bound = 0;      // |I - I_h| <= bound
   long segments = 0;     // segments of the rule (end gaps of the sample rules included)
   long smooth = 0;       // of which bounded through derivatives (the rest through oscillations)
   long evaluations = 0;  // field evaluations (the proxies and the samples)
+  // I_h - I_h(analysed_configuration): what the segment analysis leaves out, cast exactly (0 when
+  // the configuration is analysed as it is); the bound is the analysed one's plus |this|.
+  double cast_difference = 0;
   bool available() const { return unavailable.empty(); }
 };
+
+// The segments of lib/rule_segments.h are those of double-precision raycasts with rules riemann,
+// alpha, trapezoid or exact_linear, one sample per step, post-classification, no correction,
+// termination, skipping or tables.  For anything else the bound and the estimate analyse the
+// nearest such configuration -- the same placement with one sample per step N times shorter for N
+// oversamples, exact_linear for moreland (the same nodes), the rest dropped -- and add the exact
+// difference of the two raycasts: the opacity correction's mismatch (and the oversamples' offset
+// from the finer steps), the tables' quantisation, float's rounding, what termination and skipping
+// drop, moreland's average opacity.  Those terms do not shrink with the step, and a model of each
+// would approximate what one more raycast gives exactly.
+// outside_segment_analysis: empty when `config` is analysed as it is, else what is not.
+std::string outside_segment_analysis(const DiscreteConfig& config);
+DiscreteConfig analysed_configuration(const DiscreteConfig& config);
 
 // Throws what discrete_raycast throws for an invalid configuration.
 DiscreteErrorBound discrete_error_bound(const Scene& scene, const Ray& ray, const DiscreteConfig& config);
 
 // DiscreteErrorBound::unavailable for this scene and configuration, whatever the ray.
 std::string why_no_error_bound(const Scene& scene, const DiscreteConfig& config);
+
+// I_h(config) - I_h(base) on one ray, adding both raycasts' samples to `evaluations`.
+double cast_difference(const Scene& scene, const Ray& ray, const DiscreteConfig& config, const DiscreteConfig& base,
+                       long& evaluations);
 
 // Field evaluations per segment for the bound (an analytic field's 17-node proxy and the sample; a
 // field that needs longer proxies takes more): for work estimates.

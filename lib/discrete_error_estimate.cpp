@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <boost/math/quadrature/gauss.hpp>
@@ -100,6 +101,34 @@ LocalError smooth_segment(const RuleSegment& seg, const FieldOnSegment& on, cons
   return {e + (constant - seg.emission), tau2 * h3 / 24};
 }
 
+// sum |c_n|, n >= 4, of f's proxy on a smooth segment: the part of f the Taylor terms leave out
+// (a segment that needed more than one proxy has a feature shorter than itself: not resolved).
+double beyond_cubic(const FieldOnSegment& on) {
+  const RayPanel& p = on.panels.front();
+  double high = 0;
+  for (int n = 4; n < p.size(); ++n) high += std::abs(p.coefficients[n]);
+  return std::max(0.0, high - p.error - p.noise);  // the proxy's own error is not a feature
+}
+
+// One segment's terms of the error scale and of the neglected part: emission-like (times T_k) and
+// depth-like (times the light behind the segment, known at the end).
+struct SegmentScale {
+  double transmittance = 0, emission = 0;       // T_k, E_k T_k
+  double scale_e = 0, scale_d = 0, neglected_e = 0, neglected_d = 0;
+  bool resolved = true;
+};
+
+void add_scales(const std::vector<SegmentScale>& parts, double background_light, DiscreteErrorEstimate& out) {
+  double behind = background_light;
+  for (auto k = parts.rbegin(); k != parts.rend(); ++k) {
+    out.scale += k->scale_e * k->transmittance + k->scale_d * behind;
+    out.neglected += k->neglected_e * k->transmittance + k->neglected_d * behind;
+    behind += k->emission;
+    out.asymptotic = out.asymptotic && k->resolved;
+  }
+  out.asymptotic = out.asymptotic && out.neglected <= kAsymptoticShare * out.scale && out.thickest <= kAsymptoticDepth;
+}
+
 template <ScalarField F>
 DiscreteErrorEstimate estimate_for(const F& field, const Scene& scene, const Ray& ray, const DiscreteConfig& config) {
   DiscreteErrorEstimate out;
@@ -107,15 +136,28 @@ DiscreteErrorEstimate estimate_for(const F& field, const Scene& scene, const Ray
   if (!iv) return out;  // the raycast returns the background exactly
   const TransferFunction& tf = scene.transfer;
   double phi = 0, depth_error = 0, minus = 0;  // Phi^_k, D_k, I - I_h
+  double light = 0, light_depth = 0, discrete = 0;  // I from above (as the bound's), I_h
+  std::vector<SegmentScale> scales;
   const long samples = for_each_rule_segment(field, ray, tf, config, *iv, scene.box, [&](const RuleSegment& seg) {
     const double ia = std::max(seg.a, iv->t0), ib = std::min(seg.b, iv->t1);
     LocalError local;
+    SegmentScale part;
+    part.transmittance = std::exp(-phi);
     if (ib > ia) {
       const FieldOnSegment on = field_on(field, ray, ia, ib);
       out.evaluations += on.evaluations;
-      const bool smooth = !seg.gap && ia == seg.a && ib == seg.b && optics_on(tf, on, 0).smooth;
+      const OpticsOnSegment optics = optics_on(tf, on, 0);
+      light += optics.g.hi * (ib - ia) * std::exp(-light_depth);
+      light_depth += std::max(0.0, optics.tau.lo) * (ib - ia);
+      const bool smooth = !seg.gap && ia == seg.a && ib == seg.b && optics.smooth;
       if (smooth) {
         local = smooth_segment(seg, on, tf, config.rule);
+        part.resolved = on.panels.size() == 1;
+        out.thickest = std::max(out.thickest, (seg.b - seg.a) * std::max({seg.tau_a, seg.tau_b, seg.tau_m}));
+        const double high = beyond_cubic(on) * (seg.b - seg.a);
+        const TransferSegment branch = tf.segment(on.at(0.5 * (seg.a + seg.b)).f);
+        part.neglected_e = std::abs(branch.first.slope) * high;
+        part.neglected_d = std::abs(branch.second.slope) * high;
       } else {
         const Local exact = exact_on(on, tf);
         local = {exact.emission - seg.emission, exact.depth - seg.depth};
@@ -124,7 +166,11 @@ DiscreteErrorEstimate estimate_for(const F& field, const Scene& scene, const Ray
     } else {
       local = {-seg.emission, -seg.depth};  // wholly outside: no light there
     }
-    const double transmittance = std::exp(-phi);
+    part.emission = seg.emission * part.transmittance;
+    discrete += part.emission;
+    part.scale_e = std::abs(local.e), part.scale_d = std::abs(local.d);
+    scales.push_back(part);
+    const double transmittance = part.transmittance;
     minus += local.e * transmittance * std::exp(-depth_error) + seg.emission * transmittance * std::expm1(-depth_error);
     phi += seg.depth;
     depth_error += local.d;
@@ -133,6 +179,15 @@ DiscreteErrorEstimate estimate_for(const F& field, const Scene& scene, const Ray
   out.evaluations += samples;
   minus += scene.background * std::exp(-phi) * std::expm1(-depth_error);
   out.error = -minus;
+  // I_h - I with 0 <= I <= its upper bound: an expansion that says more (thick segments the steps do
+  // not resolve, where e^-D_k compounds) is cut to what is possible, and is not asymptotic.
+  discrete += scene.background * std::exp(-phi);
+  const double upper = light + scene.background * std::exp(-light_depth);
+  const double slack = 16 * std::numeric_limits<double>::epsilon() * static_cast<double>(out.segments + 1) * (discrete + upper);
+  const double clamped = std::clamp(out.error, std::min(0.0, discrete - upper) - slack, discrete + slack);
+  if (clamped != out.error) out.asymptotic = false;
+  out.error = clamped;
+  add_scales(scales, scene.background * std::exp(-phi), out);
   return out;
 }
 
@@ -143,7 +198,12 @@ DiscreteErrorEstimate estimate_discrete_error(const Scene& scene, const Ray& ray
   DiscreteErrorEstimate out;
   out.unavailable = why_no_error_bound(scene, config);
   if (!out.available()) return out;
-  return visit_field(scene, [&](const auto& field) { return estimate_for(field, scene, ray, config); });
+  const DiscreteConfig base = analysed_configuration(config);
+  out = visit_field(scene, [&](const auto& field) { return estimate_for(field, scene, ray, base); });
+  if (outside_segment_analysis(config).empty()) return out;
+  out.cast_difference = cast_difference(scene, ray, config, base, out.evaluations);
+  out.error += out.cast_difference;
+  return out;
 }
 
 }  // namespace vrv

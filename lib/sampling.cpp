@@ -13,6 +13,11 @@
 
 namespace vrv {
 
+bool step_based(Strategy st) {
+  return st == Strategy::step || st == Strategy::vtk || st == Strategy::inviwo || st == Strategy::partial ||
+         st == Strategy::exit_anchored;
+}
+
 namespace {
 
 constexpr NameTable<Strategy, 9> kStrategyNames{{

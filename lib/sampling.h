@@ -29,6 +29,9 @@ enum class Strategy {
 std::optional<Strategy> parse_strategy(std::string_view name);
 std::string_view strategy_name(Strategy s);
 
+// Whether the strategy places samples by a world step (SamplingConfig::step) rather than a rate.
+bool step_based(Strategy st);
+
 struct SamplingConfig {
   Strategy strategy = Strategy::entry_exit_corner;
   double rate = 1;                        // samples per voxel (eye, entry, entry_exit, corner)

@@ -206,11 +206,6 @@ Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::str
   return scene;
 }
 
-bool step_based(Strategy st) {
-  return st == Strategy::step || st == Strategy::vtk || st == Strategy::inviwo || st == Strategy::partial ||
-         st == Strategy::exit_anchored;
-}
-
 // The renderer conventions of DiscreteConfig: opacity_unit = "sample" | "distance", color =
 // "straight" | "premultiplied", table_size = N (0 or 2..2^20), table_lookup = "centred" | "uncentred".
 void read_conventions(const StudyReader& r, const toml::table& m, const std::string& path, DiscreteConfig& c) {

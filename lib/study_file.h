@@ -86,7 +86,6 @@ struct StudyMethodSpec {
 // Checked against the scene (grid-only options, a cap of 1e8 samples per ray).
 StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, const std::string& path,
                                   const Scene& scene);
-bool step_based(Strategy st);
 // "alpha step h=0.01 N=4 lacroute double", "reference tol=1e-10".
 std::string method_label(const StudyMethodSpec& m);
 // The method as JSON (for meta.json parameters).

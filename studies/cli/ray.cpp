@@ -15,6 +15,7 @@
 
 #include "lib/discrete_channels.h"
 #include "lib/discrete_error_bound.h"
+#include "lib/discrete_error_estimate.h"
 #include "lib/rays_file.h"
 #include "lib/reference_channels.h"
 #include "lib/util/parallel.h"
@@ -109,7 +110,12 @@ Answer answer(const Scene& scene, const Ray& ray, const RayOptions& opt,
                     : color_reference_answer(integrate_color_reference(scene, ray, {opt.tol}));
   if (discrete) {
     Answer a = discrete_answer(discrete_raycast(scene, ray, *discrete));
-    if (opt.bound) a.json["error_bound"] = finite_or_null(discrete_error_bound(scene, ray, *discrete).bound);
+    if (opt.bound) {
+      const DiscreteErrorEstimate e = estimate_discrete_error(scene, ray, *discrete);
+      a.json["error_bound"] = finite_or_null(discrete_error_bound(scene, ray, *discrete).bound);
+      a.json["error_estimate"] = finite_or_null(e.error);
+      a.json["asymptotic"] = e.asymptotic;
+    }
     return a;
   }
   return reference_answer(integrate_reference(scene, ray, {opt.tol}));
@@ -125,8 +131,7 @@ void check_bound_request(const Scene& scene, const RayOptions& opt, const std::o
     throw std::invalid_argument(fmt::format("--bound: no a-priori bound is derived for {} (docs/error-bounds.md)", why));
 }
 
-// The bound costs about kErrorBoundEvaluationsPerSegment field evaluations per sample more.
-double work_factor(const RayOptions& opt) { return opt.bound ? 1 + kErrorBoundEvaluationsPerSegment : 1; }
+double work_factor(const RayOptions& opt) { return opt.bound ? kPredictedRaycastWorkFactor : 1; }
 
 void print_text(const Answer& a, const std::optional<DiscreteConfig>& discrete) {
   const auto& j = a.json;
@@ -147,7 +152,9 @@ void print_text(const Answer& a, const std::optional<DiscreteConfig>& discrete) 
   fmt::print("value          {}\n", numbers(j["value"], "{:.17g}"));
   if (discrete) {
     fmt::print("samples        {}\n", j["samples"].get<long>());
-    if (j.contains("error_bound")) fmt::print("error_bound    {:.3g}\n", j["error_bound"].get<double>());
+    if (j.contains("error_bound"))
+      fmt::print("error_bound    {:.3g}\nerror_estimate {:.3g}{}\n", j["error_bound"].get<double>(),
+                 j["error_estimate"].get<double>(), j["asymptotic"].get<bool>() ? "" : " (not asymptotic)");
     return;
   }
   fmt::print("error_estimate {}\nevaluations    {}\n", numbers(j["error_estimate"], "{:.3g}"),
@@ -339,8 +346,9 @@ void add_ray_command(CLI::App& app) {
   cmd->add_flag("--quiet", opt->quiet, "No progress bar on stderr");
   add_discrete_options(*cmd, opt->discrete);
   cmd->add_flag("--bound", opt->bound,
-                "With --method: also the raycast's a-priori error bound, |value - I| <= error_bound "
-                "(docs/error-bounds.md; about 18 field evaluations per sample)");
+                "With --method: also the raycast's a-priori error bound, |value - I| <= error_bound, and "
+                "its estimated error value - I with whether the steps resolve the field (asymptotic) "
+                "(docs/error-bounds.md; about 40 field evaluations per sample)");
   add_mode_option(*cmd, opt->mode);
   cmd->callback([opt] { run_ray(*opt); });
 }

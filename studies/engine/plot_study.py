@@ -15,9 +15,10 @@ An entry:
   x, y      column names (required); z for heatmaps
   group     a column whose values make one series each (optional)
   where     {"column": "value", ...}: keep only rows whose text matches (optional)
-  xscale, yscale   "linear" (default) or "log"
+  xscale, yscale   "linear" (default) or "log" (points at or below zero are left out)
   fit       true: least-squares slope of log y against log x per series, shown in the legend
   front     true: draw the Pareto front (the points no other point beats in both x and y)
+  diagonal  true: draw the line y = x (a prediction against what it predicts)
   hlines    [numbers]: dashed horizontal reference lines (e.g. error targets)
   xlabel, ylabel, zlabel, title   text
   reference {"column": ..., "value": ...}: the series whose group equals value is drawn as a
@@ -67,6 +68,9 @@ def series(rows, spec, where):
         if group and group not in r:
             fail(f"{where}: no column '{group}'")
         x, y = number(r, spec["x"], where), number(r, spec["y"], where)
+        # A log axis has no place for zero or below: such points are left out, not warned about.
+        if spec.get("xscale") == "log" and not x > 0 or spec.get("yscale") == "log" and not y > 0:
+            continue
         if math.isfinite(x) and math.isfinite(y):
             out.setdefault(key, []).append((x, y))
     return out
@@ -135,10 +139,16 @@ def draw(fig, ax, rows, spec, where):
         elif style == "lines":
             ax.plot(xs, ys, marker="o" if len(pts) <= 40 else None, ms=3, lw=1.2, label=label)
         else:
-            ax.plot(xs, ys, ls="none", marker="o", ms=4, label=label)
+            many = len(pts) > 200
+            ax.plot(xs, ys, ls="none", marker="o", ms=1.5 if many else 4, alpha=0.4 if many else 1, label=label)
     if spec.get("front"):
         f = pareto(everything)
         ax.step([p[0] for p in f], [p[1] for p in f], "k--", where="post", lw=1, label="Pareto front")
+    if spec.get("diagonal"):
+        positive = [v for p in everything for v in p if v > 0]
+        if positive:
+            lo, hi = min(positive), max(positive)
+            ax.plot([lo, hi], [lo, hi], "k--", lw=1, label="y = x")
     for h in spec.get("hlines", []):
         ax.axhline(h, color="grey", ls=":", lw=1)
     if len(data) > 1 or spec.get("fit") or spec.get("front"):

@@ -26,6 +26,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include "lib/discrete_error_estimate.h"
 #include "lib/discrete_plan.h"
 #include "lib/image_loop.h"  // pixel_ray
 #include "lib/io/npy.h"
@@ -355,7 +356,7 @@ py::dict discrete(const Scene& scene, const Points& origins, const Points& direc
       throw std::invalid_argument(fmt::format("bound: no a-priori bound is derived for {} (docs/error-bounds.md)", why));
   const std::vector<Ray> rays = make_rays(origins, directions);
   const double work = cli::estimate_work(config, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; }) *
-                      (bound ? 1 + kErrorBoundEvaluationsPerSegment : 1);
+                      (bound ? kPredictedRaycastWorkFactor : 1);
   if (work > keywords->options.max_work) cli::refuse_work(keywords->options, true, work, static_cast<long>(rays.size()));
   const auto shape = leading_shape(origins, "origins");
   py::dict out;
@@ -369,14 +370,22 @@ py::dict discrete(const Scene& scene, const Points& origins, const Points& direc
   out["value"] = filled<double>(shape, r.size(), [&](auto i) { return r[i].value; });
   out["samples"] = filled<long>(shape, r.size(), [&](auto i) { return r[i].samples; });
   if (bound) {
-    const std::vector<double> b = interruptible([&] {
-      std::vector<double> bounds(rays.size());
+    struct Predicted {
+      double bound = 0;
+      DiscreteErrorEstimate estimate;
+    };
+    const std::vector<Predicted> p = interruptible([&] {
+      std::vector<Predicted> v(rays.size());
       parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
-        bounds[static_cast<std::size_t>(i)] = discrete_error_bound(scene, rays[static_cast<std::size_t>(i)], *config).bound;
+        const Ray& ray = rays[static_cast<std::size_t>(i)];
+        v[static_cast<std::size_t>(i)] = {discrete_error_bound(scene, ray, *config).bound,
+                                          estimate_discrete_error(scene, ray, *config)};
       });
-      return bounds;
+      return v;
     });
-    out["error_bound"] = filled<double>(shape, b.size(), [&](auto i) { return b[i]; });
+    out["error_bound"] = filled<double>(shape, p.size(), [&](auto i) { return p[i].bound; });
+    out["error_estimate"] = filled<double>(shape, p.size(), [&](auto i) { return p[i].estimate.error; });
+    out["asymptotic"] = filled<bool>(shape, p.size(), [&](auto i) { return p[i].estimate.asymptotic; });
   }
   return out;
 }
@@ -695,7 +704,8 @@ PYBIND11_MODULE(vrv, m) {
            "A discrete raycast along rays: method=..., and the options of `vrv ray` "
            "(strategy, rate, step, oversample, correction, ...) and max_work (default 1e9 samples, "
            "as --max-work); a dict of arrays value, samples, and with bound=True error_bound, the "
-           "a-priori bound |value - I| <= error_bound (docs/error-bounds.md; as `vrv ray --bound`); with mode='xray' | ... | 'mip_classified' "
+           "a-priori bound |value - I| <= error_bound, error_estimate, the expected value - I, and asymptotic, "
+           "whether the steps resolve the field there (docs/error-bounds.md; as `vrv ray --bound`); with mode='xray' | ... | 'mip_classified' "
            "the discrete projection (method riemann, trapezoid, simpson; max for MIP; strategy, rate, "
            "step), MIP adding position; an RGB scene's value has a trailing axis of 3, each channel "
            "cast alone, samples summed")

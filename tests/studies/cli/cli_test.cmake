@@ -247,15 +247,16 @@ endforeach()
 expect_success(discrete_options ray --origin -3,0.5,0 --direction 1,0.1,0 --method alpha --strategy eye --rate 1.5
   --oversample 5 --correction lee_newman --termination 0.95 --skip 0.01 --precision float --json)
 expect_success(discrete_step ray --origin -3,0.5,0 --direction 1,0.1,0 --method trapezoid --step 0.01 --compositing back_to_front)
-# --bound: the a-priori error bound beside the value (the bound's own tests hold it against the
-# reference, tests/lib/discrete_error_bound_test.cpp); refused, naming why, where none is derived;
-# its work (about 19 evaluations per sample) counts against --max-work.
+# --bound: the a-priori error bound and the estimate beside the value (their own tests hold them
+# against the reference, tests/lib/discrete_error_bound_test.cpp, discrete_error_estimate_test.cpp);
+# refused, naming why, where none is derived; its work (about 41 evaluations per sample) counts
+# against --max-work.
 expect_success(bound_json ray --origin -3,0.5,0 --direction 1,0,0 --method trapezoid --step 0.01 --bound --json)
-if(NOT LAST_OUT MATCHES "^\\{\"value\":[-0-9.e]+,\"samples\":[0-9]+,\"error_bound\":[0-9.]+(e-?[0-9]+)?\\}")
+if(NOT LAST_OUT MATCHES "^\\{\"value\":[-0-9.e]+,\"samples\":[0-9]+,\"error_bound\":[0-9.]+(e-?[0-9]+)?,\"error_estimate\":-?[0-9.]+(e-?[0-9]+)?,\"asymptotic\":(true|false)\\}")
   message(FATAL_ERROR "--bound: ${LAST_OUT}")
 endif()
 expect_success(bound_text ray --origin -3,0.5,0 --direction 1,0,0 --method alpha --step 0.01 --bound)
-if(NOT LAST_OUT MATCHES "error_bound    [0-9]")
+if(NOT LAST_OUT MATCHES "error_bound    [0-9].*error_estimate -?[0-9]")
   message(FATAL_ERROR "--bound (text): ${LAST_OUT}")
 endif()
 expect_success(bound_rays ray --rays ${OUT}/rays.jsonl --method exact_linear --step 0.02 --bound)
@@ -265,8 +266,14 @@ if(NOT n EQUAL 2)
   message(FATAL_ERROR "--rays --bound: expected a bound per ray:\n${LAST_OUT}")
 endif()
 expect_failure(bound_needs_method "--bound: applies to a discrete raycast" ray --origin -3,0.5,0 --direction 1,0,0 --bound)
-expect_failure(bound_oversample "--bound: no a-priori bound is derived for oversampling" ray --origin -3,0.5,0
-  --direction 1,0,0 --method alpha --step 0.01 --oversample 4 --bound)
+expect_failure(bound_partial "--bound: no a-priori bound is derived for a strategy with a partial step" ray
+  --origin -3,0.5,0 --direction 1,0,0 --method alpha --strategy partial --step 0.01 --bound)
+# Oversampling with a correction: the analysed configuration's bound plus the exact difference.
+expect_success(bound_oversample ray --origin -3,0.5,0 --direction 1,0,0 --method alpha --step 0.01 --oversample 4
+  --correction lacroute --bound --json)
+if(NOT LAST_OUT MATCHES "\"error_bound\":[0-9]")
+  message(FATAL_ERROR "--bound --oversample: ${LAST_OUT}")
+endif()
 expect_success(bound_work_without ray --origin -3,0.5,0 --direction 1,0,0 --method trapezoid --step 0.01 --max-work 1000)
 expect_failure(bound_work "above the work limit" ray --origin -3,0.5,0 --direction 1,0,0 --method trapezoid --step 0.01
   --max-work 1000 --bound)
@@ -283,7 +290,8 @@ expect_failure(plan_no_target "--target" plan)
 expect_failure(plan_bad_target "--target: must be a positive finite error" plan --target -1)
 expect_failure(plan_bad_metric "--metric: unknown value 'p99'" plan --target 1e-3 --metric p99)
 expect_failure(plan_bad_rule "--rules: unknown rule 'simpson'" plan --target 1e-3 --rules alpha,simpson)
-expect_failure(plan_moreland "--rules: no estimate is made for rule moreland" plan --target 1e-3 --rules moreland)
+# moreland: estimated through exact_linear's nodes plus the exact difference (docs/error-bounds.md).
+expect_success(plan_moreland plan --target 1e-3 --rules moreland --width 8 --height 8 --check)
 expect_failure(plan_rate_strategy "--strategy: a step-based placement" plan --target 1e-3 --strategy entry_exit_corner)
 expect_failure(plan_work "--max-work" plan --target 1e-3 --max-work 10)
 file(WRITE ${OUT}/plan_opacity.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nopacity = [[0, 0], [1, 0.5]]\ncolor = [[0, 1], [1, 1]]\n")

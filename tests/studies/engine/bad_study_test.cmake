@@ -56,9 +56,9 @@ if(NOT rc EQUAL 0 OR NOT within STREQUAL "OFF" OR evaluations LESS 2.6e11 OR EXI
   message(FATAL_ERROR "estimate: exit ${rc}: ${out}")
 endif()
 # The limit is the study's own variant's: --quick is checked as --quick, and --max-work raises it.
-expect_bad_input(work_quick "hard-cases.toml: \\(work\\): --quick: about 1.6e\\+06 field evaluations .*--max-work 1.6e\\+06$"
+expect_bad_input(work_quick "hard-cases.toml: \\(work\\): --quick: about 3e\\+06 field evaluations .*--max-work 3.1e\\+06$"
   study hard-cases --quick --max-work 1e5 --out ${OUT}/never)
-execute_process(COMMAND ${VRV} study hard-cases --quick --max-work 2e6 --no-plots --quiet --out ${OUT}/allowed RESULT_VARIABLE rc ERROR_VARIABLE err)
+execute_process(COMMAND ${VRV} study hard-cases --quick --max-work 4e6 --no-plots --quiet --out ${OUT}/allowed RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 0 OR NOT EXISTS ${OUT}/allowed/hard-cases/meta.json)
   message(FATAL_ERROR "work_allowed: exit ${rc}: ${err}")
 endif()

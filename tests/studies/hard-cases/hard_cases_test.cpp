@@ -52,7 +52,14 @@ TEST(HardCases, HardCasesQuickPassesAndItsTablesHaveNoNan) {
 // never `derived`; a stated max_error, the a-priori bound and the reference's own estimate are
 // `derived` (issue 29).
 TEST(HardCases, RowsWithoutABoundAreLabelledFiniteNotDerived) {
-  const HardCasesStudy study = load_hard_cases_study(kHardCases);
+  HardCasesStudy study = load_hard_cases_study(kHardCases);
+  // Every shipped discrete row has a bound; one moved to a placement the bound does not cover
+  // (a partial step) has none.
+  for (HardCaseMethod& m : study.cases.front().methods)
+    if (!m.reference && !m.max_error && step_based(m.config.sampling.strategy)) {
+      m.config.sampling.strategy = Strategy::partial;
+      break;
+    }
   const HardCasesResult r = run_hard_cases(study, /*progress=*/false);
   const std::vector<StudyCheck> checks = hard_case_checks(r);
   ASSERT_EQ(checks.size(), r.cases.size());
@@ -63,7 +70,7 @@ TEST(HardCases, RowsWithoutABoundAreLabelledFiniteNotDerived) {
     EXPECT_EQ(checks[i].detail.starts_with("finiteness only"), !bounded) << checks[i].name;
     (bounded ? derived : finite) += 1;
   }
-  EXPECT_GT(finite, 0);  // the committed study has both kinds of row
+  EXPECT_GT(finite, 0);  // both kinds of row
   EXPECT_GT(derived, 0);
 }
 
