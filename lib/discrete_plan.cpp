@@ -82,13 +82,23 @@ ImageEstimate estimate_image(const Scene& scene, const std::vector<Ray>& rays, c
   return {config.sampling.step, metric_value(sums.stats(), metric), total / static_cast<double>(rays.size())};
 }
 
-// Seconds per sample of the rule at this step, from one render of the camera.
+// Seconds per sample of the rule at this step: the fastest of repeated renders of the camera (at
+// least kTimedRenders, and more until kTimedSeconds have passed, at most kMostRenders): a small
+// camera renders in a fraction of a millisecond, where one render's time is mostly noise.
 double seconds_per_sample(const Scene& scene, const Camera& camera, const DiscreteConfig& config) {
+  constexpr int kTimedRenders = 3, kMostRenders = 100;
+  constexpr double kTimedSeconds = 0.05;
   using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  const ValueImage image = render_discrete_image(scene, camera, config);
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  return image.work > 0 ? seconds / static_cast<double>(image.work) : 0.0;
+  double best = INFINITY, total = 0;
+  long work = 0;
+  for (int i = 0; i < kMostRenders && (i < kTimedRenders || total < kTimedSeconds); ++i) {
+    const auto start = Clock::now();
+    work = render_discrete_image(scene, camera, config).work;
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    best = std::min(best, seconds);
+    total += seconds;
+  }
+  return work > 0 ? best / static_cast<double>(work) : 0.0;
 }
 
 // Field evaluations of an image estimate at this step, at most: every ray as long as the box's

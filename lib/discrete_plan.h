@@ -38,7 +38,7 @@ struct PlannedRule {
   DiscreteConfig config;         // the rule at the step chosen
   double estimated_error = 0;    // the metric of the estimates at that step
   double samples_per_ray = 0;    // mean over the camera's rays
-  double seconds_per_sample = 0; // measured: a discrete render of the camera at that step
+  double seconds_per_sample = 0; // measured: the fastest of repeated renders of the camera at that step
   double seconds = 0;            // for the camera: samples x seconds per sample
   int estimates = 0;             // image estimates made to find the step
   bool met = false;              // a step within the target was found (false: the smallest tried)

@@ -1,6 +1,7 @@
 #include "lib/io/image_io.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -202,6 +203,20 @@ std::string ImageProvenance::to_json() const {
   return nlohmann::ordered_json{{"vrv_provenance", j}}.dump();
 }
 
+namespace {
+
+// The vrv:step attribute's text as the positive number vrv wrote (a damaged file's text is refused
+// in one line: the image fuzzer found std::stod's exception ending the process).
+double provenance_step(const fs::path& path, const std::string& text) {
+  double step = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), step);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(step) || !(step > 0))
+    throw_file_error(path, fmt::format("vrv:step: must be a positive number, got '{}'", cut_for_message(one_line(text), 40)));
+  return step;
+}
+
+}  // namespace
+
 std::optional<ImageProvenance> read_provenance(const fs::path& path) {
   if (path.extension() == ".npy") return std::nullopt;  // numpy arrays carry no metadata
   const image_module::ReadResult header = read_header(path);
@@ -211,7 +226,7 @@ std::optional<ImageProvenance> read_provenance(const fs::path& path) {
     p.camera = attribute(header, "vrv:camera");
     p.method = attribute(header, "vrv:method");
     const std::string step = attribute(header, "vrv:step");
-    if (!step.empty()) p.step = std::stod(step);
+    if (!step.empty()) p.step = provenance_step(path, step);
     return p;
   }
   // Formats without free attributes: the JSON in ImageDescription.
@@ -224,6 +239,8 @@ std::optional<ImageProvenance> read_provenance(const fs::path& path) {
   p.camera = v.value("camera", "");
   p.method = v.value("method", "");
   if (v.contains("step") && v["step"].is_number()) p.step = v["step"].get<double>();
+  if (p.step && !(std::isfinite(*p.step) && *p.step > 0))
+    throw_file_error(path, fmt::format("vrv_provenance step: must be a positive number, got {}", *p.step));
   return p;
 }
 

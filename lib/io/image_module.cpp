@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/io/image_structure.h"
 #include "lib/util/install_dirs.h"
 
 // Set by CMake: the module's file name, the configured install directory and the build directory.
@@ -121,6 +122,8 @@ ReadResult read_file(const std::filesystem::path& path, const ReadRequest& reque
   std::error_code ec;
   if (!fs::exists(path, ec)) throw fail("cannot read: no such file");
   if (fs::is_directory(path, ec)) throw fail("cannot read: is a directory");
+  // Before libpng or OpenEXR can allocate what a damaged header claims (lib/io/image_structure.h).
+  if (const std::string damaged = image_file_structure_problem(path); !damaged.empty()) throw fail(damaged);
   ReadResult result;
   const std::string why = functions().read(path.string(), request, result);
   if (!why.empty()) throw fail(why);

@@ -16,9 +16,17 @@ inline std::vector<Ray> random_rays(int count, std::uint64_t seed) {
   std::uniform_real_distribution<double> box(-1, 1);
   std::vector<Ray> rays;
   for (int i = 0; i < count; ++i) {
-    Vec3 o(normal(rng), normal(rng), normal(rng));
-    o = 3 * o.normalized();
-    const Vec3 target(box(rng), box(rng), box(rng));
+    // One draw per statement: the order of a call's arguments is unspecified (GCC evaluates them
+    // last to first, Clang first to last), and the sanitized Clang build ran the tests on other
+    // rays.  These are GCC's order, so the rays every earlier result was measured on are kept.
+    const double oz = normal(rng);
+    const double oy = normal(rng);
+    const double ox = normal(rng);
+    const Vec3 o = 3 * Vec3(ox, oy, oz).normalized();
+    const double tz = box(rng);
+    const double ty = box(rng);
+    const double tx = box(rng);
+    const Vec3 target(tx, ty, tz);
     rays.push_back(make_ray(o, target - o));
   }
   return rays;

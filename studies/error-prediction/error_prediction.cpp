@@ -8,6 +8,7 @@
 
 #include "lib/discrete_error_bound.h"
 #include "lib/discrete_error_estimate.h"
+#include "lib/sampling.h"
 #include "lib/io/atomic_file.h"
 #include "lib/io/table.h"
 #include "lib/study_file.h"
@@ -61,6 +62,14 @@ DiscreteConfig config_of(const ErrorPredictionCase& c, SegmentRule rule, Strateg
   return config;
 }
 
+// The method at this step of the case (its grid's dims for rate-based options).
+DiscreteConfig configured(const ErrorPredictionCase& c, const PredictionMethod& m, double step) {
+  DiscreteConfig config = m.config;
+  config.sampling.step = step;
+  config.sampling.dims = c.scene.dims;
+  return config;
+}
+
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return NAN;
   std::sort(v.begin(), v.end());
@@ -85,11 +94,27 @@ long bound_violations(const PredictionConfig& c) {
 
 }  // namespace
 
+// A [[variant]]: a method as study files write one (lib/study_file.h: method, strategy and the
+// options), with a label and without a step (the cases' steps are used).
+PredictionMethod read_variant(const StudyReader& r, const toml::table& t, const std::string& path, const Scene& scene) {
+  for (const char* key : {"step", "rate", "tol", "max_error"})
+    if (t.contains(key)) r.fail(path + "." + key, "not a variant's: the cases' steps are used, the truth is the reference's");
+  if (!t.contains("label")) r.fail(path + ".label", "required: names the variant in the tables");
+  toml::table with_step = t;
+  with_step.insert_or_assign("step", 1.0);  // replaced by each case's steps
+  const StudyMethodSpec spec = read_study_method(r, with_step, path, scene);
+  if (spec.reference) r.fail(path + ".method", "a discrete method (the reference is the truth)");
+  if (!step_based(spec.config.sampling.strategy) || spec.config.sampling.strategy == Strategy::partial ||
+      spec.config.sampling.strategy == Strategy::exit_anchored)
+    r.fail(path + ".strategy", "a step-based placement without a partial step (step, vtk, inviwo)");
+  return {spec.label, spec.config};
+}
+
 ErrorPredictionStudy read_error_prediction_study(const StudyInput& in) {
   const StudyReader& r = in.reader;
   const toml::table& doc = in.doc;
   r.check_keys(doc, "", {"name", "kind", "description", "reference_tol", "rays", "quick_rays", "seed", "rules",
-                         "strategies", "asymptotic_miss", "separation", "case"});
+                         "strategies", "variant", "asymptotic_miss", "separation", "case"});
   ErrorPredictionStudy s;
   s.reference_tol = r.number_or(doc, "reference_tol", "", s.reference_tol);
   if (!(s.reference_tol > 0)) r.fail("reference_tol", "must be positive");
@@ -100,23 +125,41 @@ ErrorPredictionStudy read_error_prediction_study(const StudyInput& in) {
   if (!(s.asymptotic_miss > 0)) r.fail("asymptotic_miss", "must be positive");
   s.separation = r.number_or(doc, "separation", "", s.separation);
   if (!(s.separation > 0)) r.fail("separation", "must be positive");
-  s.rules = read_names<SegmentRule>(r, doc, "rules", parse_segment_rule, "riemann, alpha, trapezoid, exact_linear");
-  s.strategies = read_names<Strategy>(r, doc, "strategies", parse_strategy, "step, vtk, inviwo");
-  for (std::size_t i = 0; i < s.strategies.size(); ++i)
-    if (!step_based(s.strategies[i]) || s.strategies[i] == Strategy::partial)
+  const auto rules = read_names<SegmentRule>(r, doc, "rules", parse_segment_rule, "riemann, alpha, trapezoid, exact_linear, moreland");
+  const auto strategies = read_names<Strategy>(r, doc, "strategies", parse_strategy, "step, vtk, inviwo");
+  for (std::size_t i = 0; i < strategies.size(); ++i)
+    if (!step_based(strategies[i]) || strategies[i] == Strategy::partial || strategies[i] == Strategy::exit_anchored)
       r.fail(fmt::format("strategies[{}]", i), "a step-based placement without a partial step (step, vtk, inviwo)");
   const toml::array& cases = r.array(r.require(doc, "case", ""), "case");
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const std::string path = fmt::format("case[{}]", i);
     s.cases.push_back(read_case(r, r.table(*cases.get(i), path), path));
-    // Every configuration must be one the estimate and the bound cover: said now, not mid-run.
-    for (SegmentRule rule : s.rules)
-      for (Strategy st : s.strategies)
-        if (const std::string why = why_no_error_bound(s.cases.back().scene, config_of(s.cases.back(), rule, st, 1));
-            !why.empty())
-          r.fail(path, fmt::format("no estimate is made for {} (docs/error-bounds.md)", why));
   }
   if (s.cases.empty()) r.fail("case", "at least one [[case]]");
+  for (SegmentRule rule : rules)
+    for (Strategy st : strategies)
+      s.methods.push_back({fmt::format("{} {}", segment_rule_name(rule), strategy_name(st)),
+                           config_of(s.cases.front(), rule, st, 1)});
+  if (doc.contains("variant")) {
+    const toml::array& variants = r.array(*doc.get("variant"), "variant");
+    for (std::size_t i = 0; i < variants.size(); ++i) {
+      const std::string path = fmt::format("variant[{}]", i);
+      s.methods.push_back(read_variant(r, r.table(*variants.get(i), path), path, s.cases.front().scene));
+    }
+  }
+  // Every configuration must be one the estimate and the bound cover, on every case: said now.
+  for (std::size_t i = 0; i < s.cases.size(); ++i)
+    for (const PredictionMethod& m : s.methods) {
+      const ErrorPredictionCase& c = s.cases[i];
+      const DiscreteConfig config = configured(c, m, c.steps.front());
+      try {
+        validate(config, std::holds_alternative<GridField>(c.scene.field), c.scene.transfer);
+      } catch (const std::invalid_argument& e) {
+        r.fail(fmt::format("case[{}]", i), fmt::format("{}: {}", m.label, e.what()));
+      }
+      if (const std::string why = why_no_error_bound(c.scene, config); !why.empty())
+        r.fail(fmt::format("case[{}]", i), fmt::format("{}: no estimate is made for {} (docs/error-bounds.md)", m.label, why));
+    }
   return s;
 }
 
@@ -134,11 +177,11 @@ ErrorPredictionResult run_error_prediction(const ErrorPredictionStudy& study, bo
       });
       return v;
     }, 2 * rays.size());
-    for (SegmentRule rule : study.rules)
-      for (Strategy strategy : study.strategies)
+    for (std::size_t j = 0; j < study.methods.size(); ++j)
         for (double step : quick ? c.quick_steps : c.steps) {
-          PredictionConfig p{c.name, config_of(c, rule, strategy, step), {}};
-          const std::string key = fmt::format("{}.{}.{}.{}", c.name, segment_rule_name(rule), strategy_name(strategy), step);
+          const PredictionMethod& m = study.methods[j];
+          PredictionConfig p{c.name, m.label, configured(c, m, step), {}};
+          const std::string key = fmt::format("{}.method{}.{}", c.name, j, step);  // labels may hold any text
           p.rays = checkpointed_records<PredictionRay>(
               checkpoints, key, kWidth,
               [&] {
@@ -182,13 +225,12 @@ constexpr const char* kPlots = R"json({
 const char* class_name(bool asymptotic) { return asymptotic ? "asymptotic" : "not asymptotic"; }
 
 Table rays_table(const ErrorPredictionResult& result) {
-  Table t({"case", "rule", "strategy", "step", "ray", "measured", "estimated", "bound", "scale", "class",
-           "measured_abs", "estimated_abs"});
+  Table t({"case", "method", "step", "ray", "measured", "estimated", "bound", "scale", "class", "measured_abs",
+           "estimated_abs"});
   for (const PredictionConfig& c : result.configs)
     for (std::size_t i = 0; i < c.rays.size(); ++i) {
       const PredictionRay& r = c.rays[i];
-      t.add_row({c.case_name, std::string(segment_rule_name(c.config.rule)),
-                 std::string(strategy_name(c.config.sampling.strategy)), c.config.sampling.step, static_cast<long>(i),
+      t.add_row({c.case_name, c.method, c.config.sampling.step, static_cast<long>(i),
                  r.measured, r.estimated, r.bound, r.scale, std::string(class_name(r.asymptotic)),
                  std::abs(r.measured), std::abs(r.estimated)});
     }
@@ -196,7 +238,7 @@ Table rays_table(const ErrorPredictionResult& result) {
 }
 
 Table summary_table(const ErrorPredictionResult& result) {
-  Table t({"case", "rule", "strategy", "step", "rays", "asymptotic", "miss_of_error_median", "miss_of_scale_p90",
+  Table t({"case", "method", "step", "rays", "asymptotic", "miss_of_error_median", "miss_of_scale_p90",
            "bound_ratio_min", "bound_ratio_median", "bound_below"});
   for (const char* c : {"miss_of_error_median", "miss_of_scale_p90", "bound_ratio_min", "bound_ratio_median"}) {
     t.allow_missing(c);
@@ -214,8 +256,7 @@ Table summary_table(const ErrorPredictionResult& result) {
         ratio.push_back(r.bound / std::abs(r.measured));
       }
     }
-    t.add_row({c.case_name, std::string(segment_rule_name(c.config.rule)),
-               std::string(strategy_name(c.config.sampling.strategy)), c.config.sampling.step,
+    t.add_row({c.case_name, c.method, c.config.sampling.step,
                static_cast<long>(c.rays.size()), asymptotic, quantile(of_error, 0.5), quantile(of_scale, 0.9),
                ratio.empty() ? NAN : *std::min_element(ratio.begin(), ratio.end()), quantile(ratio, 0.5),
                bound_violations(c)});
@@ -223,9 +264,11 @@ Table summary_table(const ErrorPredictionResult& result) {
   return t;
 }
 
-// Per case: how many rays are asymptotic, the estimate's miss on them, the bound's looseness.
-Table cases_table(const ErrorPredictionResult& result) {
-  Table t({"case", "rays", "asymptotic", "miss_of_scale_p90", "miss_of_scale_p99", "bound_ratio_median",
+// Per case or per method (`by`): how many rays are asymptotic, the estimate's miss on them, the
+// bound's looseness.
+Table grouped_table(const ErrorPredictionResult& result, const std::string& by) {
+  const auto key = [&](const PredictionConfig& c) { return by == "case" ? c.case_name : c.method; };
+  Table t({by, "rays", "asymptotic", "miss_of_scale_p90", "miss_of_scale_p99", "bound_ratio_median",
            "bound_ratio_p90", "bound_below"});
   for (const char* c : {"miss_of_scale_p90", "miss_of_scale_p99", "bound_ratio_median", "bound_ratio_p90"}) {
     t.allow_missing(c);
@@ -233,11 +276,11 @@ Table cases_table(const ErrorPredictionResult& result) {
   }
   std::vector<std::string> names;
   for (const PredictionConfig& c : result.configs)
-    if (std::find(names.begin(), names.end(), c.case_name) == names.end()) names.push_back(c.case_name);
+    if (std::find(names.begin(), names.end(), key(c)) == names.end()) names.push_back(key(c));
   for (const std::string& name : names) {
     std::vector<PredictionConfig> of;
     std::copy_if(result.configs.begin(), result.configs.end(), std::back_inserter(of),
-                 [&](const PredictionConfig& c) { return c.case_name == name; });
+                 [&](const PredictionConfig& c) { return key(c) == name; });
     long rays = 0, asymptotic = 0, below = 0;
     std::vector<double> ratio;
     for (const PredictionConfig& c : of) {
@@ -282,7 +325,10 @@ void write_error_prediction(const std::filesystem::path& dir, const ErrorPredict
   write_table(dir, "classes", classes_table(result), style);
   style.caption = "Per case: asymptotic rays, the estimate's miss on them, the bound over the measured error";
   style.label = "tab:error-prediction-cases";
-  write_table(dir, "cases", cases_table(result), style);
+  write_table(dir, "cases", grouped_table(result, "case"), style);
+  style.caption = "Per method: asymptotic rays, the estimate's miss on them, the bound over the measured error";
+  style.label = "tab:error-prediction-methods";
+  write_table(dir, "methods", grouped_table(result, "method"), style);
   write_file_atomically(dir / "plots.json", kPlots);
 }
 
@@ -324,14 +370,13 @@ StudyWork error_prediction_work(const ErrorPredictionStudy& study, bool quick) {
   const double rays = static_cast<double>(quick ? study.quick_rays : study.rays);
   for (const ErrorPredictionCase& c : study.cases) {
     work.add(c.name + " references", rays, reference_evaluations(c.scene, study.reference_tol));
-    for (SegmentRule rule : study.rules)
-      for (Strategy st : study.strategies)
-        for (double step : quick ? c.quick_steps : c.steps) {
-          const DiscreteConfig config = config_of(c, rule, st, step);
-          // The raycast, then the estimate's and the bound's proxies per segment.
-          work.add(fmt::format("{} {} {} h = {:g}", c.name, segment_rule_name(rule), strategy_name(st), step), rays,
-                   discrete_samples(config, c.scene) * (1 + 2 * kErrorBoundEvaluationsPerSegment));
-        }
+    for (const PredictionMethod& m : study.methods)
+      for (double step : quick ? c.quick_steps : c.steps) {
+        const DiscreteConfig config = configured(c, m, step);
+        // The raycast, then the estimate's and the bound's proxies per segment and their casts.
+        work.add(fmt::format("{} {} h = {:g}", c.name, m.label, step), rays,
+                 discrete_samples(analysed_configuration(config), c.scene) * kPredictedRaycastWorkFactor);
+      }
   }
   return work;
 }

@@ -23,10 +23,17 @@ struct ErrorPredictionCase {
   std::vector<double> steps, quick_steps;
 };
 
+// One configuration cast at every step of every case: each rule with each placement, and the
+// file's variants (oversampling, corrections, float, tables, termination, ...: what the bound and
+// the estimate analyse through the nearest plain configuration, lib/discrete_error_bound.h).
+struct PredictionMethod {
+  std::string label;  // e.g. "alpha step", or the variant's label
+  DiscreteConfig config;  // sampling.step set per step
+};
+
 struct ErrorPredictionStudy {
   std::vector<ErrorPredictionCase> cases;
-  std::vector<SegmentRule> rules;
-  std::vector<Strategy> strategies;  // step-based placements
+  std::vector<PredictionMethod> methods;
   long rays = 64, quick_rays = 12;
   std::uint64_t seed = 29;
   double reference_tol = 1e-13;
@@ -48,7 +55,7 @@ struct PredictionRay {
 };
 
 struct PredictionConfig {
-  std::string case_name;
+  std::string case_name, method;
   DiscreteConfig config;
   std::vector<PredictionRay> rays;
 };
@@ -61,6 +68,7 @@ struct ErrorPredictionResult {
 ErrorPredictionStudy read_error_prediction_study(const StudyInput& in);
 ErrorPredictionResult run_error_prediction(const ErrorPredictionStudy& study, bool quick, Checkpoints* checkpoints);
 // rays.csv (every ray), summary.{csv,md,tex} (per configuration), cases.{csv,md,tex} (per case),
+// methods.{csv,md,tex} (per method),
 // classes.{csv,md,tex} (pooled by the asymptotic flag) and plots.json in `dir`.
 void write_error_prediction(const std::filesystem::path& dir, const ErrorPredictionResult& result);
 std::vector<StudyCheck> error_prediction_checks(const ErrorPredictionStudy& study, const ErrorPredictionResult& result);

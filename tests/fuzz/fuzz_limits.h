@@ -40,6 +40,38 @@ inline bool grids_are_small(const toml::node& n) {
   return true;
 }
 
+// Images claiming more pixels than this are skipped by the image harness: OpenImageIO allocates
+// what the header claims before it finds the data short (a damaged EXR claiming 10^8 pixels took
+// minutes of a shard), which is the cost of a large image, as a large grid's is its memory.
+inline constexpr std::int64_t kMaxImagePixels = std::int64_t{1} << 20;
+
+// The pixels an EXR's dataWindow or a PNG's IHDR claims (-1: neither, or no such header found).
+inline std::int64_t claimed_image_pixels(std::string_view b) {
+  const auto u32 = [&](std::size_t at, bool big) {
+    std::uint32_t v = 0;
+    for (int i = 0; i < 4; ++i)
+      v |= std::uint32_t{static_cast<unsigned char>(b[at + (big ? 3 - i : i)])} << (8 * i);
+    return v;
+  };
+  if (b.size() >= 24 && b.substr(0, 8) == std::string_view("\x89PNG\r\n\x1a\n", 8) && b.substr(12, 4) == "IHDR")
+    return std::int64_t{u32(16, true)} * std::int64_t{u32(20, true)};
+  if (b.size() < 8 || b.substr(0, 4) != std::string_view("\x76\x2f\x31\x01", 4)) return -1;
+  // EXR: magic, version, then attributes (name, type, int32 size, value) until an empty name.
+  for (std::size_t at = 8; at < b.size() && b[at] != 0;) {
+    const std::size_t name_end = b.find('\0', at), type_end = name_end == std::string_view::npos ? name_end : b.find('\0', name_end + 1);
+    if (type_end == std::string_view::npos || type_end + 5 > b.size()) return -1;
+    const std::uint32_t size = u32(type_end + 1, false);
+    const std::size_t value = type_end + 5;
+    if (b.substr(at, name_end - at) == "dataWindow" && size == 16 && value + 16 <= b.size()) {
+      const auto i32 = [&](std::size_t k) { return static_cast<std::int64_t>(static_cast<std::int32_t>(u32(value + 4 * k, false))); };
+      return (i32(2) - i32(0) + 1) * (i32(3) - i32(1) + 1);
+    }
+    if (size > b.size() - value) return -1;
+    at = value + size;
+  }
+  return -1;
+}
+
 // False for inputs the harness skips: too long, or (when it is TOML at all) a large grid.
 inline bool worth_running(std::string_view text) {
   if (text.size() > kMaxInputBytes) return false;

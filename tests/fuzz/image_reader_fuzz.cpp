@@ -3,6 +3,7 @@
 // .npy by lib/io/npy).  The first byte picks the file's extension, the rest are its bytes.  Any
 // input gives an image whose planes match its size and channels and whose quantum is finite and
 // non-negative, or one std::runtime_error line naming the file; never a crash, a hang or a leak.
+// EXR and PNG headers claiming more than kMaxImagePixels are skipped (tests/fuzz/fuzz_limits.h).
 // The module is found through VRV_IMAGE_MODULE (set by CTest).
 #include <unistd.h>
 
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "lib/io/image_channels.h"
 #include "lib/io/image_io.h"
@@ -52,6 +54,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fs::create_directories(d);
     return d;
   }();
+  const std::string_view body(reinterpret_cast<const char*>(data + 1), size - 1);
+  if (vrv::fuzz::claimed_image_pixels(body) > vrv::fuzz::kMaxImagePixels) return 0;  // a large image's cost
   const fs::path file = dir / (std::string("image") + kExtensions[data[0] % kExtensions.size()]);
   std::ofstream(file, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));

@@ -66,14 +66,17 @@ TEST(DiscreteErrorEstimate, PredictsTheMeasuredError) {
   // 0.1 less so.  Measured: asymptotic medians at most 0.005 of the error, 90th percentiles 0.031,
   // every ray flagged; elsewhere medians at most 0.13.  Over all rays: flagged (4377 of 4853)
   // misses 0.0013 of the scale at the 90th percentile, 0.0185 at the 99th; the others 0.05 and 0.30.
+  // Coarse: steps as long as the fields' features (0.04, 0.1), where no factor is claimed per
+  // configuration, only that the flag separates the rays.
+  enum class Range { asymptotic, near, coarse };
   struct Placement {
     Strategy strategy;
     double value;
-    bool asymptotic;
+    Range range;
   };
-  const Placement placements[] = {{Strategy::step, 0.01, false}, {Strategy::step, 0.002, true},
-                                  {Strategy::entry_exit_corner, 2, false}, {Strategy::vtk, 0.005, true},
-                                  {Strategy::step, 0.04, false}, {Strategy::step, 0.1, false}};
+  const Placement placements[] = {{Strategy::step, 0.01, Range::near},       {Strategy::step, 0.002, Range::asymptotic},
+                                  {Strategy::entry_exit_corner, 2, Range::near}, {Strategy::vtk, 0.005, Range::asymptotic},
+                                  {Strategy::step, 0.04, Range::coarse},     {Strategy::step, 0.1, Range::coarse}};
   Misses pooled;
   for (const Case& k : cases()) {
     const Scene scene = parse_scene(k.text, k.name + ".toml");
@@ -85,8 +88,10 @@ TEST(DiscreteErrorEstimate, PredictsTheMeasuredError) {
         ASSERT_GE(miss.of_error.size(), 10u) << k.name;
         const double median = quantile(miss.of_error, 50), p90 = quantile(miss.of_error, 90);
         const std::string what = fmt::format("{} {} {} {}", k.name, segment_rule_name(rule), strategy_name(p.strategy), p.value);
-        EXPECT_LE(median, 0.25) << what;
-        if (p.asymptotic) {
+        if (p.range != Range::coarse) {
+          EXPECT_LE(median, 0.25) << what;
+        }
+        if (p.range == Range::asymptotic) {
           EXPECT_LE(median, 0.02) << what;
           EXPECT_LE(p90, 0.1) << what;
           EXPECT_GE(miss.asymptotic, miss.rays * 95 / 100) << what;

@@ -4,6 +4,10 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <string>
 #include <limits>
 
 #include "lib/io/image_io.h"
@@ -57,6 +61,24 @@ TEST(ImageProvenance, EveryWrittenFormatCarriesIt) {
   }
   EXPECT_FALSE(read_image_info(png).floating);
   EXPECT_EQ(read_image_info(png).bits, 8);
+}
+
+// The image fuzzer's find: a damaged vrv:step attribute ended the process through std::stod's
+// exception; it is refused in one line naming the file and the attribute.
+TEST(ImageProvenance, ADamagedStepIsRefusedInOneLine) {
+  std::ifstream in(fs::path(VRV_SOURCE_DIR) / "tests/fuzz/corpus/image_reader/provenance_step_not_a_number.exr",
+                   std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  const fs::path path = scratch("bad_step.exr");
+  std::ofstream(path, std::ios::binary) << bytes.substr(1);  // the fuzzer's first byte picks the extension
+  try {
+    read_provenance(path);
+    ADD_FAILURE() << "read";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(path.string() + ": vrv:step: must be a positive number, got '", 0), 0u) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos);
+  }
 }
 
 TEST(ImageProvenance, AnImageWithoutItHasNone) {

@@ -114,11 +114,17 @@ VRV_PYTHON="$out/python" expect plot_failed 1 "^vrv verify: .*/plotted: the plot
   "$vrv" verify "${images[@]}" --no-cache --quiet --out "$out/plotted" --plots
 grep -q '"plots":"failed: ' "$out/plot_failed.out" || fail "plot_failed: $(cat "$out/plot_failed.out")"
 
-# A truncated PNG printed libpng's own line before vrv's (and leaked inside OpenImageIO: the
-# sanitizer build's leak check: suppressed in lib/io/image_module.cpp, as it is inside it): one line now.
+# A PNG cut inside a chunk is refused before libpng reads it (lib/io/image_structure.h), naming the
+# chunk; cut where a chunk ends, libpng finds the end itself and printed its own line before vrv's
+# (and leaked inside OpenImageIO: the sanitizer build's leak check: suppressed in
+# lib/io/image_module.cpp, as it is inside it): one line now.
 head -c 200 "$out/0.01.png" > "$out/truncated.png"
-expect truncated_png 2 "^vrv: error: $out/truncated.png: cannot read: .*hit end of file" \
+expect truncated_png 2 "^vrv: error: $out/truncated.png: PNG chunk 'tEXt' at byte [0-9]+ claims [0-9]+ bytes, [0-9]+ are left \(damaged or truncated\)$" \
   "$vrv" verify "$out/truncated.png" "$out/0.01.exr" --steps 0.02,0.01 --no-cache --quiet
+chunk_start=$(sed -E 's/.* at byte ([0-9]+) claims.*/\1/' "$out/truncated_png.err")
+head -c "$chunk_start" "$out/0.01.png" > "$out/cut_at_chunk.png"
+expect cut_at_chunk_png 2 "^vrv: error: $out/cut_at_chunk.png: cannot read: .*end of file" \
+  "$vrv" verify "$out/cut_at_chunk.png" "$out/0.01.exr" --steps 0.02,0.01 --no-cache --quiet
 
 # --steps ...,1e-320 was refused as "--step gives more than 1e12 samples on one ray", naming no image.
 expect tiny_step 2 "^vrv: error: $out/0.01.exr: --steps: step .* would take more than 1e\+12 samples along the box's diagonal" \
