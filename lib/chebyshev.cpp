@@ -61,13 +61,41 @@ const ChebyshevRule& ChebyshevRule::get(int n) {
   return *cache[n];
 }
 
-void ChebyshevRule::apply(const std::vector<double>& m, std::span<const double> x, std::span<double> out) const {
-  const auto n = static_cast<std::size_t>(n_);
-  std::fill_n(out.begin(), n, 0.0);
+namespace {
+
+// out = M x for column-major n x n M, column after column (each row's sum in column order).
+// With n known at compile time the loops unroll and the rows vectorise; the order of every
+// row's sum is the same, so the values are bitwise those of the runtime-n loop.
+template <std::size_t N>
+void apply_fixed(const double* m, const double* x, double* out) {
+  double acc[N] = {};
+  for (std::size_t j = 0; j < N; ++j) {
+    const double xj = x[j];
+    const double* column = m + j * N;
+    for (std::size_t k = 0; k < N; ++k) acc[k] += column[k] * xj;
+  }
+  std::copy_n(acc, N, out);
+}
+
+void apply_any(std::size_t n, const double* m, const double* x, double* out) {
+  std::fill_n(out, n, 0.0);
   for (std::size_t j = 0; j < n; ++j) {
     const double xj = x[j];
-    const double* column = m.data() + j * n;
+    const double* column = m + j * n;
     for (std::size_t k = 0; k < n; ++k) out[k] += column[k] * xj;
+  }
+}
+
+}  // namespace
+
+void ChebyshevRule::apply(const std::vector<double>& m, std::span<const double> x, std::span<double> out) const {
+  // The sizes of the hot paths: a grid cell's cubic (4) and the ladder of its pieces (9, 17, 33).
+  switch (n_) {
+    case 4: return apply_fixed<4>(m.data(), x.data(), out.data());
+    case 9: return apply_fixed<9>(m.data(), x.data(), out.data());
+    case 17: return apply_fixed<17>(m.data(), x.data(), out.data());
+    case 33: return apply_fixed<33>(m.data(), x.data(), out.data());
+    default: return apply_any(static_cast<std::size_t>(n_), m.data(), x.data(), out.data());
   }
 }
 

@@ -26,10 +26,7 @@ class BoundSum {
     ++segments_;
   }
   // The ray's light from a stretch of `length` inside the box where g <= g_hi and tau >= tau_lo.
-  void add_light(double g_hi, double tau_lo, double length) {
-    light_ += g_hi * length * std::exp(-light_depth_);
-    light_depth_ += tau_lo * length;
-  }
+  void add_light(double g_hi, double tau_lo, double length) { light_.add(g_hi, tau_lo, length); }
   double finish(double background) const {
     return std::min(bound_ + background * std::exp(-phi_) * std::expm1(d_) + rounding(background), either(background));
   }
@@ -53,12 +50,13 @@ class BoundSum {
   // of g and tau, I_h as composited.  Where the depth errors compound (e^D_k, optically thick
   // segments the steps do not resolve) this is the smaller.
   double either(double background) const {
-    const double upper = light_ + background * std::exp(-light_depth_);
+    const double upper = light_.upper(background);
     const double discrete = emission_sum_ + background * std::exp(-phi_);
     return (1 + 16 * eps * static_cast<double>(segments_ + 1)) * std::max(upper, discrete);
   }
 
-  double phi_ = 0, d_ = 0, bound_ = 0, emission_sum_ = 0, light_ = 0, light_depth_ = 0;
+  double phi_ = 0, d_ = 0, bound_ = 0, emission_sum_ = 0;
+  LightFromAbove light_;
   long segments_ = 0;
 };
 

@@ -136,7 +136,8 @@ DiscreteErrorEstimate estimate_for(const F& field, const Scene& scene, const Ray
   if (!iv) return out;  // the raycast returns the background exactly
   const TransferFunction& tf = scene.transfer;
   double phi = 0, depth_error = 0, minus = 0;  // Phi^_k, D_k, I - I_h
-  double light = 0, light_depth = 0, discrete = 0;  // I from above (as the bound's), I_h
+  LightFromAbove light;  // I from above, as the bound's
+  double discrete = 0;   // I_h
   std::vector<SegmentScale> scales;
   const long samples = for_each_rule_segment(field, ray, tf, config, *iv, scene.box, [&](const RuleSegment& seg) {
     const double ia = std::max(seg.a, iv->t0), ib = std::min(seg.b, iv->t1);
@@ -147,8 +148,7 @@ DiscreteErrorEstimate estimate_for(const F& field, const Scene& scene, const Ray
       const FieldOnSegment on = field_on(field, ray, ia, ib);
       out.evaluations += on.evaluations;
       const OpticsOnSegment optics = optics_on(tf, on, 0);
-      light += optics.g.hi * (ib - ia) * std::exp(-light_depth);
-      light_depth += std::max(0.0, optics.tau.lo) * (ib - ia);
+      light.add(optics.g.hi, std::max(0.0, optics.tau.lo), ib - ia);
       const bool smooth = !seg.gap && ia == seg.a && ib == seg.b && optics.smooth;
       if (smooth) {
         local = smooth_segment(seg, on, tf, config.rule);
@@ -182,7 +182,7 @@ DiscreteErrorEstimate estimate_for(const F& field, const Scene& scene, const Ray
   // I_h - I with 0 <= I <= its upper bound: an expansion that says more (thick segments the steps do
   // not resolve, where e^-D_k compounds) is cut to what is possible, and is not asymptotic.
   discrete += scene.background * std::exp(-phi);
-  const double upper = light + scene.background * std::exp(-light_depth);
+  const double upper = light.upper(scene.background);
   const double slack = 16 * std::numeric_limits<double>::epsilon() * static_cast<double>(out.segments + 1) * (discrete + upper);
   const double clamped = std::clamp(out.error, std::min(0.0, discrete - upper) - slack, discrete + slack);
   if (clamped != out.error) out.asymptotic = false;

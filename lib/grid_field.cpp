@@ -120,6 +120,7 @@ void GridField::append_breaks(const Ray& ray, Interval iv, std::vector<double>& 
 
 void GridField::append_planes(const Ray& ray, Interval iv, double shift, int stride,
                               std::vector<double>& out) const {
+  const std::size_t first = out.size();
   for (int a = 0; a < 3; ++a) {
     const double d = ray.direction[a];
     if (d == 0) continue;
@@ -130,10 +131,16 @@ void GridField::append_planes(const Ray& ray, Interval iv, double shift, int str
     const double u1 = (std::max(x0, x1) - box_.min[a]) / spacing_[a] - shift;
     const int lo = std::max(0, static_cast<int>(std::floor(u0 / stride)));
     const int hi = std::min((planes - 1) / stride, static_cast<int>(std::ceil(u1 / stride)));
-    for (int m = lo; m <= hi; ++m) {
+    // Planes in the ray's order (t rises with m where d > 0), so each axis's run is sorted.
+    const std::size_t run = out.size();
+    for (int i = lo; i <= hi; ++i) {
+      const int m = d > 0 ? i : lo + hi - i;
       const double t = (box_.min[a] + (m * stride + shift) * spacing_[a] - ray.origin[a]) / d;
       if (t > iv.t0 && t < iv.t1) out.push_back(t);
     }
+    // One merge per axis leaves the planes sorted: a ray's cuts need no sort (a whole sort of
+    // them was 5% of a scan's reference image).
+    std::inplace_merge(out.begin() + static_cast<std::ptrdiff_t>(first), out.begin() + static_cast<std::ptrdiff_t>(run), out.end());
   }
 }
 

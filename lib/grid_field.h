@@ -46,6 +46,10 @@ class GridField {
 
   // Inline (defined below): the discrete raycaster calls it once per sample.
   double value(const Vec3& p) const;
+  // f(fetch), fetch(p) == value(p) for every p, with the interpolation and the nodes' type
+  // chosen once: a loop of many samples inside f pays no dispatch per sample.
+  template <class F>
+  void with_fetch(F&& f) const;
   int degree_along_ray() const { return interpolation_ == Interpolation::trilinear ? 3 : 0; }
   double bandwidth() const { return 0; }
   // Trilinear: the node planes (the interpolant is a cubic in t between them).
@@ -92,7 +96,7 @@ class GridField {
     const double u = (x - box_.min[a]) / spacing_[a] - offset_;
     return std::clamp(u, 0.0, static_cast<double>(n_[a] - 1));
   }
-  // The t (unsorted, appended to out) at which the ray crosses, strictly inside iv, the planes
+  // The t (sorted, appended to out) at which the ray crosses, strictly inside iv, the planes
   // min + (i + shift) h for i = 0, stride, 2 stride, ... (node planes, or the half-way planes of
   // nearest): one expression for append_breaks and brick_cuts, so their planes agree to the bit.
   void append_planes(const Ray& ray, Interval iv, double shift, int stride, std::vector<double>& out) const;
@@ -101,8 +105,10 @@ class GridField {
   std::vector<double> brick_cuts(const Ray& ray, Interval iv) const;
   // The value range of the brick holding ray.at(t), halo included.
   std::pair<double, double> brick_range_at(const Ray& ray, double t) const;
-  double nearest_value(const double u[3]) const;
-  double trilinear_value(const double u[3]) const;
+  template <class Nodes>
+  double nearest_value(const double u[3], Nodes node_at) const;
+  template <class Nodes>
+  double trilinear_value(const double u[3], Nodes node_at) const;
   void summarise();  // max_slope_, spread_, max_abs_ and the node range from the node values
 
 
@@ -143,20 +149,41 @@ void GridField::append_transparent_spans(const Ray& ray, Interval iv, const Tran
 
 VRV_FORCE_INLINE double GridField::value(const Vec3& p) const {
   const double u[3] = {coordinate(p.x(), 0), coordinate(p.y(), 1), coordinate(p.z(), 2)};
-  return interpolation_ == Interpolation::nearest ? nearest_value(u) : trilinear_value(u);
+  return nodes_.visit([&](auto node_at) VRV_FORCE_INLINE_LAMBDA {
+    return interpolation_ == Interpolation::nearest ? nearest_value(u, node_at) : trilinear_value(u, node_at);
+  });
 }
 
-inline double GridField::nearest_value(const double u[3]) const {
+template <class F>
+void GridField::with_fetch(F&& f) const {
+  nodes_.visit([&](auto node_at) {
+    if (interpolation_ == Interpolation::nearest) {
+      f([this, node_at](const Vec3& p) VRV_FORCE_INLINE_LAMBDA {
+        const double u[3] = {coordinate(p.x(), 0), coordinate(p.y(), 1), coordinate(p.z(), 2)};
+        return nearest_value(u, node_at);
+      });
+    } else {
+      f([this, node_at](const Vec3& p) VRV_FORCE_INLINE_LAMBDA {
+        const double u[3] = {coordinate(p.x(), 0), coordinate(p.y(), 1), coordinate(p.z(), 2)};
+        return trilinear_value(u, node_at);
+      });
+    }
+  });
+}
+
+template <class Nodes>
+VRV_FORCE_INLINE double GridField::nearest_value(const double u[3], Nodes node_at) const {
   // Node layout: round to the nearest node; cell layout: the texel that holds p.
   int idx[3];
   for (int a = 0; a < 3; ++a) {
     const double x = layout_ == GridLayout::node ? std::round(u[a]) : std::floor(u[a] + 0.5);
     idx[a] = std::clamp(static_cast<int>(x), 0, n_[a] - 1);
   }
-  return node(idx[0], idx[1], idx[2]);
+  return node_at((static_cast<std::size_t>(idx[2]) * n_[1] + idx[1]) * n_[0] + idx[0]);
 }
 
-VRV_FORCE_INLINE double GridField::trilinear_value(const double u[3]) const {
+template <class Nodes>
+VRV_FORCE_INLINE double GridField::trilinear_value(const double u[3], Nodes c) const {
   // The cell's lower corner (capped at n - 2) and the step to its upper corner per axis, 0 on an
   // axis of one node; the node array addressed by strides from one base (8 loads, no index products).
   const std::size_t stride[3] = {1, static_cast<std::size_t>(n_[0]),
@@ -172,13 +199,11 @@ VRV_FORCE_INLINE double GridField::trilinear_value(const double u[3]) const {
   const std::size_t x = step[0], y = step[1], z = step[2];
   // Nested lerps: fewer operations and roundings than the expanded 8-term sum.
   auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
-  return nodes_.visit([&](auto c) VRV_FORCE_INLINE_LAMBDA {
-    const double c00 = lerp(c(base), c(base + x), w[0]);
-    const double c10 = lerp(c(base + y), c(base + y + x), w[0]);
-    const double c01 = lerp(c(base + z), c(base + z + x), w[0]);
-    const double c11 = lerp(c(base + z + y), c(base + z + y + x), w[0]);
-    return lerp(lerp(c00, c10, w[1]), lerp(c01, c11, w[1]), w[2]);
-  });
+  const double c00 = lerp(c(base), c(base + x), w[0]);
+  const double c10 = lerp(c(base + y), c(base + y + x), w[0]);
+  const double c01 = lerp(c(base + z), c(base + z + x), w[0]);
+  const double c11 = lerp(c(base + z + y), c(base + z + y + x), w[0]);
+  return lerp(lerp(c00, c10, w[1]), lerp(c01, c11, w[1]), w[2]);
 }
 
 }  // namespace vrv

@@ -99,4 +99,20 @@ struct OpticsOnSegment {
 // position_rounding: how far (in t) a computed sample point can be off the exact ray there.
 OpticsOnSegment optics_on(const TransferFunction& tf, const FieldOnSegment& on, double position_rounding);
 
+// The ray's light I from above, segment by segment front to back: each stretch's largest g over
+// its length, attenuated by the smallest depth of the stretches before it.  I >= 0 and I_h >= 0,
+// so I_h - I lies in [I_h - upper, I_h]: the bound's cap and the estimate's clamp.
+class LightFromAbove {
+ public:
+  // A stretch of `length` inside the box where g <= g_hi and tau >= tau_lo.
+  void add(double g_hi, double tau_lo, double length) {
+    light_ += g_hi * length * std::exp(-depth_);
+    depth_ += tau_lo * length;
+  }
+  double upper(double background) const { return light_ + background * std::exp(-depth_); }
+
+ private:
+  double light_ = 0, depth_ = 0;
+};
+
 }  // namespace vrv

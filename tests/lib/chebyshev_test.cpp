@@ -93,6 +93,34 @@ TEST(Chebyshev, ManyPointEvaluationIsBitwiseTheOnePointRecurrence) {
     }
 }
 
+// The rule's products are unrolled for the hot paths' sizes (4, 9, 17, 33): each row's sum must
+// still run over the columns in order from 0, as for every other size, so values do not move.
+TEST(Chebyshev, FixedSizeProductsAreBitwiseTheColumnOrderSum) {
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n : {2, 3, 4, 5, 8, 9, 10, 16, 17, 18, 32, 33, 34, 65}) {
+    const ChebyshevRule& rule = ChebyshevRule::get(n);
+    // The matrices' columns, from unit vectors (a product with e_j is exact: one term).
+    std::vector<std::vector<double>> to_c(n, std::vector<double>(n)), cum(n, std::vector<double>(n));
+    for (int j = 0; j < n; ++j) {
+      std::vector<double> e(n, 0.0);
+      e[j] = 1;
+      rule.coefficients(e, to_c[j]);
+      rule.cumulative_integral(e, cum[j]);
+    }
+    std::vector<double> x(n), c(n), q(n);
+    for (double& xi : x) xi = u(rng) * std::exp(4 * u(rng));
+    rule.coefficients(x, c);
+    rule.cumulative_integral(x, q);
+    for (int k = 0; k < n; ++k) {
+      double sum_c = 0, sum_q = 0;
+      for (int j = 0; j < n; ++j) sum_c += to_c[j][k] * x[j], sum_q += cum[j][k] * x[j];
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(c[k]), std::bit_cast<std::uint64_t>(sum_c)) << n << " " << k;
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(q[k]), std::bit_cast<std::uint64_t>(sum_q)) << n << " " << k;
+    }
+  }
+}
+
 TEST(Chebyshev, CrossingSearchIsSkippedOnlyWhereItFindsNothing) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1, 1);

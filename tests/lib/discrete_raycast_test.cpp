@@ -3,7 +3,9 @@
 #include "lib/discrete_raycast.h"
 #include "lib/order_estimate.h"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -185,6 +187,43 @@ TEST(DiscreteRaycast, PreAndPostClassificationAgreeForALinearTransferFunction) {
   c.classification = Classification::post;
   const double post_step = DiscreteRaycaster(grid, kBox, step, 0, c).cast(ray).value;
   EXPECT_GT(std::abs(pre_step - post_step), 1e-6);  // a step transfer function does not commute
+}
+
+// The Riemann loop most configurations take (front to back, no skipping or termination, post-
+// classified: detail::plain_riemann) is the general loop without its checks: bit for bit the value
+// and samples of the general loop, forced here by a skip threshold of 0 (which skips nothing), on
+// a grid of each interpolation, an analytic field, both precisions, with and without tables.
+TEST(DiscreteRaycast, PlainRiemannLoopIsBitwiseTheGeneralOne) {
+  const MarschnerLobb ml;
+  const GridField trilinear = make_grid(kBox, ml, {9, 8, 10}, GridLayout::node, Interpolation::trilinear);
+  const GridField nearest = make_grid(kBox, ml, {9, 8, 10}, GridLayout::cell, Interpolation::nearest);
+  const TransferFunction kinked = TransferFunction::emission_extinction(
+      PiecewiseLinear({{0, 0}, {0.4, 0.9}, {1, 0.2}}), PiecewiseLinear({{0, 0.1}, {0.6, 3}, {1, 1}}));
+  int compared = 0;
+  const auto compare = [&](const auto& field, const DiscreteConfig& plain) {
+    DiscreteConfig general = plain;
+    general.skip_below = 0.0;
+    const DiscreteRaycaster a(field, kBox, kinked, 0.25, plain), b(field, kBox, kinked, 0.25, general);
+    for (int i = 0; i < 12; ++i) {
+      const Vec3 target(0.3 * std::sin(i), 0.4 * std::cos(1.7 * i), 0.2 * i / 12.0 - 0.1);
+      const Vec3 origin(-3 + 0.5 * std::cos(i), 2 * std::sin(0.3 * i), -1.5 + 0.2 * i);
+      const Ray ray = make_ray(origin, target - origin);
+      const DiscreteResult x = a.cast(ray), y = b.cast(ray);
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(x.value), std::bit_cast<std::uint64_t>(y.value)) << i;
+      EXPECT_EQ(x.samples, y.samples) << i;
+      ++compared;
+    }
+  };
+  for (const Precision precision : {Precision::double_precision, Precision::single_precision})
+    for (const int table : {0, 64}) {
+      DiscreteConfig c = config(SegmentRule::riemann, Strategy::inviwo, 0.013);
+      c.precision = precision;
+      c.table_size = table;
+      compare(trilinear, c);
+      compare(nearest, c);
+      compare(ml, c);
+    }
+  EXPECT_EQ(compared, 2 * 2 * 3 * 12);
 }
 
 TEST(DiscreteRaycast, EarlyTerminationSavesSamplesAndBoundsTheChange) {

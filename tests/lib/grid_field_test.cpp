@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <random>
 
 #include "tests/lib/reference_check.h"
@@ -136,6 +139,81 @@ TEST(ReferenceIntegratorGrid, BricksSkipEmptySpaceAsCellsWouldToTheBit) {
       EXPECT_GT(rays_with_spans, static_cast<int>(rays.size()) / 2) << "bricks skipped on too few rays";
     }
   }
+}
+
+// The planes a ray crosses come sorted (each axis's run in the ray's order, merged), whatever
+// the direction's signs: the reference's cuts are then not sorted again.  The same t as every
+// plane crossing found one by one.
+TEST(GridField, BreaksComeSortedAndComplete) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const Box box{Vec3(-1, -0.5, 0), Vec3(1, 0.7, 2)};
+  for (Interpolation interp : {Interpolation::trilinear, Interpolation::nearest})
+    for (GridLayout layout : {GridLayout::node, GridLayout::cell}) {
+      const GridField grid = make_grid(box, kML, {7, 5, 9}, layout, interp);
+      for (int r = 0; r < 200; ++r) {
+        Vec3 d(u(rng), u(rng), u(rng));
+        if (r % 7 == 0) d[r % 3] = 0;  // a ray parallel to a plane family
+        if (d.norm() == 0) continue;
+        const Ray ray = make_ray(Vec3(3 * u(rng), 3 * u(rng), 1 + 3 * u(rng)), d.normalized());
+        const auto iv = clip(ray, box);
+        if (!iv) continue;
+        std::vector<double> breaks{-7.0};  // a value before: only what is appended is sorted
+        grid.append_breaks(ray, *iv, breaks);
+        ASSERT_TRUE(std::is_sorted(breaks.begin() + 1, breaks.end())) << r;
+        // Every plane crossing strictly inside iv, axis by axis, by the same expression.
+        std::vector<double> expected;
+        for (int a = 0; a < 3; ++a) {
+          if (ray.direction[a] == 0) continue;
+          const int n = grid.resolution()[a];
+          const double h = layout == GridLayout::node ? box.extent()[a] / (n - 1) : box.extent()[a] / n;
+          const double shift = (layout == GridLayout::node ? 0.0 : 0.5) + (interp == Interpolation::nearest ? 0.5 : 0.0);
+          const int planes = interp == Interpolation::nearest ? n - 1 : n;
+          for (int m = 0; m < planes; ++m) {
+            const double t = (box.min[a] + (m + shift) * h - ray.origin[a]) / ray.direction[a];
+            if (t > iv->t0 && t < iv->t1) expected.push_back(t);
+          }
+        }
+        std::sort(expected.begin(), expected.end());
+        EXPECT_EQ(std::vector<double>(breaks.begin() + 1, breaks.end()), expected) << r;
+      }
+    }
+}
+
+// with_fetch hands a loop the same values as value(), for every node type and interpolation.
+TEST(GridField, FetchIsValueForEveryNodeTypeAndInterpolation) {
+  const GridField::Index3 n{5, 6, 4};
+  const std::size_t count = static_cast<std::size_t>(n[0]) * n[1] * n[2];
+  std::mt19937_64 rng(41);
+  std::vector<std::uint8_t> u8;
+  std::vector<std::int16_t> i16;
+  std::vector<float> f32;
+  std::vector<double> f64;
+  for (std::size_t i = 0; i < count; ++i) {
+    u8.push_back(static_cast<std::uint8_t>(rng() % 256));
+    i16.push_back(static_cast<std::int16_t>(static_cast<int>(rng() % 4096) - 2048));
+    f32.push_back(static_cast<float>(rng() % 1000) / 7.0f);
+    f64.push_back(static_cast<double>(rng() % 1000) / 3.0);
+  }
+  const SampleMap map{true, 0.25, -3, false, 0, 1};
+  const std::vector<GridNodes> kinds{GridNodes(f64), GridNodes(VolumeSamples(u8), map),
+                                     GridNodes(VolumeSamples(i16), map), GridNodes(VolumeSamples(f32), map)};
+  const Box box{Vec3(-1, 0, 2), Vec3(2, 1.5, 3)};
+  std::uniform_real_distribution<double> u(-0.1, 1.1);
+  for (const GridNodes& nodes : kinds)
+    for (GridLayout layout : {GridLayout::node, GridLayout::cell})
+      for (Interpolation interp : {Interpolation::trilinear, Interpolation::nearest}) {
+        const GridField grid(box, n, layout, interp, nodes);
+        int calls = 0;
+        grid.with_fetch([&](const auto& fetch) {
+          ++calls;
+          for (int k = 0; k < 300; ++k) {
+            const Vec3 p = box.min + box.extent().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(fetch(p)), std::bit_cast<std::uint64_t>(grid.value(p)));
+          }
+        });
+        EXPECT_EQ(calls, 1);
+      }
 }
 
 }  // namespace
