@@ -1,7 +1,9 @@
 #include "lib/volume/nrrd_reader.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <fstream>
 #include <string_view>
 #include <memory>
@@ -17,9 +19,6 @@ namespace {
 
 struct NrrdDeleter {
   void operator()(Nrrd* n) const { nrrdNuke(n); }
-};
-struct IoDeleter {
-  void operator()(NrrdIoState* n) const { nrrdIoStateNix(n); }
 };
 
 // Teem's error stack as one line (its messages span several lines and say where in Teem).
@@ -47,13 +46,26 @@ ScalarType nrrd_scalar_type(const std::filesystem::path& file, int type) {
   }
 }
 
-// The nrrd's header (no data) or its data too; Teem's own message when it refuses.  With
-// `data_files`, the detached data files the header names (for the scene hash).
-std::unique_ptr<Nrrd, NrrdDeleter> load(const std::filesystem::path& file, bool skip_data,
-                                        std::vector<std::filesystem::path>* data_files = nullptr) {
+// The I/O state of a header pass, and the data file Teem keeps open for it.
+struct IoDeleter {
+  void operator()(NrrdIoState* n) const {
+    if (n->dataFile) airFclose(n->dataFile);
+    nrrdIoStateNix(n);
+  }
+};
+struct Loaded {
+  std::unique_ptr<Nrrd, NrrdDeleter> nrrd;
+  std::unique_ptr<NrrdIoState, IoDeleter> nio;
+};
+
+// The nrrd's header (no data; Teem then keeps a single data file open where its data start) or
+// its data too; Teem's own message when it refuses.  With `data_files`, the detached data files
+// the header names (for the scene hash).
+Loaded load(const std::filesystem::path& file, bool skip_data, std::vector<std::filesystem::path>* data_files = nullptr) {
   std::unique_ptr<Nrrd, NrrdDeleter> nrrd(nrrdNew());
   std::unique_ptr<NrrdIoState, IoDeleter> nio(nrrdIoStateNew());
   nrrdIoStateSet(nio.get(), nrrdIoStateSkipData, skip_data ? AIR_TRUE : AIR_FALSE);
+  nrrdIoStateSet(nio.get(), nrrdIoStateKeepNrrdDataFileOpen, skip_data ? AIR_TRUE : AIR_FALSE);
   if (nrrdLoad(nrrd.get(), file.c_str(), nio.get()))
     volume_fail(file, skip_data ? "(header)" : "(data)", teem_error());
   if (data_files) {
@@ -65,7 +77,45 @@ std::unique_ptr<Nrrd, NrrdDeleter> load(const std::filesystem::path& file, bool 
       data_files->push_back(name.is_absolute() ? name : dir / name);
     }
   }
-  return nrrd;
+  return {std::move(nrrd), std::move(nio)};
+}
+
+// Where the data of a single-file raw or gzip NRRD start.  Teem reads data into a buffer of its
+// own, and the samples were then a second copy of the scan; its header pass leaves the one data
+// file open after the line skips (and, for raw data, the byte skip), so the data are read from
+// there straight into the samples, as the other readers read theirs.  Nothing for what only Teem
+// decodes (ascii, hex, bzip2), several data files, per-file skips, or a byte skip inside a gzip
+// stream: those still go through Teem and one copy.
+struct NrrdDataPlace {
+  std::filesystem::path path;
+  std::uint64_t offset = 0;
+  bool gzip = false;
+};
+std::optional<NrrdDataPlace> nrrd_direct_data(const std::filesystem::path& file, const std::vector<std::filesystem::path>& data_files,
+                                     const NrrdIoState& nio) {
+  const bool raw = nio.encoding == nrrdEncodingRaw, gzip = nio.encoding == nrrdEncodingGzip;
+  if (!(raw || gzip) || !nio.dataFile || data_files.size() > 1 || nio.dataFSkip) return std::nullopt;
+  if (gzip && nio.byteSkip != 0) return std::nullopt;
+  const long at = std::ftell(nio.dataFile);
+  if (at < 0) return std::nullopt;
+  return NrrdDataPlace{data_files.empty() ? file : data_files.front(), static_cast<std::uint64_t>(at), gzip};
+}
+
+VolumeSamples read_nrrd_direct(const NrrdDataPlace& d, const std::filesystem::path& file, ScalarType type, std::size_t count,
+                          bool big_endian) {
+  const std::size_t need = count * scalar_bytes(type);
+  const std::uint64_t size = file_size_of(d.path);
+  const std::uint64_t available = size > d.offset ? size - d.offset : 0;
+  if (!d.gzip) {
+    if (available < need)
+      volume_fail(file, "(data)", fmt::format("truncated: {} bytes of data where {} samples need {}", available, count, need));
+    return read_samples(type, count, big_endian,
+                        [&](unsigned char* out, std::size_t bytes) { read_file_range(d.path, d.offset, out, bytes); });
+  }
+  check_inflatable(available, need, file, "(data)");
+  return read_samples(type, count, big_endian, [&](unsigned char* out, std::size_t bytes) {
+    inflate_file_range_into(d.path, d.offset, available, out, bytes, file, "(data)");
+  });
 }
 
 void set_geometry(Volume& v, const Nrrd& n, const std::filesystem::path& file) {
@@ -101,7 +151,8 @@ Volume read_nrrd(const std::filesystem::path& file, const VolumeReadOptions& opt
       volume_fail(file, "(header)", "not a NRRD file (no NRRD000x magic on its first line)");
   }
   std::vector<std::filesystem::path> data_files;
-  const auto header = load(file, true, &data_files);
+  const Loaded loaded = load(file, true, &data_files);
+  const Nrrd* header = loaded.nrrd.get();
   if (header->dim != 3) {
     std::string kinds;
     for (unsigned a = 0; a < header->dim && a < NRRD_DIM_MAX; ++a)
@@ -119,12 +170,16 @@ Volume read_nrrd(const std::filesystem::path& file, const VolumeReadOptions& opt
   check_budget(file, "sizes", v.dims, type, options);
   set_geometry(v, *header, file);
 
-  const auto full = load(file, false);
-  if (!full->data) volume_fail(file, "(data)", "no data");
   const std::size_t count = static_cast<std::size_t>(v.dims[0]) * v.dims[1] * v.dims[2];
-  // Teem has swapped the data to this machine's byte order.
-  v.samples = samples_from_bytes(type, static_cast<const unsigned char*>(full->data), count,
-                                 std::endian::native == std::endian::big);
+  if (const auto place = nrrd_direct_data(file, data_files, *loaded.nio)) {
+    v.samples = read_nrrd_direct(*place, file, type, count, loaded.nio->endian == airEndianBig);
+  } else {
+    const Loaded full = load(file, false);
+    if (!full.nrrd->data) volume_fail(file, "(data)", "no data");
+    // Teem has swapped the data to this machine's byte order.
+    v.samples = samples_from_bytes(type, static_cast<const unsigned char*>(full.nrrd->data), count,
+                                   std::endian::native == std::endian::big);
+  }
   v.files.push_back(file);
   v.files.insert(v.files.end(), data_files.begin(), data_files.end());
   return v;
