@@ -318,9 +318,9 @@ GridField read_volume_field(const Reader& r, const toml::table& t, const Box& bo
       {{"trilinear", Interpolation::trilinear}, {"nearest", Interpolation::nearest}});
   try {
     // The grid's node cap (as for kind = "grid") and the memory budget, checked from the header
-    // before reading: the samples in their own type, twice at the peak (a reader's buffer and
-    // the samples; or the samples and the grid's copy in its node order).
-    VolumeReadOptions options{std::int64_t{kMaxGridNodes} * 16, kMaxGridNodes, 2};
+    // before reading: the samples in their own type, and at the peak what the reader holds
+    // beside them or the bits that put a header's permuted axes in world order.
+    VolumeReadOptions options{std::int64_t{kMaxGridNodes} * 16, kMaxGridNodes, placement == VolumePlacement::header};
     if (r.volume_budget() > 0 && r.volume_budget() < static_cast<double>(options.max_bytes))
       options.max_bytes = static_cast<std::int64_t>(r.volume_budget());
     Volume v = read_volume(file, options);

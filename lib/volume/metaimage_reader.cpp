@@ -111,64 +111,41 @@ void set_geometry(Volume& v, const Header& h, const std::filesystem::path& file)
   set_axis_aligned(v, steps, file, "TransformMatrix");
 }
 
-// Where the data are: a file and the offset at which they start, and how many bytes follow it.
-struct DataPlace {
-  std::filesystem::path path;
-  std::uint64_t offset = 0;
-  std::uint64_t available = 0;
-};
-
-// After the header (LOCAL) or in the detached file, at HeaderSize (-1: the data end the file).
-DataPlace find_data(const Header& h, const std::filesystem::path& file, Volume& v, std::size_t need) {
+// After the header (LOCAL) or in the detached file, at HeaderSize (-1: the data end the file);
+// compressed data end at CompressedDataSize where it is given.
+StoredSamples find_data(const Header& h, const std::filesystem::path& file, Volume& v, std::size_t need) {
+  StoredSamples d;
+  d.compressed = boolean(file, "CompressedData", find_any(h, {"CompressedData"}), false);
   const std::string& name = h.keys.find("ElementDataFile")->second;
   if (name == "LOCAL") {
     const std::uint64_t size = file_size_of(file);
-    return {file, h.data_start, size - std::min<std::uint64_t>(size, h.data_start)};
+    d = {file, h.data_start, size - std::min<std::uint64_t>(size, h.data_start), d.compressed};
+  } else {
+    if (name.rfind("LIST", 0) == 0 || name.find('%') != std::string::npos || name.empty())
+      volume_fail(file, "ElementDataFile", fmt::format("\"{}\": a list or pattern of files is not supported", name.substr(0, 80)));
+    d.path = file.parent_path() / name;
+    v.files.push_back(d.path);
+    std::uint64_t size = 0;
+    try {
+      size = file_size_of(d.path);
+    } catch (const VolumeFileError& e) {  // named from the header that points at it
+      volume_fail(file, "ElementDataFile", e.what());
+    }
+    double skip = 0;
+    if (const auto* s = find_any(h, {"HeaderSize"})) skip = header_numbers(file, "HeaderSize", *s, 1)[0];
+    if (skip == -1) skip = static_cast<double>(size - std::min<std::uint64_t>(size, need));
+    if (!(skip >= 0) || skip != std::floor(skip) || skip > static_cast<double>(size))
+      volume_fail(file, "HeaderSize", fmt::format("{} is not a byte offset within the data file's {} bytes", skip, size));
+    d.offset = static_cast<std::uint64_t>(skip);
+    d.available = size - d.offset;
   }
-  if (name.rfind("LIST", 0) == 0 || name.find('%') != std::string::npos || name.empty())
-    volume_fail(file, "ElementDataFile", fmt::format("\"{}\": a list or pattern of files is not supported", name.substr(0, 80)));
-  DataPlace d{file.parent_path() / name};
-  v.files.push_back(d.path);
-  std::uint64_t size = 0;
-  try {
-    size = file_size_of(d.path);
-  } catch (const VolumeFileError& e) {  // named from the header that points at it
-    volume_fail(file, "ElementDataFile", e.what());
-  }
-  double skip = 0;
-  if (const auto* s = find_any(h, {"HeaderSize"})) skip = header_numbers(file, "HeaderSize", *s, 1)[0];
-  if (skip == -1) skip = static_cast<double>(size - std::min<std::uint64_t>(size, need));
-  if (!(skip >= 0) || skip != std::floor(skip) || skip > static_cast<double>(size))
-    volume_fail(file, "HeaderSize", fmt::format("{} is not a byte offset within the data file's {} bytes", skip, size));
-  d.offset = static_cast<std::uint64_t>(skip);
-  d.available = size - d.offset;
-  return d;
-}
-
-// The samples read straight into their own storage: raw from the file, or inflated from it a
-// megabyte of compressed bytes at a time.
-VolumeSamples read_data(const Header& h, const DataPlace& d, const std::filesystem::path& file, const Volume& v,
-                        ScalarType type, bool big_endian) {
-  const std::size_t count = static_cast<std::size_t>(v.dims[0]) * v.dims[1] * v.dims[2];
-  const std::size_t need = count * scalar_bytes(type);
-  if (!boolean(file, "CompressedData", find_any(h, {"CompressedData"}), false)) {
-    if (d.available < need)
-      volume_fail(file, "(data)", fmt::format("truncated: {} bytes of data, {} x {} x {} {} samples need {}", d.available,
-                                              v.dims[0], v.dims[1], v.dims[2], to_string(type), need));
-    return read_samples(type, count, big_endian,
-                        [&](unsigned char* out, std::size_t bytes) { read_file_range(d.path, d.offset, out, bytes); });
-  }
-  std::uint64_t size = d.available;
-  if (const auto* s = find_any(h, {"CompressedDataSize"})) {
+  if (const auto* s = find_any(h, {"CompressedDataSize"}); s && d.compressed) {
     const double c = header_numbers(file, "CompressedDataSize", *s, 1)[0];
     if (!(c >= 0) || c > static_cast<double>(d.available))
       volume_fail(file, "CompressedDataSize", fmt::format("{} bytes, but {} follow the header", *s, d.available));
-    size = static_cast<std::uint64_t>(c);
+    d.available = static_cast<std::uint64_t>(c);
   }
-  check_inflatable(size, need, file, "CompressedData");
-  return read_samples(type, count, big_endian, [&](unsigned char* out, std::size_t bytes) {
-    inflate_file_range_into(d.path, d.offset, size, out, bytes, file, "CompressedData");
-  });
+  return d;
 }
 
 }  // namespace
@@ -187,13 +164,13 @@ Volume read_metaimage(const std::filesystem::path& file, const VolumeReadOptions
     dims[a] = static_cast<std::int64_t>(d[a]);
   }
   v.dims = checked_dims(file, "DimSize", dims);
-  check_budget(file, "DimSize", v.dims, type, options);
   set_geometry(v, h, file);
+  check_budget(file, "DimSize", v, type, 0, options);
   v.files.push_back(file);
   const bool big_endian = boolean(file, "ElementByteOrderMSB", find_any(h, {"ElementByteOrderMSB", "BinaryDataByteOrderMSB"}), false);
   const std::size_t count = static_cast<std::size_t>(v.dims[0]) * v.dims[1] * v.dims[2];
-  const DataPlace place = find_data(h, file, v, count * scalar_bytes(type));
-  v.samples = read_data(h, place, file, v, type, big_endian);
+  const StoredSamples place = find_data(h, file, v, count * scalar_bytes(type));
+  v.samples = read_stored_samples(place, type, count, big_endian, file, place.compressed ? "CompressedData" : "(data)");
   return v;
 }
 

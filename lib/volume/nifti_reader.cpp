@@ -81,8 +81,8 @@ Volume read_nifti(const std::filesystem::path& file, const VolumeReadOptions& op
   Volume v;
   const ScalarType type = nifti_scalar_type(file, nim->datatype);
   v.dims = checked_dims(file, "dim", {nim->nx, nim->ny, nim->nz});
-  check_budget(file, "dim", v.dims, type, options);
   set_geometry(v, *nim, file);
+  check_budget(file, "dim", v, type, 0, options);
   if (std::isfinite(nim->scl_slope) && nim->scl_slope != 0) {
     v.slope = nim->scl_slope;
     v.intercept = std::isfinite(nim->scl_inter) ? nim->scl_inter : 0.0;

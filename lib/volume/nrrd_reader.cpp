@@ -80,42 +80,24 @@ Loaded load(const std::filesystem::path& file, bool skip_data, std::vector<std::
   return {std::move(nrrd), std::move(nio)};
 }
 
-// Where the data of a single-file raw or gzip NRRD start.  Teem reads data into a buffer of its
+// Where the data of a single-file raw or gzip NRRD are.  Teem reads data into a buffer of its
 // own, and the samples were then a second copy of the scan; its header pass leaves the one data
 // file open after the line skips (and, for raw data, the byte skip), so the data are read from
 // there straight into the samples, as the other readers read theirs.  Nothing for what only Teem
 // decodes (ascii, hex, bzip2), several data files, per-file skips, or a byte skip inside a gzip
 // stream: those still go through Teem and one copy.
-struct NrrdDataPlace {
-  std::filesystem::path path;
-  std::uint64_t offset = 0;
-  bool gzip = false;
-};
-std::optional<NrrdDataPlace> nrrd_direct_data(const std::filesystem::path& file, const std::vector<std::filesystem::path>& data_files,
-                                     const NrrdIoState& nio) {
+std::optional<StoredSamples> nrrd_direct_data(const std::filesystem::path& file,
+                                              const std::vector<std::filesystem::path>& data_files,
+                                              const NrrdIoState& nio) {
   const bool raw = nio.encoding == nrrdEncodingRaw, gzip = nio.encoding == nrrdEncodingGzip;
   if (!(raw || gzip) || !nio.dataFile || data_files.size() > 1 || nio.dataFSkip) return std::nullopt;
   if (gzip && nio.byteSkip != 0) return std::nullopt;
   const long at = std::ftell(nio.dataFile);
   if (at < 0) return std::nullopt;
-  return NrrdDataPlace{data_files.empty() ? file : data_files.front(), static_cast<std::uint64_t>(at), gzip};
-}
-
-VolumeSamples read_nrrd_direct(const NrrdDataPlace& d, const std::filesystem::path& file, ScalarType type, std::size_t count,
-                          bool big_endian) {
-  const std::size_t need = count * scalar_bytes(type);
+  StoredSamples d{data_files.empty() ? file : data_files.front(), static_cast<std::uint64_t>(at), 0, gzip};
   const std::uint64_t size = file_size_of(d.path);
-  const std::uint64_t available = size > d.offset ? size - d.offset : 0;
-  if (!d.gzip) {
-    if (available < need)
-      volume_fail(file, "(data)", fmt::format("truncated: {} bytes of data where {} samples need {}", available, count, need));
-    return read_samples(type, count, big_endian,
-                        [&](unsigned char* out, std::size_t bytes) { read_file_range(d.path, d.offset, out, bytes); });
-  }
-  check_inflatable(available, need, file, "(data)");
-  return read_samples(type, count, big_endian, [&](unsigned char* out, std::size_t bytes) {
-    inflate_file_range_into(d.path, d.offset, available, out, bytes, file, "(data)");
-  });
+  d.available = size > d.offset ? size - d.offset : 0;
+  return d;
 }
 
 void set_geometry(Volume& v, const Nrrd& n, const std::filesystem::path& file) {
@@ -167,12 +149,12 @@ Volume read_nrrd(const std::filesystem::path& file, const VolumeReadOptions& opt
   v.dims = checked_dims(file, "sizes",
                         {static_cast<std::int64_t>(header->axis[0].size), static_cast<std::int64_t>(header->axis[1].size),
                          static_cast<std::int64_t>(header->axis[2].size)});
-  check_budget(file, "sizes", v.dims, type, options);
   set_geometry(v, *header, file);
-
   const std::size_t count = static_cast<std::size_t>(v.dims[0]) * v.dims[1] * v.dims[2];
-  if (const auto place = nrrd_direct_data(file, data_files, *loaded.nio)) {
-    v.samples = read_nrrd_direct(*place, file, type, count, loaded.nio->endian == airEndianBig);
+  const std::optional<StoredSamples> place = nrrd_direct_data(file, data_files, *loaded.nio);
+  check_budget(file, "sizes", v, type, place ? 0 : count * scalar_bytes(type), options);
+  if (place) {
+    v.samples = read_stored_samples(*place, type, count, loaded.nio->endian == airEndianBig, file, "(data)");
   } else {
     const Loaded full = load(file, false);
     if (!full.nrrd->data) volume_fail(file, "(data)", "no data");

@@ -75,18 +75,19 @@ std::array<int, 3> checked_dims(const std::filesystem::path& file, std::string_v
   return out;
 }
 
-void check_budget(const std::filesystem::path& file, std::string_view what,
-                  const std::array<int, 3>& dims, ScalarType t, const VolumeReadOptions& options) {
-  const std::int64_t samples = std::int64_t{dims[0]} * dims[1] * dims[2];
+void check_budget(const std::filesystem::path& file, std::string_view what, const Volume& v, ScalarType t,
+                  std::uint64_t reader_bytes, const VolumeReadOptions& options) {
+  const std::array<int, 3>& d = v.dims;
+  const std::int64_t samples = std::int64_t{d[0]} * d[1] * d[2];
   if (samples > options.max_samples)
-    volume_fail(file, what, fmt::format("{} x {} x {} samples: more than {}", dims[0], dims[1], dims[2],
-                                        options.max_samples));
-  const std::int64_t bytes = samples * static_cast<std::int64_t>(scalar_bytes(t)) * options.copies;
-  if (bytes > options.max_bytes)
-    volume_fail(file, what, fmt::format("{} x {} x {} {} samples{} take {} bytes, more than the {} allowed "
-                                        "(--max-memory)", dims[0], dims[1], dims[2], to_string(t),
-                                        options.copies == 2 ? " held twice while read" : "",
-                                        bytes,
+    volume_fail(file, what, fmt::format("{} x {} x {} samples: more than {}", d[0], d[1], d[2], options.max_samples));
+  const std::uint64_t bytes = static_cast<std::uint64_t>(samples) * scalar_bytes(t);
+  const std::uint64_t reorder = options.reorders_to_world_order && !v.axes_along_world() ? (samples + 7) / 8 : 0;
+  const std::uint64_t peak = bytes + std::max(reader_bytes, reorder);
+  if (peak > static_cast<std::uint64_t>(std::max<std::int64_t>(options.max_bytes, 0)))
+    volume_fail(file, what, fmt::format("{} x {} x {} {} samples take {} bytes{}, more than the {} allowed (--max-memory)",
+                                        d[0], d[1], d[2], to_string(t), bytes,
+                                        peak > bytes ? fmt::format(", {} at the peak while read", peak) : "",
                                         options.max_bytes));
 }
 
@@ -196,19 +197,15 @@ void inflate_chunks_into(std::size_t size, const CompressedChunks& next, unsigne
     volume_fail(file, what, fmt::format("compressed data end after {} of {} bytes", done, expected));
 }
 
-std::vector<unsigned char> inflate_exactly(const unsigned char* data, std::size_t size,
-                                           std::size_t expected, const std::filesystem::path& file,
-                                           std::string_view what) {
-  check_inflatable(size, expected, file, what);
-  std::vector<unsigned char> out(expected);
+void inflate_into(const unsigned char* data, std::size_t size, unsigned char* out, std::size_t expected,
+                  const std::filesystem::path& file, std::string_view what) {
   std::size_t given = 0;
   const auto next = [&] {
     const std::size_t n = std::min<std::size_t>(size - given, std::size_t{1} << 30);
     given += n;
     return std::span<const unsigned char>(data + given - n, n);
   };
-  inflate_chunks_into(size, next, out.data(), expected, file, what);
-  return out;
+  inflate_chunks_into(size, next, out, expected, file, what);
 }
 
 namespace {
@@ -221,31 +218,17 @@ std::ifstream open_file(const std::filesystem::path& file) {
   return in;
 }
 
-// Up to `limit` bytes from the start; with `refuse_beyond`, a longer file is refused.
-std::string read_up_to(const std::filesystem::path& file, std::size_t limit, bool refuse_beyond) {
-  std::ifstream in = open_file(file);
-  std::string bytes;
-  char buffer[1 << 16];
-  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
-    bytes.append(buffer, static_cast<std::size_t>(in.gcount()));
-    if (bytes.size() > limit) {
-      if (refuse_beyond) volume_fail(file, "(file)", fmt::format("larger than {} bytes", limit));
-      bytes.resize(limit);
-      return bytes;
-    }
-  }
-  if (in.bad()) volume_fail(file, "(file)", "read error");
-  return bytes;
-}
-
 }  // namespace
 
-std::string read_file_bytes(const std::filesystem::path& file, std::size_t max_bytes) {
-  return read_up_to(file, max_bytes, true);
-}
-
 std::string read_file_head(const std::filesystem::path& file, std::size_t bytes) {
-  return read_up_to(file, bytes, false);
+  std::ifstream in = open_file(file);
+  std::string head;
+  char buffer[1 << 16];
+  while (head.size() < bytes && (in.read(buffer, sizeof buffer) || in.gcount() > 0))
+    head.append(buffer, static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) volume_fail(file, "(file)", "read error");
+  if (head.size() > bytes) head.resize(bytes);
+  return head;
 }
 
 std::uint64_t file_size_of(const std::filesystem::path& file) {
@@ -286,6 +269,22 @@ void read_file_range(const std::filesystem::path& file, std::uint64_t offset, un
 }  // namespace vrv
 
 namespace vrv {
+
+VolumeSamples read_stored_samples(const StoredSamples& d, ScalarType t, std::size_t count, bool big_endian,
+                                  const std::filesystem::path& file, std::string_view what) {
+  const std::size_t need = count * scalar_bytes(t);
+  if (!d.compressed) {
+    if (d.available < need)
+      volume_fail(file, what, fmt::format("truncated: {} bytes of data where {} {} samples need {}", d.available, count,
+                                          to_string(t), need));
+    return read_samples(t, count, big_endian,
+                        [&](unsigned char* out, std::size_t bytes) { read_file_range(d.path, d.offset, out, bytes); });
+  }
+  check_inflatable(d.available, need, file, what);
+  return read_samples(t, count, big_endian, [&](unsigned char* out, std::size_t bytes) {
+    inflate_file_range_into(d.path, d.offset, d.available, out, bytes, file, what);
+  });
+}
 
 VolumeSamples read_samples(ScalarType t, std::size_t count, bool big_endian,
                            const std::function<void(unsigned char*, std::size_t)>& read) {

@@ -78,6 +78,8 @@ struct Volume {
   }
   // The 3x3 matrix whose column a is index axis a's step in world coordinates.
   Eigen::Matrix3d steps() const;
+  // Index axis a along world axis a (mirrored or not).
+  bool axes_along_world() const { return axis == std::array<int, 3>{0, 1, 2}; }
 };
 
 // What a reader may allocate for the samples, checked from the header before any data is read
@@ -85,14 +87,17 @@ struct Volume {
 struct VolumeReadOptions {
   std::int64_t max_bytes = std::int64_t{16} << 30;
   std::int64_t max_samples = kMaxVolumeSamples;
-  // How many copies of the samples the caller holds at once, in the budget (the scene: a
-  // reader's buffer and the samples, or the samples and the grid's copy in its node order).
-  int copies = 1;
+  // The caller puts the samples in world order where they are (a scene placing the volume by its
+  // header, lib/volume/volume_grid), with one bit a sample beside them when the header's index
+  // axes are permuted: in the budget.
+  bool reorders_to_world_order = false;
 };
-// Refuses more than options.max_samples samples, or dims x (bytes per sample + extra) above
-// options.max_bytes, naming `what`.
-void check_budget(const std::filesystem::path& file, std::string_view what,
-                  const std::array<int, 3>& dims, ScalarType t, const VolumeReadOptions& options);
+// Refuses more than options.max_samples samples, or a peak above options.max_bytes, naming
+// `what`: the samples, plus the larger of what the reader holds beside them while reading
+// (`reader_bytes`: Teem's buffer, a file's text) and the caller's bits while reordering them.
+// `v` has its dims and axes (the header's geometry) set.
+void check_budget(const std::filesystem::path& file, std::string_view what, const Volume& v, ScalarType t,
+                  std::uint64_t reader_bytes, const VolumeReadOptions& options);
 
 // Dims from a header: each in [1, 2^31) and their product at most kMaxVolumeSamples.
 std::array<int, 3> checked_dims(const std::filesystem::path& file, std::string_view what,
@@ -115,6 +120,20 @@ VolumeSamples samples_from_bytes(ScalarType t, const unsigned char* bytes, std::
 VolumeSamples read_samples(ScalarType t, std::size_t count, bool big_endian,
                            const std::function<void(unsigned char*, std::size_t)>& read);
 
+// Where a file keeps its samples: `available` bytes from `offset` of `path`, raw or one zlib or
+// gzip stream.
+struct StoredSamples {
+  std::filesystem::path path;
+  std::uint64_t offset = 0;
+  std::uint64_t available = 0;
+  bool compressed = false;
+};
+// `count` samples of type t read from `d` straight into their own storage: raw from the file, or
+// inflated from it a megabyte of compressed bytes at a time.  Too few bytes, or a stream that
+// cannot hold the samples, are refused naming `file` and `what`.
+VolumeSamples read_stored_samples(const StoredSamples& d, ScalarType t, std::size_t count, bool big_endian,
+                                  const std::filesystem::path& file, std::string_view what);
+
 // Refuses, naming `file` and `what`, `expected` bytes from a deflate stream of `size` bytes when
 // no stream that short inflates that far: before anything is allocated for them.
 void check_inflatable(std::uint64_t size, std::size_t expected, const std::filesystem::path& file,
@@ -126,13 +145,10 @@ using CompressedChunks = std::function<std::span<const unsigned char>()>;
 // `size` bytes can hold, are refused naming `file` and `what`.
 void inflate_chunks_into(std::size_t size, const CompressedChunks& next, unsigned char* out, std::size_t expected,
                          const std::filesystem::path& file, std::string_view what);
-// The same from memory into a new buffer (allocated only for a size the data can inflate to).
-std::vector<unsigned char> inflate_exactly(const unsigned char* data, std::size_t size,
-                                           std::size_t expected, const std::filesystem::path& file,
-                                           std::string_view what);
+// The same from `size` bytes in memory.
+void inflate_into(const unsigned char* data, std::size_t size, unsigned char* out, std::size_t expected,
+                  const std::filesystem::path& file, std::string_view what);
 
-// The whole file (refused beyond `max_bytes`).
-std::string read_file_bytes(const std::filesystem::path& file, std::size_t max_bytes);
 // The file's first `bytes` bytes (all of it when shorter).
 std::string read_file_head(const std::filesystem::path& file, std::size_t bytes);
 // The file's size; a directory or a file that cannot be opened is refused naming it.

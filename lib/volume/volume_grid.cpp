@@ -48,24 +48,56 @@ void check_samples_finite(const Volume& v, const std::filesystem::path& file) {
       v.samples);
 }
 
-// The samples in grid order, in their own type: moved as they are when that is the file's order
-// (no second copy of a scan), else copied once.
+// The samples put in grid order where they are, in their own type: no second copy of a scan.
+// Mirrored axes alone are swapped end for end; otherwise grid node g takes the file's sample at
+// source(g), the permutation applied cycle by cycle, one bit a sample marking the nodes placed.
+// Index axes mirrored but not permuted (a NIfTI file in LAS order, say): each mirrored axis's
+// rows, planes or slices swapped end for end, in memory order.
+template <class Samples>
+void mirror_in_place(Samples& s, const std::array<int, 3>& dims, const std::array<bool, 3>& mirrored) {
+  const std::size_t nx = dims[0], row = nx, plane = nx * dims[1];
+  if (mirrored[0])
+    for (std::size_t at = 0; at < s.size(); at += row) std::reverse(s.begin() + at, s.begin() + at + row);
+  if (mirrored[1])
+    for (std::size_t k = 0; k < static_cast<std::size_t>(dims[2]); ++k)
+      for (std::size_t j = 0, last = dims[1] - 1; j < last - j; ++j)
+        std::swap_ranges(s.begin() + k * plane + j * row, s.begin() + k * plane + (j + 1) * row,
+                         s.begin() + k * plane + (last - j) * row);
+  if (mirrored[2])
+    for (std::size_t k = 0, last = dims[2] - 1; k < last - k; ++k)
+      std::swap_ranges(s.begin() + k * plane, s.begin() + (k + 1) * plane, s.begin() + (last - k) * plane);
+}
+
 VolumeSamples in_grid_order(VolumeSamples&& samples, const std::array<int, 3>& dims, const GridOrder& order) {
   if (order.is_file_order()) return std::move(samples);
-  return std::visit(
-      [&](const auto& s) -> VolumeSamples {
-        std::decay_t<decltype(s)> out(s.size());
-        std::size_t next = 0;
-        std::array<int, 3> g{}, idx{};
-        for (g[2] = 0; g[2] < order.n[2]; ++g[2])
-          for (g[1] = 0; g[1] < order.n[1]; ++g[1])
-            for (g[0] = 0; g[0] < order.n[0]; ++g[0]) {
-              for (int w = 0; w < 3; ++w) idx[order.axis[w]] = order.mirrored[w] ? order.n[w] - 1 - g[w] : g[w];
-              out[next++] = s[(static_cast<std::size_t>(idx[2]) * dims[1] + idx[1]) * dims[0] + idx[0]];
-            }
-        return out;
+  if (order.axis == std::array<int, 3>{0, 1, 2}) {
+    std::visit([&](auto& s) { mirror_in_place(s, dims, order.mirrored); }, samples);
+    return std::move(samples);
+  }
+  const auto source = [&](std::size_t g) {
+    const std::size_t g0 = g % order.n[0], g1 = g / order.n[0] % order.n[1], g2 = g / order.n[0] / order.n[1];
+    std::array<std::size_t, 3> idx{};
+    const std::size_t gw[3] = {g0, g1, g2};
+    for (int w = 0; w < 3; ++w) idx[order.axis[w]] = order.mirrored[w] ? order.n[w] - 1 - gw[w] : gw[w];
+    return (idx[2] * dims[1] + idx[1]) * dims[0] + idx[0];
+  };
+  std::visit(
+      [&](auto& s) {
+        std::vector<bool> placed(s.size(), false);
+        for (std::size_t start = 0; start < s.size(); ++start) {
+          if (placed[start]) continue;
+          const auto first = s[start];
+          std::size_t g = start;
+          for (std::size_t from = source(g); from != start; g = from, from = source(g)) {
+            s[g] = s[from];
+            placed[g] = true;
+          }
+          s[g] = first;
+          placed[g] = true;
+        }
       },
       samples);
+  return std::move(samples);
 }
 
 }  // namespace

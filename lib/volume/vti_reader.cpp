@@ -9,10 +9,11 @@ extern "C" {
 #include <algorithm>
 #include <cctype>
 #include <charconv>
-#include <climits>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,30 +35,143 @@ ScalarType array_type(const Path& file, std::string_view t) {
   volume_fail(file, "DataArray.type", fmt::format("\"{}\" not supported (UInt8 to Int32, Float32, Float64)", t.substr(0, 80)));
 }
 
-// base64 text (whitespace ignored) in segments that each end in their own '=' padding: VTK
-// encodes a compressed array's header apart from its blocks, so padding may sit mid-stream,
-// where libb64's decoder (which skips '=') would lose the alignment.
-std::string base64_decode(std::string_view text) {
-  std::string clean;
-  clean.reserve(text.size());
-  for (char c : text)
-    if (!std::isspace(static_cast<unsigned char>(c))) clean.push_back(c);
-  std::string out;
-  std::size_t pos = 0;
-  while (pos < clean.size()) {
-    std::size_t end = clean.find('=', pos);
-    end = end == std::string::npos ? clean.size() : clean.find_first_not_of('=', end);
-    if (end == std::string::npos) end = clean.size();
-    const std::size_t len = std::min<std::size_t>(end - pos, INT_MAX / 4 * 3);
-    std::string chunk(len / 4 * 3 + 3, '\0');
+// Decodes base64 text (whitespace ignored) in place and returns the decoded length: the text is
+// this reader's own buffer and the decoded bytes are shorter, so no second copy is held.  The
+// text comes in segments that each end in their own '=' padding: VTK encodes a compressed
+// array's header apart from its blocks, so padding may sit mid-stream, where libb64's decoder
+// (which skips '=') would lose the alignment.  Each segment is decoded a few megabytes at a time
+// through a buffer and written back behind where it is read.
+std::size_t base64_decode_in_place(char* text, std::size_t size) {
+  const std::size_t clean = static_cast<std::size_t>(
+      std::remove_if(text, text + size, [](char c) { return std::isspace(static_cast<unsigned char>(c)); }) - text);
+  const std::string_view all(text, clean);
+  constexpr std::size_t kChunk = std::size_t{1} << 22;  // characters, a multiple of 4
+  std::vector<char> buffer(std::min(clean, kChunk) / 4 * 3 + 3);
+  std::size_t written = 0, pos = 0;
+  while (pos < clean) {
+    std::size_t end = all.find('=', pos);
+    end = end == std::string_view::npos ? clean : all.find_first_not_of('=', end);
+    if (end == std::string_view::npos) end = clean;
     base64_decodestate state;
     base64_init_decodestate(&state);
-    const int n = base64_decode_block(clean.data() + pos, static_cast<int>(len), chunk.data(), &state);
-    out.append(chunk.data(), static_cast<std::size_t>(n));
-    pos += len;
+    for (; pos < end;) {
+      const std::size_t len = std::min(end - pos, kChunk);
+      const int n = base64_decode_block(text + pos, static_cast<int>(len), buffer.data(), &state);
+      std::memcpy(text + written, buffer.data(), static_cast<std::size_t>(n));  // written <= pos
+      written += static_cast<std::size_t>(n);
+      pos += len;
+    }
   }
-  return out;
+  return written;
 }
+
+bool is_base64_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '/'; }
+
+// Appended base64 text decoded as it is read from the file, a megabyte of text at a time, up to
+// the '<' that ends it: the array's stream without its text held.  Each run of '=' padding ends a
+// segment (VTK encodes a compressed array's header apart from its blocks); whitespace and '='
+// are skipped by libb64's decoder.
+class Base64FileStream {
+ public:
+  Base64FileStream(const Path& file, std::uint64_t offset, std::uint64_t end)
+      : in_(file, std::ios::binary), left_(end - std::min(end, offset)) {
+    in_.seekg(static_cast<std::streamoff>(offset));
+    base64_init_decodestate(&state_);
+  }
+  std::uint64_t given() const { return given_; }
+  // The next n decoded bytes into out (nullptr: skipped); false when the text ends first.
+  bool next(unsigned char* out, std::size_t n) {
+    while (n > 0) {
+      if (at_ == bytes_.size() && !refill()) return false;
+      const std::size_t k = std::min(n, bytes_.size() - at_);
+      if (out) std::memcpy(out, bytes_.data() + at_, k), out += k;
+      at_ += k, n -= k, given_ += k;
+    }
+    return true;
+  }
+
+ private:
+  // Decodes the next megabyte of text that holds any bytes; false at the end of the text.
+  bool refill() {
+    while (left_ > 0)
+      if (decode_next_chunk()) return true;
+    return false;
+  }
+  bool decode_next_chunk() {
+    text_.resize(static_cast<std::size_t>(std::min<std::uint64_t>(left_, std::size_t{1} << 20)));
+    in_.read(text_.data(), static_cast<std::streamsize>(text_.size()));
+    if (static_cast<std::size_t>(in_.gcount()) != text_.size()) {
+      left_ = 0;  // a read error: the array ends here (named as truncated)
+      return false;
+    }
+    left_ -= text_.size();
+    if (const auto end = std::find(text_.begin(), text_.end(), '<'); end != text_.end()) {
+      text_.erase(end, text_.end());
+      left_ = 0;
+    }
+    bytes_.resize(text_.size() / 4 * 3 + 3);
+    std::size_t made = 0;
+    for (std::size_t pos = 0; pos < text_.size();) {
+      if (after_padding_) {  // a new segment starts at the next base64 character
+        while (pos < text_.size() && !is_base64_char(text_[pos])) ++pos;
+        if (pos == text_.size()) break;
+        base64_init_decodestate(&state_);
+        after_padding_ = false;
+      }
+      const auto pad = static_cast<std::size_t>(std::find(text_.begin() + pos, text_.end(), '=') - text_.begin());
+      made += static_cast<std::size_t>(base64_decode_block(text_.data() + pos, static_cast<int>(pad - pos),
+                                                           reinterpret_cast<char*>(bytes_.data()) + made, &state_));
+      after_padding_ = pad < text_.size();
+      pos = pad;
+    }
+    bytes_.resize(made);
+    at_ = 0;
+    return made > 0;
+  }
+
+  std::ifstream in_;
+  std::uint64_t left_;
+  std::vector<char> text_;
+  std::vector<unsigned char> bytes_;
+  std::size_t at_ = 0;
+  std::uint64_t given_ = 0;
+  base64_decodestate state_;
+  bool after_padding_ = false;
+};
+
+// Where an array's binary stream (its header, then data) is: decoded in memory (inline base64
+// arrays), in the file (appended raw data, read from there into the samples) or decoded from the
+// file's appended base64 text as it is read.  Read in order: header, block sizes, blocks.
+struct ArrayBytes {
+  std::string_view memory;
+  std::optional<StoredSamples> stored;
+  Base64FileStream* base64 = nullptr;
+  std::uint64_t base64_bound = 0;  // decoded bytes the text can hold at most
+
+  std::uint64_t size() const { return stored ? stored->available : base64 ? base64_bound : memory.size(); }
+  void read(const Path& file, std::uint64_t at, unsigned char* out, std::size_t n) const {
+    if (stored) return read_file_range(stored->path, stored->offset + at, out, n);
+    if (!base64) return void(std::memcpy(out, memory.data() + at, n));
+    if (!base64->next(nullptr, at - std::min(at, base64->given())) || !base64->next(out, n))
+      volume_fail(file, "AppendedData", fmt::format("truncated: the base64 data end before byte {} of the array", at + n));
+  }
+  void inflate(const Path& file, std::uint64_t at, std::uint64_t n, unsigned char* out, std::size_t expected,
+               std::string_view what) const {
+    if (stored) return inflate_file_range_into(stored->path, stored->offset + at, n, out, expected, file, what);
+    if (!base64)
+      return inflate_into(reinterpret_cast<const unsigned char*>(memory.data()) + at, static_cast<std::size_t>(n), out,
+                          expected, file, what);
+    std::vector<unsigned char> chunk;
+    std::uint64_t given = 0;
+    const auto next = [&] {
+      chunk.resize(static_cast<std::size_t>(std::min<std::uint64_t>(n - given, std::size_t{1} << 20)));
+      read(file, at + given, chunk.data(), chunk.size());
+      given += chunk.size();
+      return std::span<const unsigned char>(chunk);
+    };
+    inflate_chunks_into(n, next, out, expected, file, what);
+  }
+};
 
 struct Encoding {
   bool big_endian = false;
@@ -74,41 +188,45 @@ std::uint64_t header_value(const Encoding& e, const unsigned char* p) {
   return v;
 }
 
-// The array's bytes from a binary stream at `p` (header, then data): `need` bytes expected.
-std::vector<unsigned char> binary_array(const Path& file, const Encoding& e, const unsigned char* p,
-                                        std::size_t size, std::size_t need) {
+std::uint64_t header_value(const Path& file, const Encoding& e, const ArrayBytes& src, std::uint64_t at) {
+  unsigned char p[8];
+  src.read(file, at, p, e.header_bytes);
+  return header_value(e, p);
+}
+
+// The array's `need` bytes into `out`, from its binary stream (header, then data, raw or in
+// zlib blocks).
+void binary_array(const Path& file, const Encoding& e, const ArrayBytes& src, unsigned char* out, std::size_t need) {
+  const std::uint64_t size = src.size();
   const std::size_t h = e.header_bytes;
-  auto short_of = [&](std::size_t bytes) {
+  auto short_of = [&](std::uint64_t bytes) {
     if (bytes > size) volume_fail(file, "DataArray", fmt::format("truncated: {} bytes, the array's header needs {}", size, bytes));
   };
   auto truncated = [&] { volume_fail(file, "DataArray", fmt::format("truncated: {} bytes, fewer than the array's header states", size)); };
   if (!e.zlib) {
     short_of(h);
-    const std::uint64_t n = header_value(e, p);
+    const std::uint64_t n = header_value(file, e, src, 0);
     if (n != need) volume_fail(file, "DataArray", fmt::format("{} bytes of data, the extent and type need {}", n, need));
     short_of(h + need);
-    return {p + h, p + h + need};
+    return src.read(file, h, out, need);
   }
   short_of(3 * h);
-  const std::uint64_t blocks = header_value(e, p), block = header_value(e, p + h), last = header_value(e, p + 2 * h);
+  const std::uint64_t blocks = header_value(file, e, src, 0), block = header_value(file, e, src, h), last = header_value(file, e, src, 2 * h);
   if (blocks > size / h) truncated();
   short_of((3 + blocks) * h);
   const std::uint64_t last_size = last == 0 ? block : last;
   if (blocks == 0 ? need != 0 : (block == 0 || (blocks - 1) > need / block || (blocks - 1) * block + last_size != need))
     volume_fail(file, "DataArray", fmt::format("{} compressed blocks of {} bytes (last {}) do not make the {} bytes needed",
                                                blocks, block, last, need));
-  std::vector<unsigned char> out;
-  out.reserve(need);
-  std::size_t at = (3 + blocks) * h;
+  std::vector<unsigned char> sizes(static_cast<std::size_t>(blocks * h));
+  src.read(file, 3 * h, sizes.data(), sizes.size());
+  std::uint64_t at = (3 + blocks) * h;
   for (std::uint64_t b = 0; b < blocks; ++b) {
-    const std::uint64_t c = header_value(e, p + (3 + b) * h);
+    const std::uint64_t c = header_value(e, sizes.data() + b * h);
     if (c > size - at) truncated();
-    const auto raw = inflate_exactly(p + at, c, b + 1 == blocks ? last_size : block, file,
-                                     fmt::format("DataArray block {}", b));
-    out.insert(out.end(), raw.begin(), raw.end());
+    src.inflate(file, at, c, out + b * block, b + 1 == blocks ? last_size : block, fmt::format("DataArray block {}", b));
     at += c;
   }
-  return out;
 }
 
 template <class T>
@@ -152,20 +270,88 @@ Encoding encoding(const Path& file, const pugi::xml_node& root) {
   return e;
 }
 
-// The file split where appended raw data begin: raw bytes are no XML, so pugixml sees the text
-// before them with the elements closed.
-struct Split {
+// The file's text up to where its appended data begin (just after the '_' that follows
+// <AppendedData ...>), read a megabyte at a time, with the elements closed: appended raw bytes
+// are no XML, and neither raw nor base64 appended data are held with the document.  The whole
+// file when it has no appended data (its arrays are inline); longer than `cap` is refused.
+struct VtiText {
   std::string xml;
-  std::optional<std::size_t> appended;  // offset of the byte after '_' in the file
+  std::optional<std::uint64_t> appended;  // offset of the byte after '_' in the file
 };
 
-Split split_appended(const std::string& bytes) {
-  const std::size_t tag = bytes.find("<AppendedData");
-  if (tag == std::string::npos) return {bytes, std::nullopt};
-  const std::size_t close = bytes.find('>', tag);
-  const std::size_t underscore = close == std::string::npos ? std::string::npos : bytes.find('_', close);
-  if (underscore == std::string::npos) return {bytes, std::nullopt};
-  return {bytes.substr(0, underscore) + "</AppendedData></VTKFile>", underscore + 1};
+VtiText read_vti_text(const Path& file, std::size_t cap) {
+  const std::uint64_t size = file_size_of(file);  // refuses a directory or an unopenable file
+  std::ifstream in(file, std::ios::binary);
+  if (!in) volume_fail(file, "(file)", "cannot open");
+  VtiText t;
+  std::size_t tag_from = 0;
+  constexpr std::string_view kTag = "<AppendedData";
+  std::vector<char> chunk(std::size_t{1} << 20);
+  while (in.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || in.gcount() > 0) {
+    t.xml.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    if (t.xml.size() > cap) volume_fail(file, "(file)", fmt::format("larger than {} bytes", cap));
+    const std::size_t tag = t.xml.find(kTag, tag_from);
+    if (tag == std::string::npos) {
+      // Inline arrays (no appended data in the first chunk, as a rule): the whole file is read.
+      t.xml.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(size, cap + 1)));
+      tag_from = t.xml.size() - std::min(t.xml.size(), kTag.size());
+      continue;
+    }
+    tag_from = tag;
+    const std::size_t close = t.xml.find('>', tag);
+    const std::size_t underscore = close == std::string::npos ? std::string::npos : t.xml.find('_', close);
+    if (underscore == std::string::npos) continue;
+    t.appended = underscore + 1;
+    t.xml.resize(underscore);
+    t.xml += "</AppendedData></VTKFile>";
+    return t;
+  }
+  if (in.bad()) volume_fail(file, "(file)", "read error");
+  return t;
+}
+
+// Where the appended data end: at the last </AppendedData> (raw bytes may contain the tag, the
+// closing one is near the end of the file), else at the end of the file.
+std::uint64_t appended_end(const Path& file, std::uint64_t appended) {
+  const std::uint64_t size = file_size_of(file);
+  const std::uint64_t tail = std::min<std::uint64_t>(size - std::min(size, appended), 1 << 16);
+  std::string bytes(static_cast<std::size_t>(tail), '\0');
+  read_file_range(file, size - tail, reinterpret_cast<unsigned char*>(bytes.data()), bytes.size());
+  const std::size_t end = bytes.rfind("</AppendedData>");
+  return end == std::string::npos ? size : size - tail + end;
+}
+
+// The array's stream: in the inline text (decoded in place), in the file (appended raw), or
+// decoded from the appended base64 text as it is read (`stream`).  An appended array's offset
+// counts bytes of the appended data as stored: raw bytes, or base64 characters (VTK encodes
+// each array apart and seeks to it in the file).
+ArrayBytes array_bytes(const Path& file, const pugi::xml_node& root, const pugi::xml_node& array,
+                       std::string_view format, const VtiText& t, std::optional<Base64FileStream>& stream) {
+  if (format == "binary") {
+    // The document was parsed in place (load_buffer_inplace): its text is this reader's buffer.
+    char* inline_text = const_cast<char*>(array.child_value());
+    ArrayBytes bytes;
+    bytes.memory = std::string_view(inline_text, base64_decode_in_place(inline_text, std::strlen(inline_text)));
+    return bytes;
+  }
+  const pugi::xml_node appended = root.child("AppendedData");
+  if (!appended || !t.appended) volume_fail(file, "AppendedData", "missing");
+  const double offset = array.attribute("offset").as_double(-1);
+  const std::string_view enc = appended.attribute("encoding").as_string("raw");
+  if (enc != "raw" && enc != "base64")
+    volume_fail(file, "AppendedData.encoding", fmt::format("\"{}\" unknown (raw or base64)", enc.substr(0, 80)));
+  const std::uint64_t end = appended_end(file, *t.appended), stored = end - *t.appended;
+  if (!(offset >= 0) || offset != std::floor(offset) || offset > static_cast<double>(stored))
+    volume_fail(file, "DataArray.offset", fmt::format("{} is not within the {} appended bytes", array.attribute("offset").as_string(), stored));
+  const auto at = *t.appended + static_cast<std::uint64_t>(offset);
+  ArrayBytes bytes;
+  if (enc == "raw") {
+    bytes.stored = StoredSamples{file, at, end - at, false};
+  } else {
+    bytes.base64 = &stream.emplace(file, at, end);
+    bytes.base64_bound = (end - at) / 4 * 3 + 3;
+  }
+  return bytes;
 }
 
 }  // namespace
@@ -173,10 +359,9 @@ Split split_appended(const std::string& bytes) {
 Volume read_vti(const Path& file, const VolumeReadOptions& options) {
   const std::size_t max_bytes = static_cast<std::size_t>(std::max<std::int64_t>(options.max_bytes, 0));
   // ascii text takes up to ~25 characters a value: the file cap is generous.
-  const std::string bytes = read_file_bytes(file, 4 * max_bytes + (std::size_t{1} << 20));
-  const Split split = split_appended(bytes);
+  VtiText text = read_vti_text(file, 4 * max_bytes + (std::size_t{1} << 20));
   pugi::xml_document doc;
-  const pugi::xml_parse_result parsed = doc.load_buffer(split.xml.data(), split.xml.size());
+  const pugi::xml_parse_result parsed = doc.load_buffer_inplace(text.xml.data(), text.xml.size());
   if (!parsed) volume_fail(file, "(xml)", fmt::format("offset {}: {}", parsed.offset, parsed.description()));
   const pugi::xml_node root = doc.child("VTKFile");
   if (!root || std::string_view(root.attribute("type").as_string()) != "ImageData")
@@ -225,42 +410,21 @@ Volume read_vti(const Path& file, const VolumeReadOptions& options) {
   const ScalarType type = array_type(file, array.attribute("type").as_string());
   if (const int c = array.attribute("NumberOfComponents").as_int(1); c != 1)
     volume_fail(file, "NumberOfComponents", fmt::format("{} components not supported (one only)", c));
-  check_budget(file, "WholeExtent", v.dims, type, options);
-  const std::size_t count = static_cast<std::size_t>(v.dims[0]) * v.dims[1] * v.dims[2];
-  const std::size_t need = count * scalar_bytes(type);
-
   const std::string_view format = array.attribute("format").as_string("");
+  if (format != "ascii" && format != "binary" && format != "appended")
+    volume_fail(file, "DataArray.format", fmt::format("\"{}\" unknown (ascii, binary or appended)", format.substr(0, 80)));
+  // Held beside the samples: the document's text (appended data are read from the file).
+  check_budget(file, "WholeExtent", v, type, text.xml.size(), options);
+  const std::size_t count = static_cast<std::size_t>(v.dims[0]) * v.dims[1] * v.dims[2];
+
   if (format == "ascii") {
     v.samples = ascii_array(file, type, array.child_value(), count);
     return v;
   }
-  std::vector<unsigned char> raw;
-  if (format == "binary") {
-    const std::string decoded = base64_decode(array.child_value());
-    raw = binary_array(file, e, reinterpret_cast<const unsigned char*>(decoded.data()), decoded.size(), need);
-  } else if (format == "appended") {
-    const pugi::xml_node appended = root.child("AppendedData");
-    if (!appended || !split.appended) volume_fail(file, "AppendedData", "missing");
-    const double offset = array.attribute("offset").as_double(-1);
-    const std::string_view enc = appended.attribute("encoding").as_string("raw");
-    std::string block;
-    if (enc == "raw") {
-      const std::size_t end = bytes.rfind("</AppendedData>");
-      block = bytes.substr(*split.appended, end == std::string::npos || end < *split.appended ? std::string::npos : end - *split.appended);
-    } else if (enc == "base64") {
-      const std::size_t end = bytes.find('<', *split.appended);
-      block = base64_decode(std::string_view(bytes).substr(*split.appended, end == std::string::npos ? std::string::npos : end - *split.appended));
-    } else {
-      volume_fail(file, "AppendedData.encoding", fmt::format("\"{}\" unknown (raw or base64)", enc.substr(0, 80)));
-    }
-    if (!(offset >= 0) || offset != std::floor(offset) || offset > static_cast<double>(block.size()))
-      volume_fail(file, "DataArray.offset", fmt::format("{} is not within the {} appended bytes", array.attribute("offset").as_string(), block.size()));
-    const std::size_t at = static_cast<std::size_t>(offset);
-    raw = binary_array(file, e, reinterpret_cast<const unsigned char*>(block.data()) + at, block.size() - at, need);
-  } else {
-    volume_fail(file, "DataArray.format", fmt::format("\"{}\" unknown (ascii, binary or appended)", format.substr(0, 80)));
-  }
-  v.samples = samples_from_bytes(type, raw.data(), count, e.big_endian);
+  std::optional<Base64FileStream> stream;
+  const ArrayBytes bytes = array_bytes(file, root, array, format, text, stream);
+  v.samples = read_samples(type, count, e.big_endian,
+                           [&](unsigned char* out, std::size_t need) { binary_array(file, e, bytes, out, need); });
   return v;
 }
 

@@ -245,7 +245,7 @@ def metaimage_cases():
     raw = values("i16").astype("<i2").tobytes()
     write("bad_mha_truncated.mha", mha_header("i16", False, False, steps, origin).encode() + raw[:-3])
     bad.append({"file": "bad_mha_truncated.mha",
-                "message": "(data): truncated: 117 bytes of data, 5 x 4 x 3 int16 samples need 120"})
+                "message": "(data): truncated: 117 bytes of data where 60 int16 samples need 120"})
     obl = np.array([[0.8, -0.6, 0], [0.6, 0.8, 0], [0, 0, 1.0]])
     write("bad_mha_oblique.mha", mha_header("i16", False, False, obl, origin).encode() + raw)
     bad.append({"file": "bad_mha_oblique.mha", "starts": "TransformMatrix: oblique direction ["})  # float32 or normalised: digits vary

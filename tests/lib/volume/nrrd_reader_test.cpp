@@ -114,7 +114,7 @@ TEST(NrrdReader, TruncatedDetachedRawDataAreOneLine) {
     read_nrrd(nhdr);
     ADD_FAILURE() << "read";
   } catch (const VolumeFileError& e) {
-    EXPECT_EQ(std::string(e.what()), nhdr.string() + ": (data): truncated: 11 bytes of data where 8 samples need 16");
+    EXPECT_EQ(std::string(e.what()), nhdr.string() + ": (data): truncated: 11 bytes of data where 8 uint16 samples need 16");
   }
 }
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -39,24 +41,38 @@ TEST(VolumeGrid, TheHeaderBoxHoldsTheFirstAndLastSamplesOnItsFaces) {
   EXPECT_EQ(cell.max, Vec3(10.125, 20.25, 33));
 }
 
-// Every sample is found again at its world position (nearest: the node itself).
+// Every sample is found again at its world position (nearest: the node itself), for every
+// permutation of the index axes and every choice of mirrored axes (the samples are put in grid
+// order where they are, cycle by cycle).
 TEST(VolumeGrid, HeaderPlacementPutsEverySampleAtItsWorldPosition) {
-  const Volume v = permuted();
-  for (GridLayout layout : {GridLayout::node, GridLayout::cell}) {
-    const GridField g = volume_grid(v, {}, VolumePlacement::header, Box{}, layout, Interpolation::nearest, "v.nrrd");
-    EXPECT_EQ(g.resolution(), (GridField::Index3{4, 3, 2}));
-    const Eigen::Matrix3d steps = v.steps();
-    for (int k = 0; k < 4; ++k)
-      for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 3; ++i) {
-          const Vec3 p = v.origin + steps * Vec3(i, j, k);
-          EXPECT_EQ(g.value(p), v.sample(i, j, k)) << i << " " << j << " " << k;
-        }
-  }
+  std::array<int, 3> axis{0, 1, 2};
+  int cases = 0;
+  do {
+    for (int signs = 0; signs < 8; ++signs) {
+      Volume v = permuted();
+      v.axis = axis;
+      for (int a = 0; a < 3; ++a) v.sign[a] = signs >> a & 1 ? -1 : 1;
+      for (GridLayout layout : {GridLayout::node, GridLayout::cell}) {
+        const GridField g = volume_grid(v, {}, VolumePlacement::header, Box{}, layout, Interpolation::nearest, "v.nrrd");
+        GridField::Index3 n{};
+        for (int a = 0; a < 3; ++a) n[axis[a]] = v.dims[a];
+        EXPECT_EQ(g.resolution(), n);
+        const Eigen::Matrix3d steps = v.steps();
+        for (int k = 0; k < 4; ++k)
+          for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 3; ++i) {
+              const Vec3 p = v.origin + steps * Vec3(i, j, k);
+              EXPECT_EQ(g.value(p), v.sample(i, j, k)) << i << " " << j << " " << k << " signs " << signs;
+            }
+      }
+      ++cases;
+    }
+  } while (std::next_permutation(axis.begin(), axis.end()));
+  EXPECT_EQ(cases, 48);
 }
 
 // The grid keeps the samples in their own type (2 bytes a node and the 65 536-entry table for
-// int16), placed by the header (a copy in grid order) or in a box (moved, file order).
+// int16), placed by the header (put in grid order where they are) or in a box (moved, file order).
 TEST(VolumeGrid, TheGridHoldsTheSamplesInTheirOwnType) {
   for (VolumePlacement placement : {VolumePlacement::header, VolumePlacement::box}) {
     const GridField g = volume_grid(permuted(), {}, placement, Box{}, GridLayout::node, Interpolation::trilinear, "v.nrrd");

@@ -97,11 +97,17 @@ assert len(lines) == 1 and f"{bad}: dim[4]: 4-D (time series of 2) not supported
 assert not (out / "bad.exr").exists()
 print("a 4-D NIfTI: exit 2,", lines[0])
 
-# --max-memory: the volume (765 float64 samples, held twice while read: 12240 bytes) refused from
-# its header, before its data are read, in one line naming the file.
+# --max-memory: the volume (765 float64 samples: 6120 bytes, read straight into the samples, in
+# the grid's order: no second copy) refused from its header, before its data are read, in one line
+# naming the file; and read under a limit just above its size (refused when every reader was
+# counted two copies).
 r = subprocess.run([vrv, "render", "--scene", str(out / "field_f64_nrrd.toml"), "--reference", "--quiet",
-                    "--max-memory", "0.00001", "-o", str(out / "small.exr")], capture_output=True, text=True)
+                    "--max-memory", "0.000005", "-o", str(out / "small.exr")], capture_output=True, text=True)
 assert r.returncode == 2, (r.returncode, r.stderr)
 lines = r.stderr.strip().splitlines()
-assert len(lines) == 1 and "field_f64.nrrd: sizes: 17 x 9 x 5 float64 samples held twice while read take 12240 bytes, more than the 10737 allowed (--max-memory)" in lines[0], r.stderr
+assert len(lines) == 1 and "field_f64.nrrd: sizes: 17 x 9 x 5 float64 samples take 6120 bytes, more than the 5368 allowed (--max-memory)" in lines[0], r.stderr
+assert not (out / "small.exr").exists()
+r = subprocess.run([vrv, "render", "--scene", str(out / "field_f64_nrrd.toml"), "--reference", "--quiet", "--width", "4", "--height", "4",
+                    "--max-memory", "0.0000058", "-o", str(out / "small.exr")], capture_output=True, text=True)
+assert r.returncode == 0 and (out / "small.exr").exists(), (r.returncode, r.stderr)
 print("--max-memory:", lines[0])
