@@ -27,9 +27,9 @@ Scene parse_scene(std::string_view toml_text, std::string_view source_name);
 // Reads and parses the file; an unreadable file is a SceneFileError naming it.
 Scene load_scene(const std::filesystem::path& path);
 // The same, with a kind = "volume" field's file refused (one line naming it and --max-memory)
-// when its samples, with what is held beside them while read (a reader's buffer), would take
-// more than max_volume_bytes, checked from the file's header before its data are read (the
-// commands' --max-memory).
+// when its samples, with what is held beside them while read and placed (a reader's buffer, the
+// bits that reorder permuted axes), would take more than max_volume_bytes, checked from the
+// file's header before its data are read (the commands' --max-memory).
 Scene parse_scene(std::string_view toml_text, std::string_view source_name, double max_volume_bytes);
 Scene load_scene(const std::filesystem::path& path, double max_volume_bytes);
 // The file's text as load_scene reads it (its checks and errors), not parsed.

@@ -87,7 +87,7 @@ void check_budget(const std::filesystem::path& file, std::string_view what, cons
   if (peak > static_cast<std::uint64_t>(std::max<std::int64_t>(options.max_bytes, 0)))
     volume_fail(file, what, fmt::format("{} x {} x {} {} samples take {} bytes{}, more than the {} allowed (--max-memory)",
                                         d[0], d[1], d[2], to_string(t), bytes,
-                                        peak > bytes ? fmt::format(", {} at the peak while read", peak) : "",
+                                        peak > bytes ? fmt::format(", {} at the peak", peak) : "",
                                         options.max_bytes));
 }
 

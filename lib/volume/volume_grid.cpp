@@ -48,9 +48,6 @@ void check_samples_finite(const Volume& v, const std::filesystem::path& file) {
       v.samples);
 }
 
-// The samples put in grid order where they are, in their own type: no second copy of a scan.
-// Mirrored axes alone are swapped end for end; otherwise grid node g takes the file's sample at
-// source(g), the permutation applied cycle by cycle, one bit a sample marking the nodes placed.
 // Index axes mirrored but not permuted (a NIfTI file in LAS order, say): each mirrored axis's
 // rows, planes or slices swapped end for end, in memory order.
 template <class Samples>
@@ -68,6 +65,9 @@ void mirror_in_place(Samples& s, const std::array<int, 3>& dims, const std::arra
       std::swap_ranges(s.begin() + k * plane, s.begin() + (k + 1) * plane, s.begin() + (last - k) * plane);
 }
 
+// The samples put in grid order where they are, in their own type: no second copy of a scan.
+// Mirrored axes alone are swapped end for end; otherwise grid node g takes the file's sample at
+// source(g), the permutation applied cycle by cycle, one bit a sample marking the nodes placed.
 VolumeSamples in_grid_order(VolumeSamples&& samples, const std::array<int, 3>& dims, const GridOrder& order) {
   if (order.is_file_order()) return std::move(samples);
   if (order.axis == std::array<int, 3>{0, 1, 2}) {

@@ -33,9 +33,9 @@ Box volume_box(const Volume& v, GridLayout layout);
 // The grid holds the samples in their own type (lib/grid_nodes.h), moved from `v`: as they are
 // when the grid's node order is the file's (box placement, or a header with unmirrored index axes
 // along x, y, z), else put in grid order where they are (mirrored axes swapped end for end;
-// permuted ones cycle by cycle, one bit a sample beside them).  Throws VolumeFileError naming `file` for a non-finite sample or
-// a rescale the file lacks, and std::invalid_argument for a grid GridField refuses (one sample on
-// an axis in node layout).
+// permuted ones cycle by cycle, one bit a sample beside them).  Throws VolumeFileError naming
+// `file` for a non-finite sample or a rescale the file lacks, and std::invalid_argument for a
+// grid GridField refuses (one sample on an axis in node layout).
 GridField volume_grid(Volume v, const VolumeMapping& mapping, VolumePlacement placement,
                       const Box& scene_box, GridLayout layout, Interpolation interpolation,
                       const std::filesystem::path& file);

@@ -45,7 +45,10 @@ std::size_t base64_decode_in_place(char* text, std::size_t size) {
   const std::size_t clean = static_cast<std::size_t>(
       std::remove_if(text, text + size, [](char c) { return std::isspace(static_cast<unsigned char>(c)); }) - text);
   const std::string_view all(text, clean);
-  constexpr std::size_t kChunk = std::size_t{1} << 22;  // characters, a multiple of 4
+  // Characters, a multiple of 4: no characters are pending between a segment's chunks, so a
+  // chunk's bytes and libb64's partial byte fit the buffer.
+  constexpr std::size_t kChunk = std::size_t{1} << 22;
+  static_assert(kChunk % 4 == 0);
   std::vector<char> buffer(std::min(clean, kChunk) / 4 * 3 + 3);
   std::size_t written = 0, pos = 0;
   while (pos < clean) {
@@ -109,7 +112,9 @@ class Base64FileStream {
       text_.erase(end, text_.end());
       left_ = 0;
     }
-    bytes_.resize(text_.size() / 4 * 3 + 3);
+    // At most 3/4 of the text and of up to 3 characters pending from the last chunk, and the
+    // partial byte libb64 writes past what it counts.
+    bytes_.resize(text_.size() / 4 * 3 + 6);
     std::size_t made = 0;
     for (std::size_t pos = 0; pos < text_.size();) {
       if (after_padding_) {  // a new segment starts at the next base64 character
@@ -140,25 +145,38 @@ class Base64FileStream {
 };
 
 // Where an array's binary stream (its header, then data) is: decoded in memory (inline base64
-// arrays), in the file (appended raw data, read from there into the samples) or decoded from the
-// file's appended base64 text as it is read.  Read in order: header, block sizes, blocks.
+// arrays), in the file (appended raw data, read from one open stream into the samples) or
+// decoded from the file's appended base64 text as it is read.  Read in order: header, block
+// sizes, blocks.
 struct ArrayBytes {
   std::string_view memory;
-  std::optional<StoredSamples> stored;
+  mutable std::ifstream file_data;  // appended raw data from file_offset, file_available bytes
+  std::uint64_t file_offset = 0, file_available = 0;
+  mutable std::uint64_t file_at = 0;  // where file_data stands (reads in order need no seek)
   Base64FileStream* base64 = nullptr;
   std::uint64_t base64_bound = 0;  // decoded bytes the text can hold at most
 
-  std::uint64_t size() const { return stored ? stored->available : base64 ? base64_bound : memory.size(); }
+  bool in_file() const { return file_data.is_open(); }
+  std::uint64_t size() const { return in_file() ? file_available : base64 ? base64_bound : memory.size(); }
   void read(const Path& file, std::uint64_t at, unsigned char* out, std::size_t n) const {
-    if (stored) return read_file_range(stored->path, stored->offset + at, out, n);
+    if (in_file()) {
+      if (file_at != file_offset + at) file_data.seekg(static_cast<std::streamoff>(file_offset + at));
+      file_data.read(reinterpret_cast<char*>(out), static_cast<std::streamsize>(n));
+      file_at = file_offset + at + n;
+      if (!file_data || static_cast<std::size_t>(file_data.gcount()) != n)
+        volume_fail(file, "AppendedData", fmt::format("cannot read {} bytes from offset {} (truncated or damaged)", n,
+                                                      file_offset + at));
+      return;
+    }
     if (!base64) return void(std::memcpy(out, memory.data() + at, n));
     if (!base64->next(nullptr, at - std::min(at, base64->given())) || !base64->next(out, n))
       volume_fail(file, "AppendedData", fmt::format("truncated: the base64 data end before byte {} of the array", at + n));
   }
+  // One zlib block of n bytes at `at`, inflated to `expected` bytes at `out` (from the file or
+  // the base64 stream a megabyte at a time).
   void inflate(const Path& file, std::uint64_t at, std::uint64_t n, unsigned char* out, std::size_t expected,
                std::string_view what) const {
-    if (stored) return inflate_file_range_into(stored->path, stored->offset + at, n, out, expected, file, what);
-    if (!base64)
+    if (!in_file() && !base64)
       return inflate_into(reinterpret_cast<const unsigned char*>(memory.data()) + at, static_cast<std::size_t>(n), out,
                           expected, file, what);
     std::vector<unsigned char> chunk;
@@ -169,7 +187,7 @@ struct ArrayBytes {
       given += chunk.size();
       return std::span<const unsigned char>(chunk);
     };
-    inflate_chunks_into(n, next, out, expected, file, what);
+    inflate_chunks_into(static_cast<std::size_t>(n), next, out, expected, file, what);
   }
 };
 
@@ -195,8 +213,10 @@ std::uint64_t header_value(const Path& file, const Encoding& e, const ArrayBytes
 }
 
 // The array's `need` bytes into `out`, from its binary stream (header, then data, raw or in
-// zlib blocks).
-void binary_array(const Path& file, const Encoding& e, const ArrayBytes& src, unsigned char* out, std::size_t need) {
+// zlib blocks).  The blocks' size table is held while they are inflated: more than
+// `table_budget` bytes of it are refused.
+void binary_array(const Path& file, const Encoding& e, const ArrayBytes& src, unsigned char* out, std::size_t need,
+                  std::uint64_t table_budget) {
   const std::uint64_t size = src.size();
   const std::size_t h = e.header_bytes;
   auto short_of = [&](std::uint64_t bytes) {
@@ -218,6 +238,10 @@ void binary_array(const Path& file, const Encoding& e, const ArrayBytes& src, un
   if (blocks == 0 ? need != 0 : (block == 0 || (blocks - 1) > need / block || (blocks - 1) * block + last_size != need))
     volume_fail(file, "DataArray", fmt::format("{} compressed blocks of {} bytes (last {}) do not make the {} bytes needed",
                                                blocks, block, last, need));
+  if (blocks * h > table_budget)
+    volume_fail(file, "DataArray", fmt::format("{} compressed blocks of {} bytes: their {}-byte size table is more than "
+                                               "the {} bytes --max-memory leaves beside the samples", blocks, block,
+                                               blocks * h, table_budget));
   std::vector<unsigned char> sizes(static_cast<std::size_t>(blocks * h));
   src.read(file, 3 * h, sizes.data(), sizes.size());
   std::uint64_t at = (3 + blocks) * h;
@@ -273,52 +297,72 @@ Encoding encoding(const Path& file, const pugi::xml_node& root) {
 // The file's text up to where its appended data begin (just after the '_' that follows
 // <AppendedData ...>), read a megabyte at a time, with the elements closed: appended raw bytes
 // are no XML, and neither raw nor base64 appended data are held with the document.  The whole
-// file when it has no appended data (its arrays are inline); longer than `cap` is refused.
+// file when it has no appended data (its arrays are inline).  The text is held while the array
+// is read, so text longer than the memory budget alone is refused as it is read.
 struct VtiText {
   std::string xml;
   std::optional<std::uint64_t> appended;  // offset of the byte after '_' in the file
 };
 
-VtiText read_vti_text(const Path& file, std::size_t cap) {
+VtiText read_vti_text(const Path& file, std::size_t max_bytes) {
   const std::uint64_t size = file_size_of(file);  // refuses a directory or an unopenable file
   std::ifstream in(file, std::ios::binary);
   if (!in) volume_fail(file, "(file)", "cannot open");
+  const auto refuse_longer = [&](std::size_t text) {
+    if (text > max_bytes)
+      volume_fail(file, "(file)", fmt::format("its XML text, held while its arrays are read, is longer than the {} "
+                                              "bytes allowed (--max-memory)", max_bytes));
+  };
   VtiText t;
-  std::size_t tag_from = 0;
   constexpr std::string_view kTag = "<AppendedData";
+  // Each search resumes where the last one stopped (the file is scanned once).
+  std::size_t tag = std::string::npos, close = std::string::npos, from = 0;
   std::vector<char> chunk(std::size_t{1} << 20);
   while (in.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || in.gcount() > 0) {
     t.xml.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
-    if (t.xml.size() > cap) volume_fail(file, "(file)", fmt::format("larger than {} bytes", cap));
-    const std::size_t tag = t.xml.find(kTag, tag_from);
     if (tag == std::string::npos) {
-      // Inline arrays (no appended data in the first chunk, as a rule): the whole file is read.
-      t.xml.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(size, cap + 1)));
-      tag_from = t.xml.size() - std::min(t.xml.size(), kTag.size());
-      continue;
+      tag = t.xml.find(kTag, from);
+      from = tag == std::string::npos ? t.xml.size() - std::min(t.xml.size(), kTag.size()) : tag;
     }
-    tag_from = tag;
-    const std::size_t close = t.xml.find('>', tag);
-    const std::size_t underscore = close == std::string::npos ? std::string::npos : t.xml.find('_', close);
-    if (underscore == std::string::npos) continue;
-    t.appended = underscore + 1;
-    t.xml.resize(underscore);
-    t.xml += "</AppendedData></VTKFile>";
-    return t;
+    if (tag != std::string::npos && close == std::string::npos) {
+      close = t.xml.find('>', from);
+      if (close != std::string::npos) from = close;
+    }
+    const std::size_t underscore = close == std::string::npos ? std::string::npos : t.xml.find('_', from);
+    if (underscore != std::string::npos) {
+      refuse_longer(underscore);
+      t.appended = underscore + 1;
+      t.xml.resize(underscore);
+      t.xml += "</AppendedData></VTKFile>";
+      t.xml.shrink_to_fit();
+      return t;
+    }
+    refuse_longer(t.xml.size());
+    if (tag != std::string::npos) from = t.xml.size();  // no '>' or '_' up to here
+    if (tag == std::string::npos && t.xml.size() == chunk.size())  // inline arrays, as a rule: all of the file
+      t.xml.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(size, max_bytes + 1)));
   }
   if (in.bad()) volume_fail(file, "(file)", "read error");
   return t;
 }
 
-// Where the appended data end: at the last </AppendedData> (raw bytes may contain the tag, the
-// closing one is near the end of the file), else at the end of the file.
+// Where the appended data end: at the last </AppendedData> (raw bytes may contain the tag; the
+// closing one is found from the end of the file, a megabyte at a time), else at the end of the
+// file.
 std::uint64_t appended_end(const Path& file, std::uint64_t appended) {
+  constexpr std::string_view kClose = "</AppendedData>";
   const std::uint64_t size = file_size_of(file);
-  const std::uint64_t tail = std::min<std::uint64_t>(size - std::min(size, appended), 1 << 16);
-  std::string bytes(static_cast<std::size_t>(tail), '\0');
-  read_file_range(file, size - tail, reinterpret_cast<unsigned char*>(bytes.data()), bytes.size());
-  const std::size_t end = bytes.rfind("</AppendedData>");
-  return end == std::string::npos ? size : size - tail + end;
+  std::string window;
+  for (std::uint64_t end = size; end > appended;) {
+    const std::uint64_t start = end - std::min<std::uint64_t>(end - appended, std::uint64_t{1} << 20);
+    // The window runs past `end` by the tag's length less one, so a tag across windows is found.
+    const std::uint64_t stop = std::min(size, end + kClose.size() - 1);
+    window.resize(static_cast<std::size_t>(stop - start));
+    read_file_range(file, start, reinterpret_cast<unsigned char*>(window.data()), window.size());
+    if (const std::size_t at = window.rfind(kClose); at != std::string::npos) return start + at;
+    end = start;
+  }
+  return size;
 }
 
 // The array's stream: in the inline text (decoded in place), in the file (appended raw), or
@@ -346,7 +390,9 @@ ArrayBytes array_bytes(const Path& file, const pugi::xml_node& root, const pugi:
   const auto at = *t.appended + static_cast<std::uint64_t>(offset);
   ArrayBytes bytes;
   if (enc == "raw") {
-    bytes.stored = StoredSamples{file, at, end - at, false};
+    bytes.file_data.open(file, std::ios::binary);
+    if (!bytes.in_file()) volume_fail(file, "(file)", "cannot open");
+    bytes.file_offset = at, bytes.file_available = end - at;
   } else {
     bytes.base64 = &stream.emplace(file, at, end);
     bytes.base64_bound = (end - at) / 4 * 3 + 3;
@@ -358,8 +404,7 @@ ArrayBytes array_bytes(const Path& file, const pugi::xml_node& root, const pugi:
 
 Volume read_vti(const Path& file, const VolumeReadOptions& options) {
   const std::size_t max_bytes = static_cast<std::size_t>(std::max<std::int64_t>(options.max_bytes, 0));
-  // ascii text takes up to ~25 characters a value: the file cap is generous.
-  VtiText text = read_vti_text(file, 4 * max_bytes + (std::size_t{1} << 20));
+  VtiText text = read_vti_text(file, max_bytes);
   pugi::xml_document doc;
   const pugi::xml_parse_result parsed = doc.load_buffer_inplace(text.xml.data(), text.xml.size());
   if (!parsed) volume_fail(file, "(xml)", fmt::format("offset {}: {}", parsed.offset, parsed.description()));
@@ -423,8 +468,11 @@ Volume read_vti(const Path& file, const VolumeReadOptions& options) {
   }
   std::optional<Base64FileStream> stream;
   const ArrayBytes bytes = array_bytes(file, root, array, format, text, stream);
-  v.samples = read_samples(type, count, e.big_endian,
-                           [&](unsigned char* out, std::size_t need) { binary_array(file, e, bytes, out, need); });
+  const std::uint64_t held = count * scalar_bytes(type) + text.xml.size();
+  const std::uint64_t table_budget = max_bytes > held ? max_bytes - held : 0;
+  v.samples = read_samples(type, count, e.big_endian, [&](unsigned char* out, std::size_t need) {
+    binary_array(file, e, bytes, out, need, table_budget);
+  });
   return v;
 }
 

@@ -42,10 +42,10 @@ TEST(VolumeBudget, ThePeakIsTheSamplesAndTheLargerOfTheReadersBufferAndTheGridsC
             "v.nrrd: sizes: 5 x 4 x 3 float64 samples take 480 bytes, more than the 479 allowed (--max-memory)");
   EXPECT_EQ(refusal(header_only(false), 100, 580, true), "");
   EXPECT_EQ(refusal(header_only(false), 100, 579, true),
-            "v.nrrd: sizes: 5 x 4 x 3 float64 samples take 480 bytes, 580 at the peak while read, more than the 579 "
+            "v.nrrd: sizes: 5 x 4 x 3 float64 samples take 480 bytes, 580 at the peak, more than the 579 "
             "allowed (--max-memory)");
   EXPECT_EQ(refusal(header_only(true), 0, 487, true),
-            "v.nrrd: sizes: 5 x 4 x 3 float64 samples take 480 bytes, 488 at the peak while read, more than the 487 "
+            "v.nrrd: sizes: 5 x 4 x 3 float64 samples take 480 bytes, 488 at the peak, more than the 487 "
             "allowed (--max-memory)");
   EXPECT_EQ(refusal(header_only(true), 0, 488, true), "");
   EXPECT_EQ(refusal(header_only(true), 0, 480, false), "");  // no reordering asked for
@@ -67,9 +67,77 @@ TEST(VolumeBudget, AReaderIsChargedForWhatItHolds) {
     ADD_FAILURE() << "read";
   } catch (const VolumeFileError& e) {
     EXPECT_EQ(std::string(e.what()), ascii.string() + ": sizes: 2 x 2 x 2 uint16 samples take 16 bytes, 32 at the "
-                                                      "peak while read, more than the 31 allowed (--max-memory)");
+                                                      "peak, more than the 31 allowed (--max-memory)");
   }
   std::filesystem::remove(ascii);
+}
+
+// A VTI file's XML text is held while its inline arrays are read: text longer than the budget is
+// refused as it is read, while appended raw data (read from the file) fit the same budget.
+TEST(VolumeBudget, AVtiFilesInlineTextCountsAndItsAppendedDataDoNot) {
+  std::string values, raw;
+  for (int n = 0; n < 1000; ++n) values += std::to_string(n % 200) + " ", raw += static_cast<char>(n % 200);
+  const std::string head = "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+                           " <ImageData WholeExtent=\"0 9 0 9 0 9\">\n  <Piece>\n   <PointData>\n";
+  const std::string tail = "   </PointData>\n  </Piece>\n </ImageData>\n";
+  const auto inline_path = std::filesystem::temp_directory_path() / "vrv_budget_inline.vti";
+  const auto appended_path = std::filesystem::temp_directory_path() / "vrv_budget_appended.vti";
+  std::ofstream(inline_path) << head << "    <DataArray type=\"UInt8\" format=\"ascii\">" << values << "</DataArray>\n"
+                             << tail << "</VTKFile>\n";
+  std::string size(4, '\0');
+  size[0] = static_cast<char>(1000 & 0xff), size[1] = static_cast<char>(1000 >> 8);
+  std::ofstream(appended_path, std::ios::binary) << head << "    <DataArray type=\"UInt8\" format=\"appended\" offset=\"0\"/>\n"
+                                                 << tail << " <AppendedData encoding=\"raw\">_" << size << raw
+                                                 << "</AppendedData>\n</VTKFile>\n";
+  try {
+    read_vti(inline_path, {1500});
+    ADD_FAILURE() << "read";
+  } catch (const VolumeFileError& e) {
+    EXPECT_EQ(std::string(e.what()), inline_path.string() + ": (file): its XML text, held while its arrays are "
+                                                            "read, is longer than the 1500 bytes allowed (--max-memory)");
+  }
+  EXPECT_EQ(read_vti(appended_path, {1500}).count(), 1000u);
+  EXPECT_EQ(read_vti(inline_path, {5000}).count(), 1000u);
+  std::filesystem::remove(inline_path);
+  std::filesystem::remove(appended_path);
+}
+
+// VTK's zlib blocks of one byte each (1000 blocks, each its own stream): the blocks' size table
+// (8 bytes a block) is held while they are inflated and counted against the budget; read within
+// a budget that holds it, block by block from one open file.
+TEST(VolumeBudget, AVtiFilesBlockSizeTableCounts) {
+  std::string samples, blocks, sizes;
+  for (int n = 0; n < 1000; ++n) {
+    samples += static_cast<char>(n * 7 % 256);
+    uLongf size = compressBound(1);
+    std::string block(size, '\0');
+    compress2(reinterpret_cast<Bytef*>(block.data()), &size, reinterpret_cast<const Bytef*>(samples.data() + n), 1, 6);
+    block.resize(size);
+    blocks += block;
+    for (int b = 0; b < 8; ++b) sizes += static_cast<char>(size >> (8 * b) & 0xff);
+  }
+  std::string header;
+  for (std::uint64_t v : {std::uint64_t{1000}, std::uint64_t{1}, std::uint64_t{1}})
+    for (int b = 0; b < 8; ++b) header += static_cast<char>(v >> (8 * b) & 0xff);
+  const auto path = std::filesystem::temp_directory_path() / "vrv_blocks.vti";
+  std::ofstream(path, std::ios::binary)
+      << "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+         "header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n <ImageData WholeExtent=\"0 9 0 9 0 9\">\n  <Piece>\n"
+         "   <PointData>\n    <DataArray type=\"UInt8\" format=\"appended\" offset=\"0\"/>\n   </PointData>\n  </Piece>\n"
+         " </ImageData>\n <AppendedData encoding=\"raw\">_"
+      << header << sizes << blocks << "</AppendedData>\n</VTKFile>\n";
+  try {
+    read_vti(path, {4000});
+    ADD_FAILURE() << "read";
+  } catch (const VolumeFileError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(path.string() + ": DataArray: 1000 compressed blocks of 1 bytes: their 8000-byte size table is "
+                                         "more than the ", 0), 0u) << what;
+  }
+  const Volume v = read_vti(path, {20000});
+  ASSERT_EQ(v.count(), 1000u);
+  for (int n = 0; n < 1000; ++n) ASSERT_EQ(v.sample(static_cast<std::size_t>(n)), n * 7 % 256) << n;
+  std::filesystem::remove(path);
 }
 
 // Written here, apart from the reader's libb64, so the decoder is not checked against itself.
