@@ -4,8 +4,9 @@
 // subset in its own order) are cut into blocks of consecutive positions; blocks run in parallel
 // on TBB (lib/util/parallel.h), the pixels of a block in order, and every position writes its
 // own slot, so the output is bitwise the same for any thread count.  A block is the unit a hook
-// sees (progress, a stop request, a study's checkpoint) and the unit a later distribution over
-// ranks would hand out.
+// sees (progress, a stop request, a study's checkpoint) and the unit dealt to MPI ranks: under
+// PixelSharing each rank computes the blocks it is dealt and then receives the others
+// (lib/util/ranks.h), so every rank ends the loop with every value.
 #include <algorithm>
 #include <atomic>
 #include <functional>
@@ -15,6 +16,7 @@
 
 #include "lib/camera.h"
 #include "lib/util/parallel.h"
+#include "lib/util/ranks.h"
 
 namespace vrv {
 
@@ -61,22 +63,34 @@ struct PixelValueOf<F> {
 template <class PerPixel>
 using PixelValue = typename PixelValueOf<std::remove_reference_t<PerPixel>>::type;
 
-// run(first, last) for each block of [0, n), in parallel; stops between blocks on hooks.stop.
+// run(first, last) for the blocks [first_block, last_block) of [0, n), in parallel; stops
+// between blocks on hooks.stop.
 template <class Run>
-void for_each_block(long n, const ImageLoopHooks& hooks, Run&& run) {
+void for_blocks(long n, long first_block, long last_block, const ImageLoopHooks& hooks, Run&& run) {
   const long block = std::max(hooks.block, 1L);
   std::atomic<bool> stopped{false};
-  parallel_for_index((n + block - 1) / block, [&](long b) {
+  parallel_for_index(last_block - first_block, [&](long i) {
     if (stopped.load(std::memory_order_relaxed)) return;
     if (hooks.stop && hooks.stop()) {
       stopped = true;
       return;
     }
-    const long first = b * block, last = std::min(n, first + block);
+    const long first = (first_block + i) * block, last = std::min(n, first + block);
     run(first, last);
     if (hooks.progress) hooks.progress(last - first);
   });
   if (stopped) throw WorkCancelled();
+}
+
+inline long block_count(long n, const ImageLoopHooks& hooks) {
+  const long block = std::max(hooks.block, 1L);
+  return (n + block - 1) / block;
+}
+
+// run(first, last) for each block of [0, n).
+template <class Run>
+void for_each_block(long n, const ImageLoopHooks& hooks, Run&& run) {
+  for_blocks(n, 0, block_count(n, hooks), hooks, run);
 }
 
 // The positions [first, last): put(position, f(ray)).  A cancelled task group (the Python
@@ -89,6 +103,27 @@ void run_positions(const Camera& camera, std::span<const long> subset, long firs
     const long pixel = subset.empty() ? k : subset[static_cast<std::size_t>(k)];
     put(k, call_pixel(f, pixel_ray(camera, pixel), pixel));
   }
+}
+
+// The loop spread over MPI ranks: the blocks this rank is dealt, then everyone's
+// (share_blocks), then put(position, value) for every position, on every rank.
+template <class Value, class PerPixel, class Put>
+void shared_loop_into(const Camera& camera, std::span<const long> subset, long n, PerPixel& f, Put& put,
+                      const ImageLoopHooks& hooks) {
+  static_assert(std::is_trivially_copyable_v<Value>);
+  const auto buffer = exchange_buffer(static_cast<std::size_t>(n) * sizeof(Value));
+  Value* values = reinterpret_cast<Value*>(buffer.get());
+  auto keep = [&](long k, Value v) { values[static_cast<std::size_t>(k)] = std::move(v); };
+  const std::vector<BlockRange> mine = deal_blocks(block_count(n, hooks), [&](long first_block, long last_block) {
+    for_blocks(n, first_block, last_block, hooks,
+               [&](long first, long last) { run_positions(camera, subset, first, last, f, keep); });
+  });
+  const long block = std::max(hooks.block, 1L);
+  share_blocks(buffer.get(), n, sizeof(Value), block, mine);
+  long own = 0;
+  for (const BlockRange& r : mine) own += std::min(n, r.last * block) - r.first * block;
+  if (hooks.progress && n > own) hooks.progress(n - own);
+  parallel_for_index(n, [&](long k) { put(k, values[static_cast<std::size_t>(k)]); });
 }
 
 }  // namespace detail
@@ -104,6 +139,11 @@ inline long pixel_count(const Camera& camera, std::span<const long> subset = {})
 template <class PerPixel, class Put>
 void image_loop_into(const Camera& camera, std::span<const long> subset, PerPixel&& f, Put&& put,
                      const ImageLoopHooks& hooks = {}) {
+  // Values that own memory (not trivially copyable) are computed on every rank.
+  using Value = detail::PixelValue<PerPixel>;
+  if constexpr (std::is_trivially_copyable_v<Value>)
+    if (pixels_shared_over_ranks())
+      return detail::shared_loop_into<Value>(camera, subset, pixel_count(camera, subset), f, put, hooks);
   detail::for_each_block(pixel_count(camera, subset), hooks, [&](long first, long last) {
     detail::run_positions(camera, subset, first, last, f, put);
   });
@@ -117,6 +157,12 @@ std::vector<Value> image_loop(const Camera& camera, std::span<const long> subset
                               const std::type_identity_t<BlockStore<Value>>& store = {}) {
   std::vector<Value> out(static_cast<std::size_t>(pixel_count(camera, subset)));
   auto put = [&](long k, Value v) { out[static_cast<std::size_t>(k)] = std::move(v); };
+  // A checkpointed loop (store) stays on every rank: each rank's checkpoints are its own.
+  if constexpr (std::is_trivially_copyable_v<Value>)
+    if (!store && pixels_shared_over_ranks()) {
+      detail::shared_loop_into<Value>(camera, subset, static_cast<long>(out.size()), f, put, hooks);
+      return out;
+    }
   detail::for_each_block(static_cast<long>(out.size()), hooks, [&](long first, long last) {
     const auto compute = [&] { detail::run_positions(camera, subset, first, last, f, put); };
     if (!store) return compute();

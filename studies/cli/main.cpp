@@ -6,12 +6,14 @@
 #include <cstring>
 #include <exception>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "lib/io/error_line.h"
+#include "lib/util/ranks.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 
@@ -92,20 +94,34 @@ int checked_exit(int code) {
   return vrv::cli::kExitWriteFailed;
 }
 
-int run(CLI::App& app, std::vector<char*>& ptrs) {
+// An error's line on stderr and its exit code; under MPI every rank ends (lib/util/ranks.h).
+int fail(int code, const std::string& line) {
+  if (vrv::rank_count() > 1) vrv::end_ranks(code, line);
+  if (!line.empty()) std::cerr << line << '\n';
+  return code;
+}
+
+// Only vrv render spreads its work over MPI ranks so far; the other commands would run whole on
+// every rank, each writing the same outputs (docs/distributed.md).
+void check_distributable(const std::vector<std::string>& args) {
+  if (vrv::rank_count() > 1 && (args.size() < 2 || args[1] != "render"))
+    throw std::invalid_argument(fmt::format(
+        "mpirun: {} ranks: only vrv render is spread over MPI ranks so far; run {} as one process "
+        "(docs/distributed.md)", vrv::rank_count(), args.size() < 2 ? "vrv" : "vrv " + args[1]));
+}
+
+int run(CLI::App& app, const std::vector<std::string>& args, std::vector<char*>& ptrs) {
   try {
+    check_distributable(args);
     app.parse(static_cast<int>(ptrs.size()), ptrs.data());
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help
   } catch (const CLI::ParseError& e) {
-    std::cerr << "vrv: error: " << parse_error_line(app, e) << '\n';
-    return vrv::cli::kExitBadInput;
+    return fail(vrv::cli::kExitBadInput, "vrv: error: " + parse_error_line(app, e));
   } catch (const vrv::cli::CommandFailed& e) {
-    if (*e.what()) std::cerr << vrv::one_line(e.what()) << '\n';
-    return e.code();
+    return fail(e.code(), *e.what() ? vrv::one_line(e.what()) : std::string());
   } catch (const std::exception& e) {
-    std::cerr << "vrv: error: " << vrv::one_line(e.what()) << '\n';
-    return vrv::cli::kExitBadInput;
+    return fail(vrv::cli::kExitBadInput, "vrv: error: " + vrv::one_line(e.what()));
   }
   return vrv::cli::kExitPass;
 }
@@ -113,6 +129,7 @@ int run(CLI::App& app, std::vector<char*>& ptrs) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const vrv::RankSession ranks(&argc, &argv);
   CLI::App app{"vrv: how wrong is a volume raycaster, why, and what accuracy costs"};
   app.require_subcommand(1);
   // In the order a newcomer needs them: what vrv shows, one ray, one image, the studies.
@@ -128,5 +145,5 @@ int main(int argc, char** argv) {
   std::vector<std::string> args = glue_negative_values(argc, argv);
   std::vector<char*> ptrs;
   for (auto& a : args) ptrs.push_back(a.data());
-  return checked_exit(run(app, ptrs));
+  return checked_exit(run(app, args, ptrs));
 }

@@ -27,6 +27,7 @@
 #include "lib/io/output_paths.h"
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
+#include "lib/util/ranks.h"
 #include "lib/metrics.h"
 #include "lib/reference_pixels.h"
 #include "lib/scene_hash.h"
@@ -391,12 +392,15 @@ void run_render(const RenderOptions& opt) {
                                           strategy_name(projection->discrete->sampling.strategy))
                             : fmt::format("{} reference tol={:g}", mode, opt.tol);
   }
-  check_outputs(out, opt.error_against);
+  // Under MPI (lib/util/ranks.h) every rank renders its share of the pixels and ends with the
+  // whole image; rank 0 alone checks the outputs, reads --error-against and writes.
+  if (is_output_rank()) check_outputs(out, opt.error_against);
   // The image module loads beside the render (a missing one fails now, not after it).
   parallel_for_index(64, [](long) {});  // TBB's workers first: dlopen's lock would stall their start
-  image_module::BackgroundLoad image_io;
+  std::optional<image_module::BackgroundLoad> image_io;  // rank 0 alone writes images
+  if (is_output_rank()) image_io.emplace();
   std::optional<ImageF64> ref;
-  if (!opt.error_against.empty())
+  if (!opt.error_against.empty() && is_output_rank())
     ref = read_reference_image(opt.error_against, camera, provenance.scene_hash, scene.channel_count());
   check_work(opt.discrete, discrete, opt.tol, scene, pixel_count(camera),
              [&](long i) { return pixel_ray(camera, i); });
@@ -409,6 +413,7 @@ void run_render(const RenderOptions& opt) {
   const long pixels = static_cast<long>(camera.width) * camera.height;
   const auto start = std::chrono::steady_clock::now();
   const ThreadLimit threads(opt.threads);
+  const PixelSharing sharing;
   const Rendered r = projection ? render_projection(scene, camera, *projection, opt.tol, opt.quiet)
                      : discrete ? render_discrete(scene, camera, *discrete, opt.quiet)
                                 : render_reference(scene, camera, opt.tol, opt.quiet);
@@ -425,7 +430,8 @@ void run_render(const RenderOptions& opt) {
                            discrete ? "--method " + opt.discrete.method : std::string("reference"),
                            seconds);
 
-  image_io.wait();
+  if (!is_output_rank()) return;
+  image_io->wait();
   write_exr(r.image, out.exr, &provenance);
   write_tiff_f64(r.values, out.f64, &provenance);
   const float max_value = *std::max_element(r.image.pixels.begin(), r.image.pixels.end());
@@ -495,6 +501,8 @@ void add_render_command(CLI::App& app) {
       "(blue < 0 < red, symmetric range +-max|e|, colour bar on the right; RGB: the channel error of "
       "largest magnitude), with statistics over all channels and per channel.\n"
       "stdout: one JSON line; stderr: pixel count, time and error statistics.\n"
+      "MPI: in a build with -DVRV_WITH_MPI=ON, `mpirun -np P vrv render ...` spreads the pixels over P "
+      "ranks; every output is bitwise that of one process (docs/distributed.md).\n"
       "Exit: 0; 2 bad input (nothing written); 3 reference pixels missed --tol (images written, "
       "count on stderr and as \"tolerance_missed\"); 4 NaN or infinite pixels (nothing written).");
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");

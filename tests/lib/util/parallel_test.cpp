@@ -1,6 +1,7 @@
 // Results do not depend on the number of threads.
 #include "lib/util/parallel.h"
 
+#include <atomic>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -8,6 +9,7 @@
 #include "lib/discrete_raycast.h"
 #include "lib/reference_integrator.h"
 #include "lib/scene_file.h"
+#include "lib/util/ranks.h"
 
 namespace vrv {
 namespace {
@@ -33,6 +35,24 @@ TEST(Parallel, OneAndTwoThreadsGiveBitwiseIdenticalResults) {
     ASSERT_EQ(one.size(), two.size());
     for (std::size_t i = 0; i < one.size(); ++i) EXPECT_EQ(one[i], two[i]) << i;  // bitwise
   }
+}
+
+// An image loop shares its blocks over MPI ranks only outside parallel tasks (lib/util/ranks.h),
+// where every rank meets the loops in the same order; a loop inside a task is a task's own.
+TEST(Parallel, TasksKnowTheyAreInsideAParallelLoop) {
+  EXPECT_FALSE(inside_parallel_task());
+  std::atomic<int> inside{0}, nested{0};
+  parallel_for_index(100, [&](long) {
+    inside += inside_parallel_task();
+    parallel_for_index(3, [&](long) { nested += inside_parallel_task(); });
+  });
+  EXPECT_EQ(inside.load(), 100);
+  EXPECT_EQ(nested.load(), 300);
+  EXPECT_FALSE(inside_parallel_task());
+  // A run of one process never shares, whatever asks for it.
+  const PixelSharing sharing;
+  EXPECT_EQ(rank_count(), 1);
+  EXPECT_FALSE(pixels_shared_over_ranks());
 }
 
 }  // namespace

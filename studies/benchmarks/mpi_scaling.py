@@ -1,0 +1,88 @@
+#!/usr/bin/env python3
+"""Strong scaling of `vrv render --reference` over MPI ranks on one machine (issue 28,
+docs/distributed.md), beside the same render's threads.
+
+    python3 studies/benchmarks/mpi_scaling.py BUILD_DIR [--rounds N] [--size N]
+
+BUILD_DIR holds a vrv built with -DVRV_WITH_MPI=ON.  Renders the 64^3 grid scene's reference image
+(studies/benchmarks/grid64_opacity.toml, tol 1e-10) at SIZE^2 (default 1024) three ways, one after
+another in each of ROUNDS rounds (default 5), so all three see the same load: one process with one
+thread (mpirun -np 1 --threads 1), two ranks of one thread each (mpirun -np 2 --threads 1), and one
+process of two threads (--threads 2, no mpirun).  Prints the median and best wall seconds and the
+pixels' own seconds (what vrv render prints; for two ranks, rank 0's, which includes the wait for
+the other rank and the exchange), the speed-ups over one thread, and the load average before and
+after, since a busy machine cannot show a speed-up.  Checks that the three images are the same
+bytes.
+
+Python 3 standard library only; writes nothing but a scratch directory it removes.
+"""
+import argparse
+import filecmp
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+SCENE = REPO / "studies" / "benchmarks" / "grid64_opacity.toml"
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_btl_vader_single_copy_mechanism="none")
+
+
+def timed(cmd):
+    """Wall seconds and the pixels' seconds vrv render prints."""
+    start = time.perf_counter()
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=3600, env=ENV)
+    took = time.perf_counter() - start
+    if proc.returncode != 0:
+        sys.exit(f"mpi_scaling: {' '.join(cmd)} exited {proc.returncode}: {proc.stderr.strip()[:400]}")
+    m = re.search(r"^vrv render: .* in ([0-9.]+) s$", proc.stderr, re.M)
+    if not m:
+        sys.exit(f"mpi_scaling: no pixel time in vrv render's output: {proc.stderr.strip()[:200]}")
+    return took, float(m.group(1))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("build_dir", type=Path)
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--size", type=int, default=1024)
+    args = ap.parse_args()
+    vrv = str(args.build_dir.resolve() / "vrv")
+    with tempfile.TemporaryDirectory() as tmp:
+        def render(name, threads):
+            return [vrv, "render", "--scene", str(SCENE), "--reference", "--width", str(args.size), "--height",
+                    str(args.size), "--threads", str(threads), "--quiet", "-o", f"{tmp}/{name}.exr"]
+        ways = {
+            "1 rank x 1 thread": ["mpirun", "-np", "1"] + render("one", 1),
+            "2 ranks x 1 thread": ["mpirun", "-np", "2"] + render("ranks", 1),
+            "1 process x 2 threads": render("threads", 2),
+        }
+        load_before = os.getloadavg()[0]
+        times = {name: [] for name in ways}
+        for _ in range(args.rounds):
+            for name, cmd in ways.items():
+                times[name].append(timed(cmd))
+        load_after = os.getloadavg()[0]
+        for other in ("ranks", "threads"):
+            for ext in ("exr", "f64.tiff"):
+                if not filecmp.cmp(f"{tmp}/one.{ext}", f"{tmp}/{other}.{ext}", shallow=False):
+                    sys.exit(f"mpi_scaling: the {other} render's .{ext} differs from one process's")
+    base = times["1 rank x 1 thread"]
+    print(f"vrv render --reference, {SCENE.name}, {args.size}^2, {args.rounds} rounds; "
+          f"load average {load_before:.2f} before, {load_after:.2f} after; images bitwise equal\n")
+    print("| run | wall s (median) | wall s (best) | pixels s (median) | pixels s (best) | speed-up, wall best | speed-up, pixels best |")
+    print("|---|---|---|---|---|---|---|")
+    for name, t in times.items():
+        wall = [w for w, _ in t]
+        pix = [p for _, p in t]
+        print(f"| {name} | {statistics.median(wall):.2f} | {min(wall):.2f} | {statistics.median(pix):.2f} | "
+              f"{min(pix):.2f} | {min(w for w, _ in base) / min(wall):.2f} | {min(p for _, p in base) / min(pix):.2f} |")
+
+
+if __name__ == "__main__":
+    main()
