@@ -217,6 +217,17 @@ void share_blocks([[maybe_unused]] std::byte* values, [[maybe_unused]] long coun
 #endif
 }
 
+bool on_every_rank(bool value) {
+#ifdef VRV_WITH_MPI
+  if (pixels_shared_over_ranks()) {
+    int all = value ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &all, 1, MPI_INT, MPI_LAND, MPI_COMM_WORLD);
+    return all != 0;
+  }
+#endif
+  return value;
+}
+
 void end_ranks(int code, std::string_view line) {
 #ifdef VRV_WITH_MPI
   if (g_mpi && g_count > 1) {

@@ -72,6 +72,11 @@ std::vector<BlockRange> deal_blocks(long blocks, const std::function<void(long f
 void share_blocks(std::byte* values, long count, std::size_t value_bytes, long block,
                   std::span<const BlockRange> mine);
 
+// Whether `value` holds on every rank, where the ranks are in step (pixels_shared_over_ranks():
+// collective); elsewhere `value` itself.  For a choice the ranks must make alike, as using a
+// cached reference that one rank might not read.
+bool on_every_rank(bool value);
+
 // Ends a run of several ranks on an error with exit code `code`: rank 0 prints `line` and aborts
 // every rank.  Another rank waits a second first, so an error every rank meets (bad input) is
 // printed once, by rank 0; if it is still running then, it prints `line` naming its rank.

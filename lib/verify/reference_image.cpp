@@ -8,6 +8,7 @@
 
 #include "lib/reference_pixels.h"
 #include "lib/util/progress.h"
+#include "lib/util/ranks.h"
 #include "lib/verify/projection_models.h"
 #include "lib/verify/reference_cache.h"
 
@@ -75,6 +76,7 @@ std::optional<CacheSlot> cache_slot(const Scene& scene, const Camera& camera, co
 
 // An optional cache that cannot be written (a full disk) does not fail the computed run.
 void try_to_cache(const fs::path& dir, const fs::path& file, const std::string& key, ReferenceImage& r) {
+  if (!is_output_rank()) return;  // under MPI, rank 0 writes
   std::error_code ec;
   fs::create_directories(dir, ec);
   try {
@@ -91,8 +93,9 @@ ReferenceImage reference_image(const Scene& scene, const Camera& camera, const V
   require_grey(scene, "scene", "reference_image");
   // Nothing joins the key for emission-absorption: grey entries keep the keys they always had.
   const auto slot = cache_slot(scene, camera, opt, opt.mode ? projection_cache_tag(*opt.mode) : std::string());
-  if (slot)
-    if (auto r = read_reference_cache(slot->file, slot->key, camera.width, camera.height)) return *r;
+  std::optional<ReferenceImage> cached;
+  if (slot) cached = read_reference_cache(slot->file, slot->key, camera.width, camera.height);
+  if (on_every_rank(cached.has_value())) return *cached;
   ReferenceImage r = opt.mode ? projection_reference_image(scene, camera, *opt.mode, opt.reference_tol, opt.progress)
                               : render_reference(scene, camera, opt.reference_tol, opt.progress);
   if (slot) try_to_cache(opt.cache_dir, slot->file, slot->key, r);
@@ -110,7 +113,7 @@ std::vector<ReferenceImage> reference_images(const Scene& scene, const Camera& c
       if (auto r = read_reference_cache(slots.back()->file, slots.back()->key, camera.width, camera.height))
         cached.push_back(std::move(*r));
   }
-  if (cached.size() == 3) return cached;
+  if (on_every_rank(cached.size() == 3)) return cached;
   std::vector<ReferenceImage> r = render_color_reference(scene, camera, opt.reference_tol, opt.progress);
   for (int c = 0; c < 3; ++c)
     if (slots[c]) try_to_cache(opt.cache_dir, slots[c]->file, slots[c]->key, r[c]);

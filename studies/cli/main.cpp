@@ -101,13 +101,13 @@ int fail(int code, const std::string& line) {
   return code;
 }
 
-// Only vrv render spreads its work over MPI ranks so far; the other commands would run whole on
-// every rank, each writing the same outputs (docs/distributed.md).
+// Only vrv render and vrv verify spread their work over MPI ranks so far; the other commands
+// would run whole on every rank, each writing the same outputs (docs/distributed.md).
 void check_distributable(const std::vector<std::string>& args) {
-  if (vrv::rank_count() > 1 && (args.size() < 2 || args[1] != "render"))
+  if (vrv::rank_count() > 1 && (args.size() < 2 || (args[1] != "render" && args[1] != "verify")))
     throw std::invalid_argument(fmt::format(
-        "mpirun: {} ranks: only vrv render is spread over MPI ranks so far; run {} as one process "
-        "(docs/distributed.md)", vrv::rank_count(), args.size() < 2 ? "vrv" : "vrv " + args[1]));
+        "mpirun: {} ranks: only vrv render and vrv verify are spread over MPI ranks so far; run {} as one "
+        "process (docs/distributed.md)", vrv::rank_count(), args.size() < 2 ? "vrv" : "vrv " + args[1]));
 }
 
 int run(CLI::App& app, const std::vector<std::string>& args, std::vector<char*>& ptrs) {

@@ -11,6 +11,7 @@
 #include "lib/bounds_file.h"
 #include "lib/io/output_paths.h"
 #include "lib/util/parallel.h"
+#include "lib/util/ranks.h"
 #include "lib/scene_file.h"
 #include "lib/scene_mode.h"
 #include "lib/verify/verify_output.h"
@@ -85,8 +86,9 @@ int run_verify(const VerifyCliOptions& o) {
   if (o.threshold) opt.threshold = *o.threshold;
   std::vector<fs::path> inputs(o.images.begin(), o.images.end());
   inputs.insert(inputs.end(), {fs::path(o.scene), fs::path(o.bounds)});
-  if (!o.out.empty()) check_verify_out(o.out, inputs);
-  if (!o.report.empty()) check_verify_report_path(o.report, inputs, o.out, "--report");
+  // Under MPI (docs/distributed.md) every rank verifies; rank 0 alone checks and writes outputs.
+  if (!o.out.empty() && is_output_rank()) check_verify_out(o.out, inputs);
+  if (!o.report.empty() && is_output_rank()) check_verify_report_path(o.report, inputs, o.out, "--report");
   const std::vector<ImageWithStep> images =
       read_images(o.images, o.steps ? parse_steps(*o.steps) : provenance_steps(o.images));
   std::vector<double> steps;
@@ -96,7 +98,7 @@ int run_verify(const VerifyCliOptions& o) {
                           o.max_work, "--max-work");
   // Where results go is checked (and locked) before the reference is computed, not after.
   std::optional<PublishedFolder> out;
-  if (!o.out.empty()) out.emplace(o.out, kVerifyOutMarker, "--out");
+  if (!o.out.empty() && is_output_rank()) out.emplace(o.out, kVerifyOutMarker, "--out");
   opt.cache_dir = reference_cache_dir(o.cache_dir, o.no_cache);
   const ThreadLimit threads(o.threads);
   const nlohmann::json parameters = {{"command", "verify"}, {"scene", o.scene}, {"images", o.images},
@@ -104,9 +106,10 @@ int run_verify(const VerifyCliOptions& o) {
                                      {"bounds", o.bounds}, {"case", o.case_name}, {"alpha", o.alpha},
                                      {"threshold", opt.threshold}, {"tol", o.tol}, {"order_metric", o.order_metric},
                                      {"mode", opt.mode ? std::string(projection_mode_name(*opt.mode)) : std::string()}};
+  const PixelSharing sharing;
   const VerifyRun run = run_verification(scene, images, opt, bounds, o.case_name.empty() ? "verify" : o.case_name,
                                          out ? &*out : nullptr, parameters, o.plots);
-  if (!o.report.empty()) {
+  if (!o.report.empty() && is_output_rank()) {
     HtmlReportContext context{"vrv verify", invoking_commands(), {}};
     if (bounds) context.bounds = bound_table(run.rows);
     try {
@@ -140,7 +143,9 @@ void add_verify_command(CLI::App& app) {
       "Images: anything OpenImageIO reads (EXR, TIFF, PFM, PNG), grey or RGB(A), all of one size, "
       "rendered with the scene's camera (or the default camera) at the sizes they have.\n"
       "Exit: 0 pass, 1 failure (expected order missed, reference tolerance missed, a bound's fail "
-      "level crossed, the plot not drawn), 2 bad input or --out not written. stdout: one JSON line. See docs/verify.md.");
+      "level crossed, the plot not drawn), 2 bad input or --out not written. stdout: one JSON line. See docs/verify.md.\n"
+      "MPI: in a build with -DVRV_WITH_MPI=ON, `mpirun -np P vrv verify ...` spreads the reference image's pixels "
+      "over P ranks; every output is bitwise that of one process (docs/distributed.md).");
   cmd->add_option("--scene", o->scene, "Scene file (TOML); the embedded default when omitted");
   cmd->add_option("images", o->images, "The renderer's images, one per step")->required();
   cmd->add_option("--steps", o->steps, "Sample distances (world units), one per image: H1,H2,...; "

@@ -57,7 +57,7 @@ grep -q "^vrv: error: .*missing.toml" "$out/bad.err" || fail "bad input: the fil
 mpi 2 "$vrv" study --list > /dev/null 2> "$out/study.err"
 rc=$?
 [ $rc -eq 2 ] || fail "study: exit $rc, expected 2"
-grep -q "^vrv: error: mpirun: 2 ranks: only vrv render is spread over MPI ranks so far" "$out/study.err" \
+grep -q "^vrv: error: mpirun: 2 ranks: only vrv render and vrv verify are spread over MPI ranks so far" "$out/study.err" \
   || fail "study: $(cat "$out/study.err")"
 
 # Rank 1 killed midway: mpirun ends every rank and exits non-zero; no image appears.

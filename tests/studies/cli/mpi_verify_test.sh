@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# vrv verify spread over MPI ranks (docs/distributed.md): the same outputs as one process for 2 and
+# 3 ranks (every file of --out, --report's page, stdout's JSON; apart from meta.json's date and
+# wall time and the output names), with the reference computed (--no-cache) and from a cache that
+# rank 0 alone wrote.  Label `mpi`: needs a build with -DVRV_WITH_MPI=ON and mpirun.
+# Usage: mpi_verify_test.sh VRV SOURCE_DIR WORK_DIR [MPIRUN]
+set -u
+vrv=$1 src=$2 out=$3 mpirun=${4:-mpirun}
+rm -rf "$out" && mkdir -p "$out" && cd "$out" || exit 1
+source "$src/tests/studies/cli/robustness_lib.sh"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none
+scene=$src/studies/benchmarks/grid64_opacity.toml
+images=()
+for h in 0.04 0.02 0.01; do
+  "$vrv" render --scene "$scene" --method trapezoid --step $h --width 48 --height 40 --quiet -o "t$h.exr" \
+    > /dev/null 2>&1 || fail "render at step $h"
+  images+=("t$h.exr")
+done
+
+# run NAME NP CACHE_OPTION...: vrv verify into NAME/ and NAME.html, stdout to NAME.json.
+run() {
+  local name=$1 np=$2
+  shift 2
+  local cmd=("$vrv" verify --scene "$scene" "${images[@]}" --out "$name" --report "$name.html" --quiet "$@")
+  if [ "$np" -gt 1 ]; then cmd=(timeout 300 "$mpirun" --oversubscribe -np "$np" "${cmd[@]}"); fi
+  "${cmd[@]}" > "$name.json" 2> "$name.err" || fail "$name: exit $?: $(head -c 600 "$name.err")"
+}
+# same A B: B's outputs are A's.
+same() {
+  python3 - "$1" "$2" <<'PY' || fail "$2 differs from $1"
+import json, pathlib, sys
+a, b = sys.argv[1:]
+def stdout(n):
+    j = json.loads(pathlib.Path(n + ".json").read_text())
+    assert j.pop("out") == n and j.pop("report") == n + ".html"
+    return j
+def meta(n):
+    m = json.loads(pathlib.Path(n, "meta.json").read_text())
+    m.pop("date"); m.pop("wall_seconds")
+    return m
+if stdout(a) != stdout(b): sys.exit(f"stdout: {b} differs from {a}")
+if meta(a) != meta(b): sys.exit(f"meta.json: {b} differs from {a}")
+fa = sorted(p.relative_to(a) for p in pathlib.Path(a).rglob("*") if p.is_file())
+fb = sorted(p.relative_to(b) for p in pathlib.Path(b).rglob("*") if p.is_file())
+if fa != fb: sys.exit(f"files: {fb} against {fa}")
+for f in fa:
+    if f.name != "meta.json" and (pathlib.Path(a) / f).read_bytes() != (pathlib.Path(b) / f).read_bytes():
+        sys.exit(f"{b}/{f} differs from {a}/{f}")
+ha = pathlib.Path(a + ".html").read_text().replace(f"--out {a} --report {a}.html", "OUT")
+hb = pathlib.Path(b + ".html").read_text().replace(f"--out {b} --report {b}.html", "OUT")
+if ha != hb: sys.exit(f"{b}.html differs from {a}.html")
+PY
+}
+
+# The reference computed on every run, its pixels dealt to the ranks.
+run computed_1 1 --no-cache
+for np in 2 3; do
+  run "computed_$np" $np --no-cache
+  same computed_1 "computed_$np"
+done
+
+# A cache: 2 ranks compute and rank 0 writes one entry; then 2 ranks and one process read it.
+run cache_first_2 2 --cache-dir cache
+[ "$(find cache -name 'reference-*.bin' | wc -l)" -eq 1 ] || fail "cache: not one entry: $(ls -a cache)"
+[ -z "$(find cache -name '*.tmp*')" ] || fail "cache: a temporary file was left: $(ls -a cache)"
+grep -q '"from_cache":false' cache_first_2.json || fail "cache: the first run did not compute"
+run cache_2 2 --cache-dir cache
+run cache_1 1 --cache-dir cache
+grep -q '"from_cache":true' cache_2.json || fail "cache: 2 ranks did not read the entry"
+same cache_1 cache_2
+
+# gate is not spread over ranks yet: refused, not run twice.
+timeout 120 "$mpirun" --oversubscribe -np 2 "$vrv" gate --help > /dev/null 2> gate.err
+rc=$?
+[ $rc -eq 2 ] || fail "gate: exit $rc, expected 2"
+grep -q "^vrv: error: mpirun: 2 ranks: only vrv render and vrv verify are spread" gate.err || fail "gate: $(cat gate.err)"
+echo "mpi verify: the same outputs for 1, 2 and 3 ranks, computed and cached"
