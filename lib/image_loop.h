@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <functional>
+#include <new>
 #include <span>
 #include <type_traits>
 #include <vector>
@@ -110,15 +111,16 @@ void run_positions(const Camera& camera, std::span<const long> subset, long firs
 template <class Value, class PerPixel, class Put>
 void shared_loop_into(const Camera& camera, std::span<const long> subset, long n, PerPixel& f, Put& put,
                       const ImageLoopHooks& hooks) {
-  static_assert(std::is_trivially_copyable_v<Value>);
+  // Copied as bytes, and created by the allocation itself (implicit-lifetime, as aligned_alloc's).
+  static_assert(std::is_trivially_copyable_v<Value> && std::is_trivially_destructible_v<Value>);
   const auto buffer = exchange_buffer(static_cast<std::size_t>(n) * sizeof(Value));
-  Value* values = reinterpret_cast<Value*>(buffer.get());
+  Value* values = std::launder(reinterpret_cast<Value*>(buffer.get()));
   auto keep = [&](long k, Value v) { values[static_cast<std::size_t>(k)] = std::move(v); };
-  const std::vector<BlockRange> mine = deal_blocks(block_count(n, hooks), [&](long first_block, long last_block) {
+  const long block = std::max(hooks.block, 1L);
+  const std::vector<BlockRange> mine = deal_blocks(n, block, [&](long first_block, long last_block) {
     for_blocks(n, first_block, last_block, hooks,
                [&](long first, long last) { run_positions(camera, subset, first, last, f, keep); });
   });
-  const long block = std::max(hooks.block, 1L);
   share_blocks(buffer.get(), n, sizeof(Value), block, mine);
   long own = 0;
   for (const BlockRange& r : mine) own += std::min(n, r.last * block) - r.first * block;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -66,6 +67,10 @@ RankSession::RankSession([[maybe_unused]] int* argc, [[maybe_unused]] char*** ar
   int provided = 0;
   // Only this thread calls MPI (the image loop's exchange, after its parallel part).
   MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+  if (provided < MPI_THREAD_FUNNELED) {
+    std::fprintf(stderr, "vrv: error: MPI: this MPI library gives no thread support (MPI_THREAD_FUNNELED)\n");
+    MPI_Abort(MPI_COMM_WORLD, 2);
+  }
   g_mpi = true;
   g_mpi_thread = std::this_thread::get_id();
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
@@ -105,7 +110,7 @@ namespace {
 // The counter deal_blocks hands blocks out from: one long on rank 0, updated by MPI_Fetch_and_op.
 class SharedCounter {
  public:
-  SharedCounter() {
+  SharedCounter() : unwinding_(std::uncaught_exceptions()) {
     MPI_Win_allocate(g_rank == 0 ? sizeof(long) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &value_, &window_);
     if (g_rank == 0) {
       MPI_Win_lock(MPI_LOCK_EXCLUSIVE, 0, 0, window_);
@@ -116,6 +121,9 @@ class SharedCounter {
     MPI_Win_lock_all(0, window_);
   }
   ~SharedCounter() {
+    // Leaving on an error: freeing the window would wait (it is collective) for the other ranks
+    // to finish the loop; the error ends every rank at once instead (end_ranks).
+    if (std::uncaught_exceptions() > unwinding_) return;
     MPI_Win_unlock_all(window_);
     MPI_Win_free(&window_);
   }
@@ -129,16 +137,42 @@ class SharedCounter {
   }
 
  private:
+  int unwinding_;
   long* value_ = nullptr;
   MPI_Win window_;
 };
 
+// The ranks met the same loop (a loop met by some ranks only would pair the wrong exchanges):
+// the same block count everywhere, or every rank throws.
+void check_same_loop(long blocks) {
+  long extremes[2] = {blocks, -blocks};
+  MPI_Allreduce(MPI_IN_PLACE, extremes, 2, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
+  if (extremes[0] != -extremes[1])
+    throw std::logic_error("MPI: the ranks met different image loops (" + std::to_string(-extremes[1]) + " to " +
+                           std::to_string(extremes[0]) + " blocks); a loop was dealt on a path some ranks skip");
+}
+
+// With VRV_RANK_SHARES set, each rank says how many blocks of a dealt loop it computed (on its
+// own error stream): how a user sees the balance, and how the tests see that work was shared.
+void report_share(const std::vector<BlockRange>& mine, long blocks) {
+  if (!std::getenv("VRV_RANK_SHARES")) return;
+  long own = 0;
+  for (const BlockRange& r : mine) own += r.last - r.first;
+  const std::string line = "vrv: rank " + std::to_string(g_rank) + " of " + std::to_string(g_count) + ": " +
+                           std::to_string(own) + " of " + std::to_string(blocks) + " blocks\n";
+  [[maybe_unused]] const auto written = write(g_error_fd, line.data(), line.size());
+}
+
 }  // namespace
 #endif
 
-std::vector<BlockRange> deal_blocks(long blocks, const std::function<void(long first, long last)>& compute) {
+std::vector<BlockRange> deal_blocks(long count, long block, const std::function<void(long first, long last)>& compute) {
+  const long blocks = (count + block - 1) / block;
   std::vector<BlockRange> mine;
 #ifdef VRV_WITH_MPI
+  // The exchange counts values in int (a contiguous type of one value): refused before the work.
+  if (count > INT_MAX) throw std::runtime_error("MPI: more than 2^31 pixels in one image loop");
+  check_same_loop(blocks);
   // At least enough blocks to keep every thread busy (a share ends with its slowest block), at
   // most an eighth of what is left per rank, so a slowed rank is never left holding much.
   const long least = 4L * static_cast<long>(thread_count());
@@ -153,6 +187,7 @@ std::vector<BlockRange> deal_blocks(long blocks, const std::function<void(long f
     compute(first, last);
     mine.push_back({first, last});
   }
+  report_share(mine, blocks);
 #else
   compute(0, blocks);
   mine.push_back({0, blocks});
@@ -165,8 +200,6 @@ void share_blocks([[maybe_unused]] std::byte* values, [[maybe_unused]] long coun
                   [[maybe_unused]] std::span<const BlockRange> mine) {
 #ifdef VRV_WITH_MPI
   if (g_count <= 1) return;
-  // Lengths are in values (a contiguous type of value_bytes): up to 2^31 pixels in one loop.
-  if (count > INT_MAX) throw std::runtime_error("MPI: more than 2^31 pixels in one image loop");
   const auto ranks = static_cast<std::size_t>(g_count);
 
   // Which ranges each rank computed.

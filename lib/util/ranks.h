@@ -60,12 +60,13 @@ struct BlockRange {
   long first = 0, last = 0;
 };
 
-// Collective: deals the blocks [0, blocks) of an image loop to the ranks as each asks for more,
-// and runs compute(first, last) on this thread for each range this rank takes; returns those
-// ranges.  Shares shrink as the work runs out (guided self-scheduling on a counter every rank
+// Collective: deals the blocks of an image loop of `count` positions in blocks of `block` to the
+// ranks as each asks for more, and runs compute(first, last) on this thread for each range of
+// blocks this rank takes; returns those ranges.  Throws, on every rank, when the ranks met loops
+// of different sizes or the loop has more than 2^31 positions.  Shares shrink as the work runs out (guided self-scheduling on a counter every rank
 // updates atomically through MPI), so a rank that is slowed (costly rays, another job on its
 // core, loading the image module) takes less: the balance follows the measured cost.
-std::vector<BlockRange> deal_blocks(long blocks, const std::function<void(long first, long last)>& compute);
+std::vector<BlockRange> deal_blocks(long count, long block, const std::function<void(long first, long last)>& compute);
 
 // Collective: each rank has filled its ranges `mine` of blocks of `values` (count values of
 // `value_bytes` bytes each, in blocks of `block`); afterwards every rank holds every block.

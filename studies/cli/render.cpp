@@ -139,16 +139,6 @@ void check_outputs(const OutputPaths& out, const std::string& error_against) {
 // 2048^2 pixels took 157 -> 246 MB resident, 29 bytes a pixel), and with --error-against the
 // reference in double and the error image (12 more a channel).  Refused above --max-memory naming
 // the input that sets the size.
-void check_render_memory(const RenderOptions& opt, const Camera& camera, int channels) {
-  const double pixels = double(camera.width) * camera.height;
-  const double per_pixel = 17 + channels * (12 + (opt.error_against.empty() ? 0 : 12));
-  const std::string who = opt.width || opt.height ? std::string("--width/--height")
-                          : opt.scene.empty()     ? std::string("<default scene>: camera")
-                                                  : opt.scene + ": camera";
-  check_memory(pixels * per_pixel, memory_limit_bytes(opt.max_memory_gib), who, "render",
-               fmt::format("{} x {} pixels, {:g} bytes each", camera.width, camera.height, per_pixel));
-}
-
 struct Rendered {
   Image image;
   ImageF64 values;                // the same pixels in double
@@ -165,6 +155,21 @@ struct PixelResult {
   double estimate;  // the largest of the channels'
   bool tolerance_met;  // by every channel
 };
+
+void check_render_memory(const RenderOptions& opt, const Camera& camera, int channels) {
+  const double pixels = double(camera.width) * camera.height;
+  // Under MPI each rank also holds every pixel's value as the image loop exchanges it.
+  const std::size_t exchanged = !opt.reference ? std::max(sizeof(ChannelsDiscreteResult), sizeof(PixelResult))
+                                : channels == 3 ? sizeof(ColorReferenceResult)
+                                                : std::max(sizeof(ReferenceResult), sizeof(PixelResult));
+  const double per_pixel = 17 + channels * (12 + (opt.error_against.empty() ? 0 : 12)) +
+                           (rank_count() > 1 ? double(exchanged) : 0.0);
+  const std::string who = opt.width || opt.height ? std::string("--width/--height")
+                          : opt.scene.empty()     ? std::string("<default scene>: camera")
+                                                  : opt.scene + ": camera";
+  check_memory(pixels * per_pixel, memory_limit_bytes(opt.max_memory_gib), who, "render",
+               fmt::format("{} x {} pixels, {:g} bytes each", camera.width, camera.height, per_pixel));
+}
 
 // The pixels as the image loop puts them, each part in its own plane (the 29 bytes a pixel of
 // check_render_memory); the sums run afterwards in pixel order, so the output is the same for
@@ -413,10 +418,12 @@ void run_render(const RenderOptions& opt) {
   const long pixels = static_cast<long>(camera.width) * camera.height;
   const auto start = std::chrono::steady_clock::now();
   const ThreadLimit threads(opt.threads);
-  const PixelSharing sharing;
-  const Rendered r = projection ? render_projection(scene, camera, *projection, opt.tol, opt.quiet)
-                     : discrete ? render_discrete(scene, camera, *discrete, opt.quiet)
-                                : render_reference(scene, camera, opt.tol, opt.quiet);
+  const Rendered r = [&] {
+    const PixelSharing sharing;  // the pixel loop alone is dealt to MPI ranks
+    return projection ? render_projection(scene, camera, *projection, opt.tol, opt.quiet)
+           : discrete ? render_discrete(scene, camera, *discrete, opt.quiet)
+                      : render_reference(scene, camera, opt.tol, opt.quiet);
+  }();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (r.not_finite > 0)

@@ -52,12 +52,19 @@ if ha != hb: sys.exit(f"{b}.html differs from {a}.html")
 PY
 }
 
-# The reference computed on every run, its pixels dealt to the ranks.
+# The reference computed on every run, its pixels dealt to the ranks (each rank says how many
+# blocks it computed: every rank some).
 run computed_1 1 --no-cache
+export VRV_RANK_SHARES=1
 for np in 2 3; do
   run "computed_$np" $np --no-cache
   same computed_1 "computed_$np"
+  for ((r = 0; r < np; ++r)); do
+    grep -Eq "^vrv: rank $r of $np: [1-9][0-9]* of [0-9]+ blocks$" "computed_$np.err" \
+      || fail "computed_$np: rank $r computed no blocks: $(cat "computed_$np.err")"
+  done
 done
+unset VRV_RANK_SHARES
 
 # A cache: 2 ranks compute and rank 0 writes one entry; then 2 ranks and one process read it.
 run cache_first_2 2 --cache-dir cache
@@ -68,6 +75,18 @@ run cache_2 2 --cache-dir cache
 run cache_1 1 --cache-dir cache
 grep -q '"from_cache":true' cache_2.json || fail "cache: 2 ranks did not read the entry"
 same cache_1 cache_2
+
+# A failed check (exit 1: the trapezoid images do not converge at order 4) is an outcome every rank
+# reaches: the same JSON line and exit code as one process, not an abort.
+for np in 1 2; do
+  cmd=("$vrv" verify --scene "$scene" "${images[@]}" --no-cache --expected-order 4 --quiet)
+  if [ $np -gt 1 ]; then cmd=(timeout 300 "$mpirun" --oversubscribe -np $np "${cmd[@]}"); fi
+  "${cmd[@]}" > "order_$np.json" 2> "order_$np.err"
+  rc=$?
+  [ $rc -eq 1 ] || fail "expected order: $np ranks: exit $rc, expected 1: $(head -c 600 "order_$np.err")"
+done
+cmp -s order_1.json order_2.json || fail "expected order: the JSON line of 2 ranks differs: $(cat order_2.json)"
+grep -q "MPI_ABORT" order_2.err && fail "expected order: the ranks were aborted: $(cat order_2.err)"
 
 # gate is not spread over ranks yet: refused, not run twice.
 timeout 120 "$mpirun" --oversubscribe -np 2 "$vrv" gate --help > /dev/null 2> gate.err
