@@ -66,8 +66,12 @@ Loaded load(const std::filesystem::path& file, bool skip_data, std::vector<std::
   std::unique_ptr<NrrdIoState, IoDeleter> nio(nrrdIoStateNew());
   nrrdIoStateSet(nio.get(), nrrdIoStateSkipData, skip_data ? AIR_TRUE : AIR_FALSE);
   nrrdIoStateSet(nio.get(), nrrdIoStateKeepNrrdDataFileOpen, skip_data ? AIR_TRUE : AIR_FALSE);
-  if (nrrdLoad(nrrd.get(), file.c_str(), nio.get()))
+  if (nrrdLoad(nrrd.get(), file.c_str(), nio.get())) {
+    // Data in the header's own file: nrrdLoad closed that file on its way out, but the pointer
+    // it kept for us is still set (closing it again was a double free, found by fuzz_nrrd_reader).
+    if (!nio->dataFNArr || nio->dataFNArr->len == 0) nio->dataFile = nullptr;
     volume_fail(file, skip_data ? "(header)" : "(data)", teem_error());
+  }
   if (data_files) {
     if (nio->dataFNFormat)
       volume_fail(file, "data file", "a numbered pattern of data files is not supported (name them, or LIST)");
