@@ -7,9 +7,11 @@
 #include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <cstdint>
 #include <cstdlib>
 #include <thread>
 #include <cstring>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -70,6 +72,15 @@ void test_wait_for_signal() {
 
 }  // namespace
 
+std::string temporary_suffix() {
+  // The pid keeps the stale sweep working (studies/engine/interrupt.h); the random part keeps
+  // names apart where pids are not: threads of one process, and processes of other machines
+  // writing into a shared folder (a reference cache on a cluster's file system).
+  thread_local std::mt19937_64 bits{(static_cast<std::uint64_t>(std::random_device{}()) << 32) ^
+                                    std::random_device{}()};
+  return fmt::format(".tmp.{}.{:016x}", ::getpid(), bits());
+}
+
 std::shared_mutex& temporary_files_mutex() {
   static std::shared_mutex m;
   return m;
@@ -80,7 +91,7 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   test_wait_for_signal();
   const std::shared_lock temporaries(temporary_files_mutex());
   std::filesystem::path tmp = path;
-  tmp += fmt::format(".tmp.{}", ::getpid());
+  tmp += temporary_suffix();
 
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd < 0) write_failure(path, errno_reason(errno));

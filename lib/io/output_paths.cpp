@@ -1,11 +1,11 @@
 #include "lib/io/output_paths.h"
 
-#include <unistd.h>
-
 #include <fstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "lib/io/atomic_file.h"
 
 namespace vrv {
 
@@ -37,7 +37,7 @@ void check_writable_dir(const fs::path& dir, std::string_view option) {
   if (ec || !fs::is_directory(dir, ec))
     throw std::invalid_argument(fmt::format("{}: {}: cannot create the folder{}", option, dir.string(),
                                             ec ? ": " + ec.message() : std::string(" (a file is in the way)")));
-  const fs::path probe = dir / fmt::format(".vrv-probe.{}", ::getpid());
+  const fs::path probe = dir / (".vrv-probe" + temporary_suffix());
   if (!std::ofstream(probe))
     throw std::invalid_argument(fmt::format("{}: {}: cannot write into it", option, dir.string()));
   fs::remove(probe, ec);

@@ -18,6 +18,7 @@
 #include "lib/io/output_paths.h"
 #include "lib/verify/verify_output.h"
 #include "lib/util/parallel.h"
+#include "lib/util/ranks.h"
 #include "lib/scene_file.h"
 #include "lib/scene_mode.h"
 #include "lib/work_estimate.h"
@@ -186,6 +187,10 @@ int run_gate(const GateOptions& o) {
   for (const GateCase* c : cases) {
     if (!c->study.empty()) {
       check_study_name(file, *c);
+      if (rank_count() > 1)
+        throw std::invalid_argument(fmt::format(
+            "{}: case {}: a study case does not run over MPI ranks yet (vrv study is one process); run this "
+            "gate as one process, or --case a render or images case (docs/distributed.md)", o.bounds, c->name));
       scenes.emplace_back();
       steps.emplace_back();
       continue;
@@ -204,14 +209,17 @@ int run_gate(const GateOptions& o) {
       check_render_work(*c, scenes.back(), file, o.max_work);
     }
   }
+  // Under MPI (docs/distributed.md) every rank verifies each case; rank 0 alone writes.
+  const bool writer = is_output_rank();
   const fs::path out = o.out.empty() ? fs::temp_directory_path() / fmt::format("vrv-gate-{}", getpid()) : fs::path(o.out);
-  TemporaryFolder temporary{o.out.empty() ? out : fs::path()};
-  check_writable_dir(out, "--out");
+  TemporaryFolder temporary{o.out.empty() && writer ? out : fs::path()};
+  if (writer) check_writable_dir(out, "--out");
   const fs::path cache = reference_cache_dir(o.cache_dir, o.no_cache);
   const ThreadLimit threads(o.threads);
   std::vector<BoundRow> rows;
   nlohmann::ordered_json case_json = nlohmann::ordered_json::array();
   bool pass = true;
+  const PixelSharing sharing;  // every rank meets the same cases' image loops in the same order
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const GateCase& c = *cases[i];
     if (!c.study.empty()) {
@@ -247,7 +255,7 @@ int run_gate(const GateOptions& o) {
                               fmt::format("{}: case[{}]", o.bounds, &c - file.cases.data()));
     const nlohmann::json parameters = {{"command", "gate"}, {"bounds", o.bounds}, {"case", c.name}};
     const HtmlReportContext html{"vrv gate: case " + c.name, invoking_commands(), {}};
-    const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, out / c.name, parameters,
+    const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, writer ? out / c.name : fs::path(), parameters,
                                            o.plots && !o.out.empty(), o.report ? &html : nullptr);
     if (!run.report.pass)
       for (const std::string& f : run.report.failures) {
@@ -262,7 +270,7 @@ int run_gate(const GateOptions& o) {
     case_json.push_back({{"case", c.name}, {"verdict", verdict_name(run.report.verdict.verdict)}, {"pass", run.pass}});
   }
   const Table table = bound_table(rows);
-  write_table_files(out, "bounds", table);
+  if (writer) write_table_files(out, "bounds", table);
   if (!o.quiet) std::cerr << table.to_markdown();
   nlohmann::ordered_json j;
   j["bounds"] = o.bounds;

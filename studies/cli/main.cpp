@@ -1,6 +1,7 @@
 // The vrv command line: one subcommand per job; errors are one line on stderr, exit code 2
 // (other codes: studies/cli_support.h and README, "Exit codes").
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -8,9 +9,11 @@
 #include <iostream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "lib/io/error_line.h"
 #include "lib/util/ranks.h"
@@ -104,13 +107,16 @@ int fail(int code, const std::string& line) {
   return code;
 }
 
-// Only vrv render and vrv verify spread their work over MPI ranks so far; the other commands
-// would run whole on every rank, each writing the same outputs (docs/distributed.md).
+// The commands that spread their work over MPI ranks; the others would run whole on every rank,
+// each writing the same outputs (docs/distributed.md).
+constexpr std::array<std::string_view, 3> kDistributedCommands = {"render", "verify", "gate"};
+
 void check_distributable(const std::vector<std::string>& args) {
-  if (vrv::rank_count() > 1 && (args.size() < 2 || (args[1] != "render" && args[1] != "verify")))
-    throw std::invalid_argument(fmt::format(
-        "mpirun: {} ranks: only vrv render and vrv verify are spread over MPI ranks so far; run {} as one "
-        "process (docs/distributed.md)", vrv::rank_count(), args.size() < 2 ? "vrv" : "vrv " + args[1]));
+  if (vrv::rank_count() <= 1) return;
+  if (args.size() >= 2 && std::ranges::find(kDistributedCommands, args[1]) != kDistributedCommands.end()) return;
+  throw std::invalid_argument(fmt::format(
+      "mpirun: {} ranks: only vrv {} are spread over MPI ranks so far; run {} as one process (docs/distributed.md)",
+      vrv::rank_count(), fmt::join(kDistributedCommands, ", vrv "), args.size() < 2 ? "vrv" : "vrv " + args[1]));
 }
 
 int run(CLI::App& app, const std::vector<std::string>& args, std::vector<char*>& ptrs) {

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +16,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "lib/io/atomic_file.h"
@@ -338,6 +341,49 @@ TEST_F(TableAtomicFile, FailedRenameRemovesTemporaryAndKeepsTarget) {
   EXPECT_THROW(write_file_atomically(target, "x"), std::runtime_error);
   EXPECT_EQ(entries(), std::vector<std::string>{"taken"});
   EXPECT_TRUE(fs::is_directory(target / "inside"));
+}
+
+// Writers of one path at once (a reference cache shared by processes and machines; here
+// threads, which share a pid): each renames a whole file of its own, none fails, and a reader
+// meanwhile sees a whole file or none.  With the temporary named by the pid alone, the writers
+// truncated and renamed each other's temporary.
+TEST_F(TableAtomicFile, ConcurrentWritersOfOnePathEachRenameAWholeFile) {
+  const fs::path file = dir_ / "reference-cache.bin";
+  constexpr int kWriters = 6, kWrites = 20;
+  std::vector<std::string> contents;
+  for (int w = 0; w < kWriters; ++w) contents.push_back(std::string(200000 + 1000 * w, static_cast<char>('a' + w)));
+  std::atomic<int> failures{0}, torn{0};
+  std::atomic<bool> writing{true};
+  std::thread reader([&] {
+    while (writing) {
+      std::ifstream in(file, std::ios::binary);
+      if (!in) continue;
+      const std::string got((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      if (std::find(contents.begin(), contents.end(), got) == contents.end()) ++torn;
+    }
+  });
+  std::vector<std::thread> writers;
+  for (int w = 0; w < kWriters; ++w)
+    writers.emplace_back([&, w] {
+      for (int i = 0; i < kWrites; ++i) try {
+          write_file_atomically(file, contents[w]);
+        } catch (const std::runtime_error&) {
+          ++failures;
+        }
+    });
+  for (auto& t : writers) t.join();
+  writing = false;
+  reader.join();
+  EXPECT_EQ(failures, 0);
+  EXPECT_EQ(torn, 0);
+  EXPECT_NE(std::find(contents.begin(), contents.end(), read(file)), contents.end());
+  EXPECT_EQ(entries(), std::vector<std::string>{"reference-cache.bin"});
+}
+
+TEST(TemporarySuffix, NamesThePidAndDiffersOnEveryCall) {
+  const std::string a = temporary_suffix(), b = temporary_suffix();
+  EXPECT_EQ(a.rfind(".tmp." + std::to_string(::getpid()) + ".", 0), 0u) << a;
+  EXPECT_NE(a, b);
 }
 
 }  // namespace

@@ -8,9 +8,7 @@ set -u
 vrv=$1 src=$2 out=$3 mpirun=${4:-mpirun}
 rm -rf "$out" && mkdir -p "$out" || exit 1
 source "$src/tests/studies/cli/robustness_lib.sh"
-# Loopback only; as root in CI's container; no cross-memory attach (often not permitted there).
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none
-mpi() { local np=$1; shift; timeout 300 "$mpirun" --oversubscribe -np "$np" "$@"; }
+source "$src/tests/studies/cli/mpi_lib.sh"
 
 grid=$src/studies/benchmarks/grid64_opacity.toml
 rgb=$src/tests/fuzz/corpus/scene_ray/rgb-opacity.toml
@@ -69,7 +67,7 @@ grep -q "^vrv: error: .*missing.toml" "$out/bad.err" || fail "bad input: the fil
 mpi 2 "$vrv" study --list > /dev/null 2> "$out/study.err"
 rc=$?
 [ $rc -eq 2 ] || fail "study: exit $rc, expected 2"
-grep -q "^vrv: error: mpirun: 2 ranks: only vrv render and vrv verify are spread over MPI ranks so far" "$out/study.err" \
+grep -q "^vrv: error: mpirun: 2 ranks: only vrv render, vrv verify, vrv gate are spread over MPI ranks so far" "$out/study.err" \
   || fail "study: $(cat "$out/study.err")"
 
 # Rank 1 killed midway: mpirun ends every rank and exits non-zero; no image appears.
