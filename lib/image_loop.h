@@ -31,6 +31,7 @@ struct ImageLoopHooks {
   long block = 64;                      // positions per block (a checkpointed study: one image row)
   std::function<void(long)> progress;   // positions finished, once per block, from any thread
   std::function<bool()> stop;           // polled before each block: true ends the loop (WorkCancelled)
+  long block_size() const { return std::max(block, 1L); }  // a block of 0 or less is one position
 };
 
 // Runs each block of the vector form: compute() fills `values` (the block's slots, from
@@ -68,7 +69,7 @@ using PixelValue = typename PixelValueOf<std::remove_reference_t<PerPixel>>::typ
 // between blocks on hooks.stop.
 template <class Run>
 void for_blocks(long n, long first_block, long last_block, const ImageLoopHooks& hooks, Run&& run) {
-  const long block = std::max(hooks.block, 1L);
+  const long block = hooks.block_size();
   std::atomic<bool> stopped{false};
   parallel_for_index(last_block - first_block, [&](long i) {
     if (stopped.load(std::memory_order_relaxed)) return;
@@ -84,7 +85,7 @@ void for_blocks(long n, long first_block, long last_block, const ImageLoopHooks&
 }
 
 inline long block_count(long n, const ImageLoopHooks& hooks) {
-  const long block = std::max(hooks.block, 1L);
+  const long block = hooks.block_size();
   return (n + block - 1) / block;
 }
 
@@ -116,7 +117,7 @@ void shared_loop_into(const Camera& camera, std::span<const long> subset, long n
   const auto buffer = exchange_buffer(static_cast<std::size_t>(n) * sizeof(Value));
   Value* values = std::launder(reinterpret_cast<Value*>(buffer.get()));
   auto keep = [&](long k, Value v) { values[static_cast<std::size_t>(k)] = std::move(v); };
-  const long block = std::max(hooks.block, 1L);
+  const long block = hooks.block_size();
   const std::vector<BlockRange> mine = deal_blocks(n, block, [&](long first_block, long last_block) {
     for_blocks(n, first_block, last_block, hooks,
                [&](long first, long last) { run_positions(camera, subset, first, last, f, keep); });

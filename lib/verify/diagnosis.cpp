@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <numeric>
 
 #include "lib/image_loop.h"
-#include "lib/util/parallel.h"
+#include "lib/util/task_rows.h"
 #include "lib/verify/model_catalogue.h"
 #include "lib/work_estimate.h"
 #include "lib/util/not_a_number.h"
@@ -40,17 +41,25 @@ bool same_pixels(const Casts& a, const Casts& b) {
   return diff <= 1e-11 * scale;
 }
 
-// Every listed model at every step on `pixels`, (model, step) pairs in parallel; each pair
-// writes its own slot, so the casts do not depend on the thread count.
+// Every listed model at every step on `pixels`, (model, step) pairs in parallel (dealt to the
+// ranks under MPI, lib/util/task_rows.h); each pair fills its own row, so the casts do not depend
+// on the thread or rank count.
 std::vector<Casts> cast_models(const Scene& scene, const Camera& camera, const std::vector<Model>& models,
                                const std::vector<std::size_t>& which, const std::vector<long>& pixels) {
-  std::vector<Casts> out(models.size());
   const std::size_t steps = models.empty() ? 0 : models.front().per_step.size();
-  for (std::size_t m : which) out[m].resize(steps);
-  parallel_for_index(static_cast<long>(which.size() * steps), [&](long pair) {
+  const auto cast_pair = [&](long pair, std::span<double> row) {
     const std::size_t m = which[pair / steps], k = pair % steps;
-    out[m][k] = cast_pixels(scene, camera, models[m].per_step[k], pixels);
-  });
+    const std::vector<double> cast = cast_pixels(scene, camera, models[m].per_step[k], pixels);
+    std::copy(cast.begin(), cast.end(), row.begin());
+  };
+  const std::vector<double> rows =
+      task_rows(static_cast<long>(which.size() * steps), static_cast<long>(pixels.size()), cast_pair);
+  std::vector<Casts> out(models.size());
+  for (std::size_t i = 0; i < which.size(); ++i)
+    for (std::size_t k = 0; k < steps; ++k) {
+      const auto first = rows.begin() + static_cast<std::ptrdiff_t>((i * steps + k) * pixels.size());
+      out[which[i]].emplace_back(first, first + static_cast<std::ptrdiff_t>(pixels.size()));
+    }
   return out;
 }
 

@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include <fmt/format.h>
 
 #include "lib/image_loop.h"
 #include "lib/projection/projection_reference.h"
-#include "lib/util/parallel.h"
 #include "lib/util/progress.h"
+#include "lib/util/task_rows.h"
 #include "lib/verify/diagnosis.h"
 #include "lib/verify/model_catalogue.h"
 #include "lib/work_estimate.h"
@@ -113,16 +114,20 @@ std::vector<Candidate> diagnose_projection(const Scene& scene, const Camera& cam
   for (const auto* im : sorted) steps.push_back(im->step);
   const std::vector<ProjectionModel> models = projection_models(scene, mode, steps);
   const std::vector<long> pixels = diagnosis_pixels(camera.width, camera.height);
-  // (model, step) casts in parallel, each into its own slot: the report does not depend on threads.
-  std::vector<std::vector<std::vector<double>>> casts(models.size(), std::vector<std::vector<double>>(steps.size()));
-  parallel_for_index(static_cast<long>(models.size() * steps.size()), [&](long pair) {
+  // (model, step) casts in parallel (dealt to the ranks under MPI), each into its own row of the
+  // table: the report does not depend on the thread or rank count.
+  const std::size_t n = pixels.size();
+  const auto cast_pair = [&](long pair, std::span<double> row) {
     const std::size_t m = pair / steps.size(), k = pair % steps.size();
-    casts[m][k] = visit_field(scene, [&](const auto& field) {
+    const std::vector<double> cast = visit_field(scene, [&](const auto& field) {
       return image_loop(camera, pixels, [&](const Ray& ray) {
         return discrete_projection(field, scene.box, scene.transfer, ray, models[m].per_step[k]).value;
       });
     });
-  });
+    std::copy(cast.begin(), cast.end(), row.begin());
+  };
+  const std::vector<double> casts =
+      task_rows(static_cast<long>(models.size() * steps.size()), static_cast<long>(n), cast_pair);
   std::vector<Candidate> out;
   for (std::size_t m = 0; m < models.size(); ++m) {
     Candidate c = models[m].label;
@@ -132,7 +137,7 @@ std::vector<Candidate> diagnose_projection(const Scene& scene, const Camera& cam
       for (std::size_t j = 0; j < pixels.size(); ++j) {
         const double u = comparable(sorted[k]->image, channel, pixels[j], 0.0, opt.alpha);
         if (!std::isfinite(u)) continue;
-        const double d = u - casts[m][k][j];
+        const double d = u - casts[(m * steps.size() + k) * n + j];
         sum_sq += d * d, max = std::max(max, std::abs(d)), ++count;
       }
     c.rms = count ? std::sqrt(sum_sq / count) : std::numeric_limits<double>::quiet_NaN();

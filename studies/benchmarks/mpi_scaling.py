@@ -2,7 +2,7 @@
 """Strong scaling of `vrv render --reference` over MPI ranks on one machine (issue 28,
 docs/distributed.md), beside the same render's threads.
 
-    python3 studies/benchmarks/mpi_scaling.py BUILD_DIR [--rounds N] [--size N]
+    python3 studies/benchmarks/mpi_scaling.py BUILD_DIR [--rounds N] [--size N] [--verify]
 
 BUILD_DIR holds a vrv built with -DVRV_WITH_MPI=ON.  Renders the 64^3 grid scene's reference image
 (studies/benchmarks/grid64_opacity.toml, tol 1e-10) at SIZE^2 (default 1024) three ways, one after
@@ -13,6 +13,11 @@ pixels' own seconds (what vrv render prints; for two ranks, rank 0's, which incl
 the other rank and the exchange), the speed-ups over one thread, and the load average before and
 after, since a busy machine cannot show a speed-up.  Checks that the three images are the same
 bytes.
+
+With --verify it times `vrv verify` instead: five images of the same scene at SIZE^2 (default
+256 then) made by vrv's alpha rule at steps 0.04 ... 0.0025, their reference cached first, so the
+timed part is the diagnosis and the fault fits (the model casts dealt to the ranks), and checks
+that the three verifications print the same JSON line.
 
 Python 3 standard library only; writes nothing but a scratch directory it removes.
 """
@@ -33,26 +38,73 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
            OMPI_MCA_btl_vader_single_copy_mechanism="none")
 
 
-def timed(cmd):
-    """Wall seconds and the pixels' seconds vrv render prints."""
+def run_timed(cmd):
+    """Wall seconds and the finished process; exits on a failure."""
     start = time.perf_counter()
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=3600, env=ENV)
     took = time.perf_counter() - start
     if proc.returncode != 0:
         sys.exit(f"mpi_scaling: {' '.join(cmd)} exited {proc.returncode}: {proc.stderr.strip()[:400]}")
+    return took, proc
+
+
+def timed(cmd):
+    """Wall seconds and the pixels' seconds vrv render prints."""
+    took, proc = run_timed(cmd)
     m = re.search(r"^vrv render: .* in ([0-9.]+) s$", proc.stderr, re.M)
     if not m:
         sys.exit(f"mpi_scaling: no pixel time in vrv render's output: {proc.stderr.strip()[:200]}")
     return took, float(m.group(1))
 
 
+def verify_scaling(vrv, rounds, size):
+    """vrv verify of five images, reference cached, three ways (see the module's docstring)."""
+    steps = [0.04, 0.02, 0.01, 0.005, 0.0025]
+    with tempfile.TemporaryDirectory() as tmp:
+        images = []
+        for h in steps:
+            images.append(f"{tmp}/alpha_{h}.exr")
+            subprocess.run([vrv, "render", "--scene", str(SCENE), "--method", "alpha", "--strategy", "inviwo",
+                            "--opacity-unit", "distance", "--step", str(h), "--width", str(size), "--height",
+                            str(size), "--quiet", "-o", images[-1]], check=True, capture_output=True)
+        verify = [vrv, "verify", "--scene", str(SCENE), *images, "--cache-dir", f"{tmp}/cache", "--quiet"]
+        subprocess.run(verify, capture_output=True, env=ENV)  # the reference, cached
+        ways = {
+            "1 rank x 1 thread": ["mpirun", "-np", "1"] + verify + ["--threads", "1"],
+            "2 ranks x 1 thread": ["mpirun", "-np", "2"] + verify + ["--threads", "1"],
+            "1 process x 2 threads": verify + ["--threads", "2"],
+        }
+        load_before = os.getloadavg()[0]
+        times = {name: [] for name in ways}
+        lines = {}
+        for _ in range(rounds):
+            for name, cmd in ways.items():
+                took, proc = run_timed(cmd)
+                times[name].append(took)
+                lines[name] = proc.stdout
+        load_after = os.getloadavg()[0]
+    if len(set(lines.values())) != 1:
+        sys.exit(f"mpi_scaling: the verifications printed different results: {lines}")
+    print(f"vrv verify, {SCENE.name}, 5 alpha images at {size}^2, reference cached, {rounds} rounds; "
+          f"load average {load_before:.2f} before, {load_after:.2f} after; the same JSON line each way\n")
+    print("| run | wall s (median) | wall s (best) | speed-up, best |")
+    print("|---|---|---|---|")
+    base = min(times["1 rank x 1 thread"])
+    for name, t in times.items():
+        print(f"| {name} | {statistics.median(t):.2f} | {min(t):.2f} | {base / min(t):.2f} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("build_dir", type=Path)
     ap.add_argument("--rounds", type=int, default=5)
-    ap.add_argument("--size", type=int, default=1024)
+    ap.add_argument("--size", type=int)
+    ap.add_argument("--verify", action="store_true", help="time vrv verify of five images instead")
     args = ap.parse_args()
     vrv = str(args.build_dir.resolve() / "vrv")
+    if args.verify:
+        return verify_scaling(vrv, args.rounds, args.size or 256)
+    args.size = args.size or 1024
     with tempfile.TemporaryDirectory() as tmp:
         def render(name, threads):
             return [vrv, "render", "--scene", str(SCENE), "--reference", "--width", str(args.size), "--height",

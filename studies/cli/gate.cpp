@@ -255,7 +255,8 @@ int run_gate(const GateOptions& o) {
                               fmt::format("{}: case[{}]", o.bounds, &c - file.cases.data()));
     const nlohmann::json parameters = {{"command", "gate"}, {"bounds", o.bounds}, {"case", c.name}};
     const HtmlReportContext html{"vrv gate: case " + c.name, invoking_commands(), {}};
-    const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, writer ? out / c.name : fs::path(), parameters,
+    const fs::path case_out = writer ? out / c.name : fs::path();  // the other ranks write nothing
+    const VerifyRun run = run_verification(scenes[i], images, opt, c.bounds, c.name, case_out, parameters,
                                            o.plots && !o.out.empty(), o.report ? &html : nullptr);
     if (!run.report.pass)
       for (const std::string& f : run.report.failures) {

@@ -2,6 +2,7 @@
 #include "lib/util/parallel.h"
 
 #include <atomic>
+#include <span>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 #include "lib/reference_integrator.h"
 #include "lib/scene_file.h"
 #include "lib/util/ranks.h"
+#include "lib/util/task_rows.h"
 
 namespace vrv {
 namespace {
@@ -53,6 +55,25 @@ TEST(Parallel, TasksKnowTheyAreInsideAParallelLoop) {
   const PixelSharing sharing;
   EXPECT_EQ(rank_count(), 1);
   EXPECT_FALSE(pixels_shared_over_ranks());
+}
+
+// task_rows (lib/util/task_rows.h): each task fills its own row, inside a parallel task (so the
+// image loops a task runs stay its own), for one thread or two alike; empty tables are fine.
+TEST(Parallel, TaskRowsFillEachRowInsideATask) {
+  const auto fill = [](long task, std::span<double> row) {
+    for (std::size_t j = 0; j < row.size(); ++j)
+      row[j] = static_cast<double>(task) + 0.001 * static_cast<double>(j) + inside_parallel_task();
+  };
+  std::vector<std::vector<double>> tables;
+  for (int threads : {1, 2}) {
+    const ThreadLimit limit(threads);
+    tables.push_back(task_rows(7, 5, fill));
+  }
+  ASSERT_EQ(tables[0].size(), 35u);
+  EXPECT_EQ(tables[0], tables[1]);
+  EXPECT_EQ(tables[0][3 * 5 + 2], 3 + 0.002 + 1);
+  EXPECT_TRUE(task_rows(0, 5, fill).empty());
+  EXPECT_TRUE(task_rows(4, 0, fill).empty());
 }
 
 }  // namespace

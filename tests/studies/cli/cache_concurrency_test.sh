@@ -40,11 +40,12 @@ one_entry() {
   [ -z "$(find cache -name '*.tmp*')" ] || fail "$1: a temporary file was left: $(ls -a cache)"
 }
 
-# Four runs compute the same reference at once: each writes it, none complains.
+# Four runs compute the same reference at once: each writes it, none says a word (a sanitizer's own
+# notes aside).
 together computed 4
 results computed 4
 one_entry computed
-! grep -q . computed.*.err || fail "computed: a run complained: $(cat computed.*.err)"
+! grep -q "^vrv" computed.*.err || fail "computed: a run complained: $(cat computed.*.err)"
 
 # The entry damaged (one byte of its values): three runs at once; those that meet it say so,
 # recompute and replace it; a run after them reads the new entry.
@@ -76,7 +77,7 @@ if unshare --fork --pid --uts true 2> /dev/null; then
   together machines 2 unshare --fork --pid --uts
   results machines 2
   one_entry machines
-  ! grep -q . machines.*.err || fail "machines: a run complained: $(cat machines.*.err)"
+  ! grep -q "^vrv" machines.*.err || fail "machines: a run complained: $(cat machines.*.err)"
   echo "cache concurrency: concurrent, damaged and same-pid runs each leave one whole entry"
 else
   echo "cache concurrency: concurrent and damaged runs each leave one whole entry (unshare not permitted here: the same-pid case was not run)"

@@ -2,7 +2,7 @@
 # vrv gate spread over MPI ranks (docs/distributed.md): a render case (vrv's trapezoid cast at
 # three steps) and an images case (vrv's trapezoid images at 40 x 32, read back), gated as one
 # process and over 2 and 3 ranks, write the same files (OUT/bounds.*, each case's folder; meta.json
-# apart from its date and wall time) and the same stdout JSON; every rank computes some of the
+# apart from its date and wall time) and the same stdout JSON; the ranks share the
 # pixels; without --out no temporary folder is left; a study case under several ranks is refused
 # with one line, exit 2 and nothing written.
 # Label `mpi`: needs a build with -DVRV_WITH_MPI=ON and mpirun.
@@ -43,7 +43,7 @@ export VRV_RANK_SHARES=1
 for np in 1 2 3; do
   on $np "$vrv" gate --bounds bounds.toml --out "gate_$np" --no-cache --report > "gate_$np.json" 2> "gate_$np.err" \
     || fail "gate: $np ranks: exit $?: $(head -c 600 "gate_$np.err")"
-  [ $np -eq 1 ] || every_rank_computed $np "gate_$np.err"
+  [ $np -eq 1 ] || work_was_dealt $np "gate_$np.err"
 done
 unset VRV_RANK_SHARES
 python3 - <<'PY' || fail "the outputs of several ranks differ from one process's"

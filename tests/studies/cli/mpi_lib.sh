@@ -6,11 +6,13 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_va
 mpi() { local np=$1; shift; timeout 300 "$mpirun" --oversubscribe -np "$np" "$@"; }
 # on NP CMD...: CMD as one process (NP 1, no mpirun) or over NP ranks.
 on() { local np=$1; shift; if [ "$np" -gt 1 ]; then mpi "$np" "$@"; else "$@"; fi; }
-# every_rank_computed NP FILE: VRV_RANK_SHARES's line for every rank in FILE, each with some blocks.
-every_rank_computed() {
-  local np=$1 file=$2
+# work_was_dealt NP FILE: VRV_RANK_SHARES's lines in FILE show at least two of the NP ranks
+# computing blocks (which ones is the counter's: a rank slowed by the machine's other work may
+# find a loop's blocks gone, as dealing by measured cost means).
+work_was_dealt() {
+  local np=$1 file=$2 r computed=0
   for ((r = 0; r < np; ++r)); do
-    grep -Eq "^vrv: rank $r of $np: [1-9][0-9]* of [0-9]+ blocks$" "$file" \
-      || fail "$file: rank $r computed no blocks: $(cat "$file")"
+    if grep -Eq "^vrv: rank $r of $np: [1-9][0-9]* of [0-9]+ blocks$" "$file"; then computed=$((computed + 1)); fi
   done
+  [ $computed -ge 2 ] || fail "$file: $computed of $np ranks computed blocks: $(cat "$file")"
 }

@@ -45,14 +45,16 @@ done
 [ -f "$out/error_against_3_error.exr" ] || fail "error_against: no error image with 3 ranks"
 
 # The work was dealt (equal outputs alone would not show it: every rank computing every pixel
-# gives them too): each of 3 ranks computed some blocks, and together every block once.
-VRV_RANK_SHARES=1 mpi 3 -x VRV_RANK_SHARES "$vrv" render --scene "$grid" --reference --width 64 --height 48 --quiet \
+# gives them too): every rank reports its share, the shares add up to every block once, and at
+# least two ranks computed some (which ones is the counter's: a rank slowed by the machine's other
+# work may find the blocks gone, as dealing by measured cost means).
+VRV_RANK_SHARES=1 mpi 3 -x VRV_RANK_SHARES "$vrv" render --scene "$grid" --reference --width 128 --height 96 --quiet \
   -o "$out/shares.exr" > /dev/null 2> "$out/shares.err" || fail "shares: $(head -c 600 "$out/shares.err")"
 python3 - "$out/shares.err" <<'PY' || fail "shares: $(cat "$out/shares.err")"
 import re, sys
 shares = re.findall(r"^vrv: rank (\d) of 3: (\d+) of (\d+) blocks$", open(sys.argv[1]).read(), re.M)
 assert sorted(r for r, _, _ in shares) == ["0", "1", "2"], shares
-assert all(int(n) > 0 for _, n, _ in shares), shares
+assert sum(int(n) > 0 for _, n, _ in shares) >= 2, shares
 assert len({m for _, _, m in shares}) == 1 and sum(int(n) for _, n, _ in shares) == int(shares[0][2]), shares
 PY
 

@@ -47,15 +47,34 @@ PY
 }
 
 # The reference computed on every run, its pixels dealt to the ranks (each rank says how many
-# blocks it computed: every rank some).
+# blocks it computed: at least two ranks some).
 run computed_1 1 --no-cache
 export VRV_RANK_SHARES=1
 for np in 2 3; do
   run "computed_$np" $np --no-cache
   same computed_1 "computed_$np"
-  every_rank_computed $np "computed_$np.err"
+  work_was_dealt $np "computed_$np.err"
 done
+# The diagnosis's model casts are dealt too (lib/util/task_rows.h): two more dealt loops (the
+# ranking and the leaders' casts) than a verify without the diagnosis.
+VRV_RANK_SHARES=1 on 2 "$vrv" verify --scene "$scene" "${images[@]}" --no-cache --no-diagnosis --quiet \
+  > /dev/null 2> no_diagnosis.err || fail "no diagnosis: $(head -c 600 no_diagnosis.err)"
+[ "$(grep -c '^vrv: rank' computed_2.err)" -ge $(($(grep -c '^vrv: rank' no_diagnosis.err) + 4)) ] \
+  || fail "the diagnosis was not dealt: $(cat computed_2.err) against $(cat no_diagnosis.err)"
 unset VRV_RANK_SHARES
+
+# An X-ray projection's images: its reference and its own model catalogue (dealt as above).
+ea_images=("${images[@]}")
+images=()
+for h in 0.04 0.02 0.01; do
+  "$vrv" render --scene "$scene" --mode xray --method trapezoid --step $h --width 40 --height 32 --quiet \
+    -o "x$h.exr" > /dev/null 2>&1 || fail "xray render at step $h"
+  images+=("x$h.exr")
+done
+run xray_1 1 --no-cache --mode xray
+run xray_2 2 --no-cache --mode xray
+same xray_1 xray_2
+images=("${ea_images[@]}")
 
 # A cache: 2 ranks compute and rank 0 writes one entry; then 2 ranks and one process read it.
 run cache_first_2 2 --cache-dir cache
