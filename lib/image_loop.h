@@ -108,7 +108,7 @@ void run_positions(const Camera& camera, std::span<const long> subset, long firs
 }
 
 // The loop spread over MPI ranks: the blocks this rank is dealt, then everyone's
-// (share_blocks), then put(position, value) for every position, on every rank.
+// (deal_and_share), then put(position, value) for every position, on every rank.
 template <class Value, class PerPixel, class Put>
 void shared_loop_into(const Camera& camera, std::span<const long> subset, long n, PerPixel& f, Put& put,
                       const ImageLoopHooks& hooks) {
@@ -118,11 +118,11 @@ void shared_loop_into(const Camera& camera, std::span<const long> subset, long n
   Value* values = std::launder(reinterpret_cast<Value*>(buffer.get()));
   auto keep = [&](long k, Value v) { values[static_cast<std::size_t>(k)] = std::move(v); };
   const long block = hooks.block_size();
-  const std::vector<BlockRange> mine = deal_blocks(n, block, [&](long first_block, long last_block) {
-    for_blocks(n, first_block, last_block, hooks,
-               [&](long first, long last) { run_positions(camera, subset, first, last, f, keep); });
-  });
-  share_blocks(buffer.get(), n, sizeof(Value), block, mine);
+  const std::vector<BlockRange> mine =
+      deal_and_share(buffer.get(), n, sizeof(Value), block, [&](long first_block, long last_block) {
+        for_blocks(n, first_block, last_block, hooks,
+                   [&](long first, long last) { run_positions(camera, subset, first, last, f, keep); });
+      });
   long own = 0;
   for (const BlockRange& r : mine) own += std::min(n, r.last * block) - r.first * block;
   if (hooks.progress && n > own) hooks.progress(n - own);

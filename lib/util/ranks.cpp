@@ -1,12 +1,15 @@
 #include "lib/util/ranks.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <climits>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <limits>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -30,6 +33,7 @@ int g_rank = 0;
 int g_count = 1;
 std::thread::id g_mpi_thread;
 int g_sharing = 0;  // PixelSharing objects alive
+std::atomic<int> g_dealing{0};  // 1 while deal_blocks computes this rank's blocks
 
 #ifdef VRV_WITH_MPI
 bool g_mpi = false;              // MPI initialised by RankSession
@@ -142,6 +146,14 @@ class SharedCounter {
   MPI_Win window_;
 };
 
+// While alive, the work on this process is a dealt block's (counts_on_this_rank).
+struct Dealing {
+  Dealing() { g_dealing = 1; }
+  ~Dealing() { g_dealing = 0; }
+  Dealing(const Dealing&) = delete;
+  Dealing& operator=(const Dealing&) = delete;
+};
+
 // The ranks met the same loop (a loop met by some ranks only would pair the wrong exchanges):
 // the same block count everywhere, or every rank throws.
 void check_same_loop(long blocks) {
@@ -166,6 +178,10 @@ void report_share(const std::vector<BlockRange>& mine, long blocks) {
 }  // namespace
 #endif
 
+namespace {
+
+// Deals the blocks of a loop of `count` positions in blocks of `block` (deal_and_share) and runs
+// compute(first, last) for each range this rank takes; returns those ranges.
 std::vector<BlockRange> deal_blocks(long count, long block, const std::function<void(long first, long last)>& compute) {
   const long blocks = (count + block - 1) / block;
   std::vector<BlockRange> mine;
@@ -184,7 +200,10 @@ std::vector<BlockRange> deal_blocks(long count, long block, const std::function<
     const long first = next.fetch_add(want);
     if (first >= blocks) break;
     const long last = std::min(blocks, first + want);
-    compute(first, last);
+    {
+      const Dealing dealing;
+      compute(first, last);
+    }
     mine.push_back({first, last});
   }
   report_share(mine, blocks);
@@ -248,6 +267,36 @@ void share_blocks([[maybe_unused]] std::byte* values, [[maybe_unused]] long coun
   for (MPI_Datatype& t : rank_type) MPI_Type_free(&t);
   MPI_Type_free(&value_type);
 #endif
+}
+
+}  // namespace
+
+std::vector<BlockRange> deal_and_share(std::byte* values, long count, std::size_t value_bytes, long block,
+                                       const std::function<void(long first, long last)>& compute) {
+  const std::vector<BlockRange> mine = deal_blocks(count, block, compute);
+  share_blocks(values, count, value_bytes, block, mine);
+  return mine;
+}
+
+bool counts_on_this_rank() { return g_rank == 0 || g_dealing.load(std::memory_order_relaxed) != 0; }
+
+long sum_over_ranks(long value) {
+#ifdef VRV_WITH_MPI
+  if (pixels_shared_over_ranks()) MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+#endif
+  return value;
+}
+
+double max_over_ranks(double value) {
+#ifdef VRV_WITH_MPI
+  if (pixels_shared_over_ranks()) {
+    // MPI_MAX leaves NaN's order to the library: whether any rank holds one is reduced apart.
+    double v[2] = {std::isnan(value) ? -HUGE_VAL : value, std::isnan(value) ? 1.0 : 0.0};
+    MPI_Allreduce(MPI_IN_PLACE, v, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    return v[1] > 0 ? std::numeric_limits<double>::quiet_NaN() : v[0];
+  }
+#endif
+  return value;
 }
 
 bool on_every_rank(bool value) {

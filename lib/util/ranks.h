@@ -60,18 +60,26 @@ struct BlockRange {
   long first = 0, last = 0;
 };
 
-// Collective: deals the blocks of an image loop of `count` positions in blocks of `block` to the
-// ranks as each asks for more, and runs compute(first, last) on this thread for each range of
-// blocks this rank takes; returns those ranges.  Throws, on every rank, when the ranks met loops
-// of different sizes or the loop has more than 2^31 positions.  Shares shrink as the work runs out (guided self-scheduling on a counter every rank
-// updates atomically through MPI), so a rank that is slowed (costly rays, another job on its
-// core, loading the image module) takes less: the balance follows the measured cost.
-std::vector<BlockRange> deal_blocks(long count, long block, const std::function<void(long first, long last)>& compute);
+// Collective: fills `values` (count values of `value_bytes` bytes each, in blocks of `block`) on
+// every rank.  The blocks are dealt to the ranks as each asks for more: compute(first, last) runs
+// on this thread for each range of blocks this rank takes; then each rank's ranges go to every
+// other rank.  Returns this rank's ranges.  Throws, on every rank, when the ranks met loops of
+// different sizes or the loop has more than 2^31 positions.  Shares shrink as the work runs out
+// (guided self-scheduling on a counter every rank updates atomically through MPI), so a rank that
+// is slowed (costly rays, another job on its core, loading the image module) takes less: the
+// balance follows the measured cost.
+std::vector<BlockRange> deal_and_share(std::byte* values, long count, std::size_t value_bytes, long block,
+                                       const std::function<void(long first, long last)>& compute);
 
-// Collective: each rank has filled its ranges `mine` of blocks of `values` (count values of
-// `value_bytes` bytes each, in blocks of `block`); afterwards every rank holds every block.
-void share_blocks(std::byte* values, long count, std::size_t value_bytes, long block,
-                  std::span<const BlockRange> mine);
+// Whether work done now on this process counts as this rank's: on rank 0 always, elsewhere only
+// while a dealt block is computed.  Work every rank repeats (a loop that is not dealt) thus counts
+// once in a sum over the ranks, as a count a study keeps of its reference rays must.
+bool counts_on_this_rank();
+
+// Collective where the ranks are in step (pixels_shared_over_ranks()), elsewhere the value itself:
+// the sum over the ranks, and the largest value (NaN when any rank's is NaN).
+long sum_over_ranks(long value);
+double max_over_ranks(double value);
 
 // Whether `value` holds on every rank, where the ranks are in step (pixels_shared_over_ranks():
 // collective); elsewhere `value` itself.  For a choice the ranks must make alike, as using a

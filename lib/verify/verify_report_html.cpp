@@ -1,6 +1,5 @@
 #include "lib/verify/verify_report_html.h"
 
-#include <stdlib.h>  // mkdtemp
 
 #include <algorithm>
 #include <cctype>
@@ -21,6 +20,7 @@
 #include "lib/io/image_module.h"
 #include "lib/io/numbered_error_map.h"
 #include "lib/io/output_paths.h"
+#include "lib/io/scratch_folder.h"
 #include "lib/verify/verify_output.h"
 
 namespace vrv {
@@ -33,28 +33,6 @@ constexpr std::size_t kShownModels = 10;
 
 std::string g3(double v) { return std::isfinite(v) ? fmt::format("{:.3g}", v) : std::string("n/a"); }
 std::string percent(double v) { return std::isfinite(v) ? fmt::format("{:.1f} %", 100 * v) : std::string("n/a"); }
-
-// A private folder for the PNGs on their way to base64: the image module writes files only (its
-// interface is paths), so each picture is written there, read back and the folder removed.
-class ScratchFolder {
- public:
-  ScratchFolder() {
-    std::string pattern = (fs::temp_directory_path() / "vrv-report-XXXXXX").string();
-    if (!mkdtemp(pattern.data()))
-      throw std::runtime_error(fmt::format("{}: cannot create a temporary folder for the report's images", pattern));
-    dir_ = pattern;
-  }
-  ~ScratchFolder() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  ScratchFolder(const ScratchFolder&) = delete;
-  ScratchFolder& operator=(const ScratchFolder&) = delete;
-  fs::path file(const std::string& name) const { return dir_ / name; }
-
- private:
-  fs::path dir_;
-};
 
 std::string file_bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -345,7 +323,9 @@ std::string base64(std::string_view bytes) {
 }
 
 std::string verify_report_html(const VerifyReport& rep, const HtmlReportContext& ctx) {
-  const ScratchFolder scratch;
+  // The image module writes files only (its interface is paths): each picture is written to a
+  // private folder, read back for its base64 and the folder removed.
+  const ScratchFolder scratch("vrv-report", "the report's images");
   const VerifyTables t = verify_tables(rep);
   std::string s = fmt::format("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
                               "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"

@@ -2,7 +2,7 @@
 """Strong scaling of `vrv render --reference` over MPI ranks on one machine (issue 28,
 docs/distributed.md), beside the same render's threads.
 
-    python3 studies/benchmarks/mpi_scaling.py BUILD_DIR [--rounds N] [--size N] [--verify]
+    python3 studies/benchmarks/mpi_scaling.py BUILD_DIR [--rounds N] [--size N] [--verify | --study NAME]
 
 BUILD_DIR holds a vrv built with -DVRV_WITH_MPI=ON.  Renders the 64^3 grid scene's reference image
 (studies/benchmarks/grid64_opacity.toml, tol 1e-10) at SIZE^2 (default 1024) three ways, one after
@@ -18,6 +18,9 @@ With --verify it times `vrv verify` instead: five images of the same scene at SI
 256 then) made by vrv's alpha rule at steps 0.04 ... 0.0025, their reference cached first, so the
 timed part is the diagnosis and the fault fits (the model casts dealt to the ranks), and checks
 that the three verifications print the same JSON line.
+
+With --study NAME it times `vrv study NAME --no-plots` the three ways, each into its own folder,
+and checks that every file but meta.json is the same bytes.
 
 Python 3 standard library only; writes nothing but a scratch directory it removes.
 """
@@ -57,6 +60,37 @@ def timed(cmd):
     return took, float(m.group(1))
 
 
+def time_ways(ways, rounds):
+    """Each way's wall seconds over ROUNDS rounds (the ways in turn, so all see the same load), its
+    last standard output, and the load average before and after."""
+    load_before = os.getloadavg()[0]
+    times = {name: [] for name in ways}
+    lines = {}
+    for _ in range(rounds):
+        for name, cmd in ways.items():
+            took, proc = run_timed(cmd)
+            times[name].append(took)
+            lines[name] = proc.stdout
+    return times, lines, load_before, os.getloadavg()[0]
+
+
+def print_walls(times):
+    print("| run | wall s (median) | wall s (best) | speed-up, best |")
+    print("|---|---|---|---|")
+    base = min(times["1 rank x 1 thread"])
+    for name, t in times.items():
+        print(f"| {name} | {statistics.median(t):.2f} | {min(t):.2f} | {base / min(t):.2f} |")
+
+
+def three_ways(cmd):
+    """One rank of one thread, two ranks of one thread, one process of two threads."""
+    return {
+        "1 rank x 1 thread": ["mpirun", "-np", "1"] + cmd + ["--threads", "1"],
+        "2 ranks x 1 thread": ["mpirun", "-np", "2"] + cmd + ["--threads", "1"],
+        "1 process x 2 threads": cmd + ["--threads", "2"],
+    }
+
+
 def verify_scaling(vrv, rounds, size):
     """vrv verify of five images, reference cached, three ways (see the module's docstring)."""
     steps = [0.04, 0.02, 0.01, 0.005, 0.0025]
@@ -69,29 +103,32 @@ def verify_scaling(vrv, rounds, size):
                             str(size), "--quiet", "-o", images[-1]], check=True, capture_output=True)
         verify = [vrv, "verify", "--scene", str(SCENE), *images, "--cache-dir", f"{tmp}/cache", "--quiet"]
         subprocess.run(verify, capture_output=True, env=ENV)  # the reference, cached
-        ways = {
-            "1 rank x 1 thread": ["mpirun", "-np", "1"] + verify + ["--threads", "1"],
-            "2 ranks x 1 thread": ["mpirun", "-np", "2"] + verify + ["--threads", "1"],
-            "1 process x 2 threads": verify + ["--threads", "2"],
-        }
-        load_before = os.getloadavg()[0]
-        times = {name: [] for name in ways}
-        lines = {}
-        for _ in range(rounds):
-            for name, cmd in ways.items():
-                took, proc = run_timed(cmd)
-                times[name].append(took)
-                lines[name] = proc.stdout
-        load_after = os.getloadavg()[0]
+        times, lines, load_before, load_after = time_ways(three_ways(verify), rounds)
     if len(set(lines.values())) != 1:
         sys.exit(f"mpi_scaling: the verifications printed different results: {lines}")
     print(f"vrv verify, {SCENE.name}, 5 alpha images at {size}^2, reference cached, {rounds} rounds; "
           f"load average {load_before:.2f} before, {load_after:.2f} after; the same JSON line each way\n")
-    print("| run | wall s (median) | wall s (best) | speed-up, best |")
-    print("|---|---|---|---|")
-    base = min(times["1 rank x 1 thread"])
-    for name, t in times.items():
-        print(f"| {name} | {statistics.median(t):.2f} | {min(t):.2f} | {base / min(t):.2f} |")
+    print_walls(times)
+
+
+def study_files(folder):
+    """Every file of a study's folder but meta.json (its date and times), as bytes."""
+    return {p.relative_to(folder): p.read_bytes() for p in Path(folder).rglob("*")
+            if p.is_file() and p.name != "meta.json"}
+
+
+def study_scaling(vrv, rounds, study):
+    """vrv study STUDY (no plots), three ways, each into its own folder; the folders compared."""
+    with tempfile.TemporaryDirectory() as tmp:
+        ways = {name: cmd + ["--out", f"{tmp}/{i}"]
+                for i, (name, cmd) in enumerate(three_ways([vrv, "study", study, "--no-plots", "--quiet"]).items())}
+        times, _, load_before, load_after = time_ways(ways, rounds)
+        folders = [study_files(f"{tmp}/{i}/{study}") for i in range(len(ways))]
+    if any(f != folders[0] for f in folders[1:]) or len(folders[0]) < 3:
+        sys.exit(f"mpi_scaling: the study's files differ between the ways (or are missing)")
+    print(f"vrv study {study} --no-plots, {rounds} rounds; load average {load_before:.2f} before, "
+          f"{load_after:.2f} after; every file but meta.json the same each way\n")
+    print_walls(times)
 
 
 def main():
@@ -100,8 +137,11 @@ def main():
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--size", type=int)
     ap.add_argument("--verify", action="store_true", help="time vrv verify of five images instead")
+    ap.add_argument("--study", help="time vrv study STUDY instead")
     args = ap.parse_args()
     vrv = str(args.build_dir.resolve() / "vrv")
+    if args.study:
+        return study_scaling(vrv, args.rounds, args.study)
     if args.verify:
         return verify_scaling(vrv, args.rounds, args.size or 256)
     args.size = args.size or 1024

@@ -189,8 +189,9 @@ int run_gate(const GateOptions& o) {
       check_study_name(file, *c);
       if (rank_count() > 1)
         throw std::invalid_argument(fmt::format(
-            "{}: case {}: a study case does not run over MPI ranks yet (vrv study is one process); run this "
-            "gate as one process, or --case a render or images case (docs/distributed.md)", o.bounds, c->name));
+            "{}: case {}: a study case runs vrv study as a child process, outside the MPI run; run this gate "
+            "as one process, or --case a render or images case, or mpirun vrv study itself (docs/distributed.md)",
+            o.bounds, c->name));
       scenes.emplace_back();
       steps.emplace_back();
       continue;

@@ -109,7 +109,7 @@ int fail(int code, const std::string& line) {
 
 // The commands that spread their work over MPI ranks; the others would run whole on every rank,
 // each writing the same outputs (docs/distributed.md).
-constexpr std::array<std::string_view, 3> kDistributedCommands = {"render", "verify", "gate"};
+constexpr std::array<std::string_view, 4> kDistributedCommands = {"render", "verify", "gate", "study"};
 
 void check_distributable(const std::vector<std::string>& args) {
   if (vrv::rank_count() <= 1) return;

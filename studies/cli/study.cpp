@@ -16,6 +16,7 @@
 
 #include "lib/io/error_line.h"
 #include "lib/study_file.h"
+#include "lib/util/ranks.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
 #include "studies/engine/checkpoint.h"
@@ -112,6 +113,10 @@ int run_study(const StudyOptions& opt) {
     throw std::invalid_argument(fmt::format("--max-memory: must be a positive number of GiB, got {}", opt.max_memory_gib));
   if (!(opt.max_work > 0) || !std::isfinite(opt.max_work))
     throw std::invalid_argument(fmt::format("--max-work: must be a positive number of field evaluations, got {}", opt.max_work));
+  if (opt.run.resume && rank_count() > 1)
+    throw std::invalid_argument(fmt::format(
+        "--resume: {} MPI ranks keep no checkpoints; resume as one process, or run again (docs/distributed.md)",
+        rank_count()));
   // Before any worker thread exists: SIGINT/SIGTERM go to the watcher (studies/engine/interrupt.h).
   const InterruptGuard interrupts;
   if (opt.all) {

@@ -18,6 +18,7 @@
 #include "lib/io/atomic_file.h"
 #include "lib/util/checksum.h"
 #include "lib/util/parallel.h"
+#include "lib/util/ranks.h"
 
 namespace vrv {
 namespace fs = std::filesystem;
@@ -148,6 +149,20 @@ std::vector<double> checkpointed_items(Checkpoints* checkpoints, const std::stri
                                        const std::function<void(long)>& advance) {
   block = std::max(block, 1L);
   std::vector<double> out(static_cast<std::size_t>(n) * width);
+  if (!checkpoints && width > 0 && pixels_shared_over_ranks()) {
+    // Over MPI ranks (which keep no checkpoints): the blocks dealt, the items exchanged.
+    long own = 0;
+    deal_and_share(reinterpret_cast<std::byte*>(out.data()), n, width * sizeof(double), block, [&](long fb, long lb) {
+      const long first = fb * block, last = std::min(n, lb * block);
+      own += last - first;
+      parallel_for_index(last - first, [&](long i) {
+        item(first + i, std::span<double>(out).subspan(static_cast<std::size_t>(first + i) * width, width));
+        if (advance) advance(1);
+      });
+    });
+    if (advance && n > own) advance(n - own);
+    return out;
+  }
   const long blocks = (n + block - 1) / block;
   parallel_for_index(blocks, [&](long b) {
     const long first = b * block, count = std::min(block, n - first);

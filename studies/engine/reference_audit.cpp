@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "lib/io/atomic_file.h"
+#include "lib/util/ranks.h"
 
 namespace vrv {
 namespace fs = std::filesystem;
@@ -49,6 +50,7 @@ std::optional<double> number_of(const std::string& word) {
 }  // namespace
 
 void record_reference(const ReferenceResult& r) {
+  if (!counts_on_this_rank()) return;  // a truth every MPI rank computes counts once, on rank 0
   const std::lock_guard lock(audit_mutex);
   ++audit.rays;
   if (!r.tolerance_met) ++audit.missed;
@@ -70,6 +72,11 @@ void reset_reference_audit() {
 ReferenceAuditCounts reference_audit_counts() {
   const std::lock_guard lock(audit_mutex);
   return audit;
+}
+
+ReferenceAuditCounts reference_audit_counts_over_ranks() {
+  const ReferenceAuditCounts mine = reference_audit_counts();
+  return {sum_over_ranks(mine.rays), sum_over_ranks(mine.missed), max_over_ranks(mine.largest_estimate)};
 }
 
 std::string reference_audit_snapshot(const ReferenceAuditCounts& counts) {

@@ -4,7 +4,9 @@
 // word, so drivers compute their truths through audited_reference(), which counts the rays and the
 // misses, and the study runner adds one check to every study:
 //   reference_within_tolerance   value: truths that missed, bound 0 (kind derived)
-// The counters are process-wide (the runner runs one study at a time).
+// The counters are process-wide (the runner runs one study at a time).  Under MPI ranks each rank
+// counts the truths of the blocks it was dealt, and rank 0 also those every rank computes
+// (lib/util/ranks.h, counts_on_this_rank), so the counts summed over the ranks are one process's.
 //
 // --resume: checkpoints keep values, not verdicts, so the verdicts are kept beside them.  Before
 // each checkpoint is written, the counters as they stand are written (atomically) to
@@ -49,6 +51,8 @@ ReferenceResult audited_reference(const Scene& scene, const Ray& ray, const Refe
 // Zeroes the counters (the runner, before a study).
 void reset_reference_audit();
 ReferenceAuditCounts reference_audit_counts();
+// The counts of every rank together (collective where loops are shared over ranks, PixelSharing).
+ReferenceAuditCounts reference_audit_counts_over_ranks();
 
 // For a run with checkpoints (the runner, before a study): the counters start at zero, or, when
 // `resume`, at the snapshot stored with the interrupted run's checkpoints; from now on a snapshot

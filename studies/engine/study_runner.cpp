@@ -3,14 +3,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <mutex>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <chrono>
 #include <cstdlib>
 #include <iostream>
+#include <mutex>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -21,8 +21,10 @@
 
 #include "lib/io/atomic_file.h"
 #include "lib/io/run_metadata.h"
+#include "lib/io/scratch_folder.h"
 #include "lib/study_file.h"
 #include "lib/util/parallel.h"
+#include "lib/util/ranks.h"
 
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/interrupt.h"
@@ -169,7 +171,12 @@ StudyOutcome job_naming_reused_non_finite(const LoadedStudy& study, StudyRun& ru
 }  // namespace
 
 int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
-  StudyStaging staging(fs::path(opt.out), study.name, opt.resume);
+  // Under MPI ranks (docs/distributed.md) every rank runs the job, its loops dealt to the ranks;
+  // rank 0 writes OUT/NAME, the others stage into a private folder removed at the end.
+  const bool writer = is_output_rank();
+  std::optional<ScratchFolder> scratch;
+  if (!writer) scratch.emplace("vrv-study-rank", "this rank's copy of the study");
+  StudyStaging staging(writer ? fs::path(opt.out) : scratch->dir(), study.name, opt.resume);
   set_interrupt_cleanup_dir(staging.dir());
   struct ClearCleanup {
     ~ClearCleanup() { set_interrupt_cleanup_dir({}); }
@@ -181,11 +188,14 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
   StudyOutcome outcome;
   {
     const ThreadLimit limit(opt.threads);
+    const PixelSharing sharing;  // every rank meets the job's loops in the same order
     StudyRun run{staging.dir(), opt.quick, !opt.quiet};
-    run.checkpoints = &checkpoints;
+    // A checkpointed loop is not dealt (a rank's checkpoints would be its own): none over ranks,
+    // where --resume is refused.
+    run.checkpoints = rank_count() > 1 ? nullptr : &checkpoints;
     start_reference_audit(checkpoints, staging.resumed());  // a resumed run: from the stored counts
     outcome = job_naming_reused_non_finite(study, run, checkpoints);
-    const ReferenceAuditCounts audit = reference_audit_counts();
+    const ReferenceAuditCounts audit = reference_audit_counts_over_ranks();
     outcome.checks.push_back(reference_audit_check(audit));
     outcome.parameters["reference_audit"] = {{"truths_computed", audit.rays}, {"missed", audit.missed},
                                              {"largest_estimate", audit.largest_estimate}};
@@ -208,7 +218,7 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
   std::string plots = "none";
   const PlotScript script = find_plot_script(study_dirs());
   if (fs::exists(staging.dir() / "plots.json", ec)) {
-    if (!opt.no_plots) {
+    if (!opt.no_plots && writer) {
       plots_status = draw_plots(staging.dir(), script);
       plots = plots_status == 0 ? "drawn" : fmt::format("failed (exit {})", plots_status);
     } else {

@@ -12,7 +12,7 @@
 #include "lib/io/atomic_file.h"
 #include "lib/io/table.h"
 #include "lib/study_file.h"
-#include "lib/util/parallel.h"
+#include "lib/util/task_rows.h"
 #include "lib/work_estimate.h"
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/reference_audit.h"
@@ -170,12 +170,10 @@ ErrorPredictionResult run_error_prediction(const ErrorPredictionStudy& study, bo
   for (const ErrorPredictionCase& c : study.cases) {
     const std::vector<Ray> rays = study_rays(c.scene.box, out.rays, study.seed);
     const std::vector<double> truth = checkpointed(checkpoints, c.name + ".truth", [&] {
-      std::vector<double> v(2 * rays.size());
-      parallel_for_index(out.rays, [&](long i) {
+      return task_rows(out.rays, 2, [&](long i, std::span<double> row) {
         const ReferenceResult ref = audited_reference(c.scene, rays[i], {study.reference_tol});
-        v[2 * i] = ref.value, v[2 * i + 1] = ref.error_estimate;
-      });
-      return v;
+        row[0] = ref.value, row[1] = ref.error_estimate;
+      }, 64);
     }, 2 * rays.size());
     for (std::size_t j = 0; j < study.methods.size(); ++j)
         for (double step : quick ? c.quick_steps : c.steps) {
@@ -185,14 +183,13 @@ ErrorPredictionResult run_error_prediction(const ErrorPredictionStudy& study, bo
           p.rays = checkpointed_records<PredictionRay>(
               checkpoints, key, kWidth,
               [&] {
-                std::vector<PredictionRay> v(rays.size());
-                parallel_for_index(out.rays, [&](long i) {
+                return task_values(out.rays, [&](long i) {
                   const Ray& ray = rays[i];
                   const DiscreteErrorEstimate e = estimate_discrete_error(c.scene, ray, p.config);
-                  v[i] = {discrete_raycast(c.scene, ray, p.config).value - truth[2 * i], e.error,
-                          discrete_error_bound(c.scene, ray, p.config).bound, e.scale, e.asymptotic, truth[2 * i + 1]};
+                  return PredictionRay{discrete_raycast(c.scene, ray, p.config).value - truth[2 * i], e.error,
+                                       discrete_error_bound(c.scene, ray, p.config).bound, e.scale, e.asymptotic,
+                                       truth[2 * i + 1]};
                 });
-                return v;
               },
               [](const PredictionRay& r, std::vector<double>& flat) {
                 flat.insert(flat.end(), {r.measured, r.estimated, r.bound, r.scale, r.asymptotic ? 1.0 : 0.0,

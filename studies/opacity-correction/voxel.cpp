@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "lib/util/task_rows.h"
+
 namespace vrv {
 
 GroupResult composite_group(Correction c, std::span<const double> alphas, std::span<const double> colors, int N) {
@@ -26,12 +28,20 @@ GroupResult composite_group(Correction c, std::span<const double> alphas, std::s
 FitErrorStats fit_error_stats(std::span<const double> groups, int N, double threshold) {
   FitErrorStats s;
   const long n = static_cast<long>(groups.size()) / N;
-  std::vector<double> err(static_cast<std::size_t>(n));
-  for (long i = 0; i < n; ++i) {
+  // Each group's fit (a root of the exact p: the costly part) in parallel, the sums in order.
+  struct Fit {
+    double error;
+    bool in_unit;
+  };
+  const std::vector<Fit> fits = task_values(n, [&](long i) {
     const std::span<const double> g = groups.subspan(static_cast<std::size_t>(i) * N, N);
     const double q = lee_newman_quadratic_p(g, g[0]);
-    if (!(q >= 0 && q <= 1)) s.all_in_unit = false;
-    err[i] = std::fabs(q - lee_newman_p(g, g[0]));
+    return Fit{std::fabs(q - lee_newman_p(g, g[0])), q >= 0 && q <= 1};
+  });
+  std::vector<double> err(static_cast<std::size_t>(n));
+  for (long i = 0; i < n; ++i) {
+    err[i] = fits[i].error;
+    if (!fits[i].in_unit) s.all_in_unit = false;
   }
   s.groups = n;
   if (n == 0) return s;
@@ -70,7 +80,7 @@ PairSurface pair_surface(Correction c) {
   s.opacity.resize(256 * 256);
   s.intensity.resize(256 * 256);
   s.p.resize(256 * 256);
-  for (int b = 0; b < 256; ++b)
+  parallel_for_index(256, [&](long b) {
     for (int a = 0; a < 256; ++a) {
       const double g[2] = {a / 255.0, b / 255.0};
       const GroupResult r = composite_group(c, g, g, 2);  // colour = opacity = D / 255 (eq. 7)
@@ -78,6 +88,7 @@ PairSurface pair_surface(Correction c) {
       s.intensity[b * 256 + a] = r.intensity;
       s.p[b * 256 + a] = r.p;
     }
+  });
   return s;
 }
 

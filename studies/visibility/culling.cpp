@@ -220,6 +220,19 @@ ViewCulling cull_view(const Scene& scene, const GridField& field, const BlockGri
     key[b] = (0.5 * (bb.min + bb.max)).dot(d);
   }
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key[a] < key[b]; });
+  // Each non-empty block's footprint: its pixels and their chords through it.  They do not depend
+  // on the culling, which is sequential, so they are found first, in parallel.
+  std::vector<std::vector<std::pair<int, double>>> feet(nb);  // pixel, chord
+  parallel_for_index(nb, [&](long b) {
+    if (!(ext.tau_max[b] > 0)) return;
+    const Box bb = blocks.block(static_cast<int>(b));
+    const PixelRect r = footprint(cam, bb);
+    for (int y = r.y0; y <= r.y1; ++y)
+      for (int x = r.x0; x <= r.x1; ++x) {
+        const auto iv = clip(cam.ray(x, y), bb);
+        if (iv && iv->length() > 0) feet[b].emplace_back(y * W + x, iv->length());
+      }
+  });
 
   ViewCulling out;
   std::vector<std::vector<char>> culled(kCullMethods, std::vector<char>(nb, 0));
@@ -240,14 +253,7 @@ ViewCulling cull_view(const Scene& scene, const GridField& field, const BlockGri
     else
       for (const Hit& h : hits[b]) seq[h.pixel] += h.depth;
     // POF and chord: every pixel whose ray meets the block must be opaque enough in the buffer.
-    const Box bb = blocks.block(b);
-    const PixelRect r = footprint(cam, bb);
-    std::vector<std::pair<int, double>> foot;  // pixel, chord
-    for (int y = r.y0; y <= r.y1; ++y)
-      for (int x = r.x0; x <= r.x1; ++x) {
-        const auto iv = clip(cam.ray(x, y), bb);
-        if (iv && iv->length() > 0) foot.emplace_back(y * W + x, iv->length());
-      }
+    const std::vector<std::pair<int, double>>& foot = feet[b];
     for (int method : {kPof, kChord}) {
       auto& buf = buffer[method];
       bool hidden = !foot.empty();

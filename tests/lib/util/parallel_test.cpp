@@ -2,6 +2,8 @@
 #include "lib/util/parallel.h"
 
 #include <atomic>
+#include <cmath>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -74,6 +76,35 @@ TEST(Parallel, TaskRowsFillEachRowInsideATask) {
   EXPECT_EQ(tables[0][3 * 5 + 2], 3 + 0.002 + 1);
   EXPECT_TRUE(task_rows(0, 5, fill).empty());
   EXPECT_TRUE(task_rows(4, 0, fill).empty());
+}
+
+TEST(Parallel, TaskValuesHoldEachTasksValueInOrder) {
+  struct Value {
+    long task;
+    bool flag;  // padding after it: values are exchanged as bytes under MPI
+    double inside;
+  };
+  const auto f = [](long i) { return Value{i, i % 3 == 0, static_cast<double>(inside_parallel_task())}; };
+  for (int threads : {1, 2}) {
+    const ThreadLimit limit(threads);
+    const std::vector<Value> v = task_values(1000, f, 7);
+    ASSERT_EQ(v.size(), 1000u);
+    for (long i = 0; i < 1000; ++i) {
+      EXPECT_EQ(v[i].task, i);
+      EXPECT_EQ(v[i].flag, i % 3 == 0);
+      EXPECT_EQ(v[i].inside, 1.0);
+    }
+  }
+  EXPECT_TRUE(task_values(0, f).empty());
+}
+
+TEST(Ranks, OneProcessCountsItsWorkAndReducesToItself) {
+  // Without MPI ranks (or outside PixelSharing) the reductions are the value itself.
+  EXPECT_TRUE(counts_on_this_rank());
+  const PixelSharing sharing;
+  EXPECT_EQ(sum_over_ranks(41), 41);
+  EXPECT_EQ(max_over_ranks(2.5), 2.5);
+  EXPECT_TRUE(std::isnan(max_over_ranks(std::numeric_limits<double>::quiet_NaN())));
 }
 
 }  // namespace

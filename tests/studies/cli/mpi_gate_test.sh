@@ -77,7 +77,8 @@ mpi 2 "$vrv" gate --bounds bounds.toml --case trapezoid --no-cache --quiet > bar
   || fail "gate without --out: exit $?: $(head -c 600 bare.err)"
 [ -z "$(ls tmp)" ] || fail "gate without --out: left $(ls tmp)"
 
-# A study case is not spread over ranks yet: one line naming the case, exit 2, nothing written.
+# A study case runs vrv study as a child, outside the MPI run: one line naming the case, exit 2,
+# nothing written.
 cat > study.toml <<'TOML'
 [[case]]
 name = "hard"
@@ -86,7 +87,7 @@ TOML
 mpi 2 "$vrv" gate --bounds study.toml --out study_out > /dev/null 2> study.err
 rc=$?
 [ $rc -eq 2 ] || fail "study case: exit $rc, expected 2: $(cat study.err)"
-grep -q "^vrv: error: study.toml: case hard: a study case does not run over MPI ranks yet" study.err \
+grep -q "^vrv: error: study.toml: case hard: a study case runs vrv study as a child process" study.err \
   || fail "study case: $(cat study.err)"
 [ ! -e study_out ] || fail "study case: --out was written"
 echo "mpi gate: the same outputs for 1, 2 and 3 ranks; a study case refused"

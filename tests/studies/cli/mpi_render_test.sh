@@ -66,11 +66,12 @@ rc=$?
 grep -q "^vrv: error: .*missing.toml" "$out/bad.err" || fail "bad input: the file is not named: $(cat "$out/bad.err")"
 [ ! -e "$out/bad.exr" ] || fail "bad input: an image was written"
 # A command not spread over ranks yet is refused, not run twice.
-mpi 2 "$vrv" study --list > /dev/null 2> "$out/study.err"
+mpi 2 "$vrv" export --scene default --out "$out/exported" > /dev/null 2> "$out/export.err"
 rc=$?
-[ $rc -eq 2 ] || fail "study: exit $rc, expected 2"
-grep -q "^vrv: error: mpirun: 2 ranks: only vrv render, vrv verify, vrv gate are spread over MPI ranks so far" "$out/study.err" \
-  || fail "study: $(cat "$out/study.err")"
+[ $rc -eq 2 ] || fail "export: exit $rc, expected 2"
+grep -q "^vrv: error: mpirun: 2 ranks: only vrv render, vrv verify, vrv gate, vrv study are spread over MPI ranks so far; run vrv export as one process" "$out/export.err" \
+  || fail "export: $(cat "$out/export.err")"
+[ ! -e "$out/exported" ] || fail "export: written under several ranks"
 
 # Rank 1 killed midway: mpirun ends every rank and exits non-zero; no image appears.
 mpi 2 "$vrv" render --scene "$grid" --reference --width 1024 --height 1024 --quiet -o "$out/killed.exr" \
