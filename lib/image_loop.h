@@ -4,9 +4,9 @@
 // subset in its own order) are cut into blocks of consecutive positions; blocks run in parallel
 // on TBB (lib/util/parallel.h), the pixels of a block in order, and every position writes its
 // own slot, so the output is bitwise the same for any thread count.  A block is the unit a hook
-// sees (progress, a stop request, a study's checkpoint) and the unit dealt to MPI ranks: under
-// PixelSharing each rank computes the blocks it is dealt and then receives the others
-// (lib/util/ranks.h), so every rank ends the loop with every value.
+// sees (progress, a stop request, a study's checkpoint of records) and the unit dealt to MPI
+// ranks: under PixelSharing each rank computes the blocks it is dealt and then receives the
+// others (lib/util/ranks.h), so every rank ends the loop with every value.
 #include <algorithm>
 #include <atomic>
 #include <functional>
@@ -34,11 +34,11 @@ struct ImageLoopHooks {
   long block_size() const { return std::max(block, 1L); }  // a block of 0 or less is one position
 };
 
-// Runs each block of the vector form: compute() fills `values` (the block's slots, from
-// position `first`); a study's checkpoint stores them after, or restores them instead of
-// calling it (studies/engine/checkpoint.h, checkpoint_blocks).
-template <class Value>
-using BlockStore = std::function<void(long first, std::span<Value> values, const std::function<void()>& compute)>;
+// Runs each block of image_records: compute() fills `records` (the block's, from position
+// `first`); a study's checkpoint stores them after, or restores them instead of calling it
+// (studies/engine/checkpoint.h, checkpoint_blocks).
+using BlockStore =
+    std::function<void(long first, std::span<double> records, const std::function<void()>& compute)>;
 
 namespace detail {
 
@@ -107,8 +107,22 @@ void run_positions(const Camera& camera, std::span<const long> subset, long firs
   }
 }
 
-// The loop spread over MPI ranks: the blocks this rank is dealt, then everyone's
-// (deal_and_share), then put(position, value) for every position, on every rank.
+// The blocks of a loop of n positions spread over MPI ranks: run(first, last) for the blocks this
+// rank is dealt, then everyone's `value_bytes` per position at `values` (deal_and_share); the
+// progress hook also hears of the positions the other ranks computed.
+template <class Run>
+void shared_blocks(long n, std::byte* values, std::size_t value_bytes, const ImageLoopHooks& hooks, Run&& run) {
+  const long block = hooks.block_size();
+  const std::vector<BlockRange> mine =
+      deal_and_share(values, n, value_bytes, block,
+                     [&](long first_block, long last_block) { for_blocks(n, first_block, last_block, hooks, run); });
+  long own = 0;
+  for (const BlockRange& r : mine) own += std::min(n, r.last * block) - r.first * block;
+  if (hooks.progress && n > own) hooks.progress(n - own);
+}
+
+// The loop spread over MPI ranks (shared_blocks), then put(position, value) for every position,
+// on every rank.
 template <class Value, class PerPixel, class Put>
 void shared_loop_into(const Camera& camera, std::span<const long> subset, long n, PerPixel& f, Put& put,
                       const ImageLoopHooks& hooks) {
@@ -117,15 +131,8 @@ void shared_loop_into(const Camera& camera, std::span<const long> subset, long n
   const auto buffer = exchange_buffer(static_cast<std::size_t>(n) * sizeof(Value));
   Value* values = std::launder(reinterpret_cast<Value*>(buffer.get()));
   auto keep = [&](long k, Value v) { values[static_cast<std::size_t>(k)] = std::move(v); };
-  const long block = hooks.block_size();
-  const std::vector<BlockRange> mine =
-      deal_and_share(buffer.get(), n, sizeof(Value), block, [&](long first_block, long last_block) {
-        for_blocks(n, first_block, last_block, hooks,
-                   [&](long first, long last) { run_positions(camera, subset, first, last, f, keep); });
-      });
-  long own = 0;
-  for (const BlockRange& r : mine) own += std::min(n, r.last * block) - r.first * block;
-  if (hooks.progress && n > own) hooks.progress(n - own);
+  shared_blocks(n, buffer.get(), sizeof(Value), hooks,
+                [&](long first, long last) { run_positions(camera, subset, first, last, f, keep); });
   parallel_for_index(n, [&](long k) { put(k, values[static_cast<std::size_t>(k)]); });
 }
 
@@ -152,26 +159,12 @@ void image_loop_into(const Camera& camera, std::span<const long> subset, PerPixe
   });
 }
 
-// The values position by position (row-major for the whole image); `store` runs each block
-// when given (checkpoints).
+// The values position by position (row-major for the whole image).
 template <class PerPixel, class Value = detail::PixelValue<PerPixel>>
 std::vector<Value> image_loop(const Camera& camera, std::span<const long> subset, PerPixel&& f,
-                              const ImageLoopHooks& hooks = {},
-                              const std::type_identity_t<BlockStore<Value>>& store = {}) {
+                              const ImageLoopHooks& hooks = {}) {
   std::vector<Value> out(static_cast<std::size_t>(pixel_count(camera, subset)));
-  auto put = [&](long k, Value v) { out[static_cast<std::size_t>(k)] = std::move(v); };
-  // A checkpointed loop (store) stays on every rank: each rank's checkpoints are its own.
-  if constexpr (std::is_trivially_copyable_v<Value>)
-    if (!store && pixels_shared_over_ranks()) {
-      detail::shared_loop_into<Value>(camera, subset, static_cast<long>(out.size()), f, put, hooks);
-      return out;
-    }
-  detail::for_each_block(static_cast<long>(out.size()), hooks, [&](long first, long last) {
-    const auto compute = [&] { detail::run_positions(camera, subset, first, last, f, put); };
-    if (!store) return compute();
-    store(first, std::span<Value>(out).subspan(static_cast<std::size_t>(first), static_cast<std::size_t>(last - first)),
-          compute);
-  });
+  image_loop_into(camera, subset, f, [&](long k, Value v) { out[static_cast<std::size_t>(k)] = std::move(v); }, hooks);
   return out;
 }
 
@@ -179,6 +172,37 @@ std::vector<Value> image_loop(const Camera& camera, std::span<const long> subset
 template <class PerPixel, class Value = detail::PixelValue<PerPixel>>
 std::vector<Value> image_loop(const Camera& camera, PerPixel&& f, const ImageLoopHooks& hooks = {}) {
   return image_loop<PerPixel, Value>(camera, {}, std::forward<PerPixel>(f), hooks);
+}
+
+// A record of `width` doubles per position, the records one after another: record(ray, out)
+// fills out[0, width) (a study's reference and its methods' values per pixel).  `store` sees a
+// block's records as one span.  Fixed-width records, unlike values that own memory, are dealt to
+// MPI ranks (without a store) and exchanged as bytes.
+template <class Record>
+std::vector<double> image_records(const Camera& camera, std::span<const long> subset, std::size_t width,
+                                  Record&& record, const ImageLoopHooks& hooks = {}, const BlockStore& store = {}) {
+  const long n = pixel_count(camera, subset);
+  std::vector<double> out(static_cast<std::size_t>(n) * width);
+  const auto records = [&](long first, long last) {
+    return std::span<double>(out).subspan(static_cast<std::size_t>(first) * width,
+                                          static_cast<std::size_t>(last - first) * width);
+  };
+  const auto compute = [&](long first, long last) {
+    for (long k = first; k < last; ++k) {
+      if (tbb::is_current_task_group_canceling()) throw WorkCancelled();
+      const long pixel = subset.empty() ? k : subset[static_cast<std::size_t>(k)];
+      record(pixel_ray(camera, pixel), records(k, k + 1));
+    }
+  };
+  if (!store && width > 0 && pixels_shared_over_ranks()) {
+    detail::shared_blocks(n, reinterpret_cast<std::byte*>(out.data()), width * sizeof(double), hooks, compute);
+    return out;
+  }
+  detail::for_each_block(n, hooks, [&](long first, long last) {
+    if (!store) return compute(first, last);
+    store(first, records(first, last), [&] { compute(first, last); });
+  });
+  return out;
 }
 
 }  // namespace vrv

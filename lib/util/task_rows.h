@@ -45,13 +45,18 @@ std::vector<double> task_rows(long count, long width, Fill&& fill, long block = 
   return table;
 }
 
+// Tasks per block for per-ray work: about 16 blocks a rank, so that a study's loop of a few dozen
+// costly rays still reaches every rank, and at most 64.  From the count and the ranks alone:
+// every rank must cut the same blocks.
+inline long task_block(long count) { return std::clamp(count / (16L * rank_count()), 1L, 64L); }
+
 // {f(0), ..., f(count - 1)}: per-ray work (a reference, a discrete cast), dealt in blocks of
-// `block` tasks.  The value must be trivially copyable: it is exchanged as bytes.
+// task_block(count) tasks.  The value must be trivially copyable: it is exchanged as bytes.
 template <class F, class Value = std::decay_t<std::invoke_result_t<F&, long>>>
-std::vector<Value> task_values(long count, F&& f, long block = 64) {
+std::vector<Value> task_values(long count, F&& f) {
   static_assert(std::is_trivially_copyable_v<Value>, "task_values: values are exchanged between ranks as bytes");
   std::vector<Value> out(static_cast<std::size_t>(count));
-  detail::dealt_tasks(count, std::max(block, 1L), reinterpret_cast<std::byte*>(out.data()), sizeof(Value),
+  detail::dealt_tasks(count, task_block(count), reinterpret_cast<std::byte*>(out.data()), sizeof(Value),
                       [&](long i) { out[static_cast<std::size_t>(i)] = f(i); });
   return out;
 }

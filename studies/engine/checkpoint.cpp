@@ -183,21 +183,14 @@ std::vector<double> checkpointed_items(Checkpoints* checkpoints, const std::stri
   return out;
 }
 
-BlockStore<std::vector<double>> checkpoint_blocks(Checkpoints* checkpoints, const std::string& key,
-                                                  std::size_t width) {
+BlockStore checkpoint_blocks(Checkpoints* checkpoints, const std::string& key) {
   if (!checkpoints) return {};
-  return [checkpoints, key, width](long first, std::span<std::vector<double>> records,
-                                   const std::function<void()>& compute) {
+  return [checkpoints, key](long first, std::span<double> records, const std::function<void()>& compute) {
     const std::vector<double> v = checkpoints->get(fmt::format("{}.{}", key, first), [&] {
       compute();
-      std::vector<double> flat;
-      flat.reserve(records.size() * width);
-      for (const std::vector<double>& r : records) flat.insert(flat.end(), r.begin(), r.end());
-      return flat;
-    }, records.size() * width);
-    for (std::size_t k = 0; k < records.size(); ++k)
-      records[k].assign(v.begin() + static_cast<std::ptrdiff_t>(k * width),
-                        v.begin() + static_cast<std::ptrdiff_t>((k + 1) * width));
+      return std::vector<double>(records.begin(), records.end());
+    }, records.size());
+    std::copy(v.begin(), v.end(), records.begin());
   };
 }
 

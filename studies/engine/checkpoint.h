@@ -96,11 +96,10 @@ std::vector<double> checkpointed_items(Checkpoints* checkpoints, const std::stri
                                        std::size_t width, const std::function<void(long, std::span<double>)>& item,
                                        const std::function<void(long)>& advance = {});
 
-// The image loop's blocks (lib/image_loop.h) of `width`-double records, each stored as one
-// checkpoint, `key`.<first position>, and restored from there on --resume: checkpointed_items for
-// a loop over a camera's pixels (hooks.block: one image row).  Empty for null checkpoints.
-BlockStore<std::vector<double>> checkpoint_blocks(Checkpoints* checkpoints, const std::string& key,
-                                                  std::size_t width);
+// image_records' blocks (lib/image_loop.h), each stored as one checkpoint, `key`.<first
+// position>, and restored from there on --resume: checkpointed_items for a loop over a camera's
+// pixels (hooks.block: one image row).  Empty for null checkpoints.
+BlockStore checkpoint_blocks(Checkpoints* checkpoints, const std::string& key);
 
 // The whole vector of records of one configuration as one checkpoint: encode(record) appends its
 // doubles, decode(values, i) rebuilds record i from `width` doubles at values[i * width].

@@ -173,7 +173,7 @@ ErrorPredictionResult run_error_prediction(const ErrorPredictionStudy& study, bo
       return task_rows(out.rays, 2, [&](long i, std::span<double> row) {
         const ReferenceResult ref = audited_reference(c.scene, rays[i], {study.reference_tol});
         row[0] = ref.value, row[1] = ref.error_estimate;
-      }, 64);
+      }, task_block(out.rays));
     }, 2 * rays.size());
     for (std::size_t j = 0; j < study.methods.size(); ++j)
         for (double step : quick ? c.quick_steps : c.steps) {

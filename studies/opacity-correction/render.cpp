@@ -42,17 +42,15 @@ RenderValues render_values(const RenderScenes& s, const Camera& camera, const st
   ImageLoopHooks hooks;
   hooks.block = camera.width;
   hooks.progress = [&](long done) { bar.advance(done); };
-  const std::vector<std::vector<double>> v = image_loop(camera, {}, [&](const Ray& ray) {
-    std::vector<double> o(width);
+  const std::vector<double> v = image_records(camera, {}, width, [&](const Ray& ray, std::span<double> o) {
     const ReferenceResult ref = audited_reference(s.analytic, ray, {s.reference_tol});
     o[0] = ref.value;
     o[1] = ref.error_estimate;
     for (std::size_t k = 0; k < configs.size(); ++k) o[2 + k] = discrete_raycast(s.sampled, ray, configs[k]).value;
-    return o;
-  }, hooks, checkpoint_blocks(checkpoints, "render", width));
+  }, hooks, checkpoint_blocks(checkpoints, "render"));
   bar.finish();
   for (long i = 0; i < pixels; ++i) {
-    const std::vector<double>& o = v[static_cast<std::size_t>(i)];
+    const double* o = v.data() + static_cast<std::size_t>(i) * width;
     out.reference[i] = o[0];
     out.worst_estimate = std::max(out.worst_estimate, o[1]);
     for (std::size_t k = 0; k < configs.size(); ++k) out.methods[k][i] = o[2 + k];

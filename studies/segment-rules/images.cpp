@@ -66,7 +66,7 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
   out.reference = Image(camera.width, camera.height);
   // Per pixel: hit, reference value, then (error, samples) per (rule, step).
   const std::size_t width = 2 + 2 * per_pixel;
-  std::vector<std::vector<double>> records;
+  std::vector<double> records;
 
   const Scene& scene = spec.scene;
   visit_field(scene, [&](const auto& field) {
@@ -83,8 +83,7 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
     ImageLoopHooks hooks;
     hooks.block = camera.width;  // one image row is one checkpoint
     hooks.progress = [&](long done) { bar.advance(done); };
-    records = image_loop(camera, {}, [&](const Ray& ray) {
-      std::vector<double> v(width);
+    records = image_records(camera, {}, width, [&](const Ray& ray, std::span<double> v) {
       const ReferenceResult ref =
           audited_reference(field, scene.box, scene.transfer, scene.background, ray, {reference_tol});
       v[0] = ref.hit ? 1 : 0;
@@ -94,15 +93,14 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
         v[2 + 2 * k] = d.value - ref.value;
         v[3 + 2 * k] = static_cast<double>(d.samples);
       }
-      return v;
-    }, hooks, checkpoint_blocks(checkpoints, checkpoint_key, width));
+    }, hooks, checkpoint_blocks(checkpoints, checkpoint_key));
     bar.finish();
   });
   std::vector<double> error(static_cast<std::size_t>(n) * per_pixel);  // signed
   std::vector<long> samples(error.size());
   std::vector<char> hit(static_cast<std::size_t>(n));
   for (std::size_t pixel = 0; pixel < static_cast<std::size_t>(n); ++pixel) {
-    const double* v = records[pixel].data();
+    const double* v = records.data() + pixel * width;
     hit[pixel] = v[0] != 0;
     out.reference.pixels[pixel] = static_cast<float>(v[1]);
     for (std::size_t k = 0; k < per_pixel; ++k) {

@@ -250,19 +250,17 @@ TerminationResult run_termination(const VisibilityStudy& s, const StudyRun& run)
   ImageLoopHooks hooks;
   hooks.block = cam.width;
   hooks.progress = [&](long done) { bar.advance(done); };
-  const std::vector<std::vector<double>> pixels = image_loop(cam, {}, [&](const Ray& ray) {
-    std::vector<double> o(width);
+  const std::vector<double> pixels = image_records(cam, {}, width, [&](const Ray& ray, std::span<double> o) {
     o[0] = audited_reference(s.scene, ray, {s.termination.reference_tol}).value;
     for (std::size_t c = 0; c < casters.size(); ++c) {
       const DiscreteResult r = casters[c].cast(ray);
       o[1 + 2 * c] = r.value;
       o[2 + 2 * c] = static_cast<double>(r.samples);
     }
-    return o;
-  }, hooks, checkpoint_blocks(run.checkpoints, "termination", width));
+  }, hooks, checkpoint_blocks(run.checkpoints, "termination"));
   bar.finish();
   for (long p = 0; p < P; ++p) {
-    const double* o = pixels[static_cast<std::size_t>(p)].data();
+    const double* o = pixels.data() + static_cast<std::size_t>(p) * width;
     value[0][p] = o[0];
     for (std::size_t c = 0; c < casters.size(); ++c) {
       value[c + 1][p] = o[1 + 2 * c];

@@ -2,6 +2,8 @@
 
 #include <atomic>
 #include <cmath>
+#include <functional>
+#include <span>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -89,30 +91,40 @@ TEST(ImageLoop, StopEndsTheLoopBetweenBlocks) {
   EXPECT_EQ(done, 3 * 37);
 }
 
-TEST(ImageLoop, BlockStoreRestoresOrKeepsWhatWasComputed) {
+TEST(ImageLoop, RecordsAreEachPositionsAndTheStoreRestoresOrKeepsThem) {
   const Camera c = small_camera();
   ImageLoopHooks hooks;
   hooks.block = 37;  // one row a block
+  const auto record = [](const Ray& ray, std::span<double> out) {
+    out[0] = ray_value(ray);
+    out[1] = 2 * ray_value(ray);
+  };
+  const std::vector<double> whole = image_loop(c, ray_value);
+  const std::vector<double> plain = image_records(c, {}, 2, record, hooks);
+  ASSERT_EQ(plain.size(), 2 * whole.size());
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    EXPECT_EQ(plain[2 * i], whole[i]) << i;
+    EXPECT_EQ(plain[2 * i + 1], 2 * whole[i]) << i;
+  }
   std::atomic<long> computed{0}, stored_blocks{0};
   // Even rows "restored" as -row, odd rows computed.
-  const BlockStore<double> store = [&](long first, std::span<double> values, const std::function<void()>& compute) {
+  const BlockStore store = [&](long first, std::span<double> records, const std::function<void()>& compute) {
     EXPECT_EQ(first % 37, 0);
-    EXPECT_EQ(values.size(), 37u);
+    EXPECT_EQ(records.size(), 2 * 37u);
     ++stored_blocks;
     if ((first / 37) % 2 == 0) {
-      for (double& v : values) v = -static_cast<double>(first / 37);
+      for (double& v : records) v = -static_cast<double>(first / 37);
       return;
     }
     compute();
-    computed += static_cast<long>(values.size());
+    computed += static_cast<long>(records.size() / 2);
   };
-  const std::vector<double> got = image_loop(c, {}, ray_value, hooks, store);
-  const std::vector<double> whole = image_loop(c, ray_value);
+  const std::vector<double> got = image_records(c, {}, 2, record, hooks, store);
   EXPECT_EQ(stored_blocks, 23);
   EXPECT_EQ(computed, 11 * 37);
   for (long i = 0; i < pixel_count(c); ++i) {
     const long row = i / 37;
-    EXPECT_EQ(got[i], row % 2 == 0 ? -static_cast<double>(row) : whole[i]) << i;
+    EXPECT_EQ(got[2 * i], row % 2 == 0 ? -static_cast<double>(row) : plain[2 * i]) << i;
   }
 }
 

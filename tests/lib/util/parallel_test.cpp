@@ -87,7 +87,7 @@ TEST(Parallel, TaskValuesHoldEachTasksValueInOrder) {
   const auto f = [](long i) { return Value{i, i % 3 == 0, static_cast<double>(inside_parallel_task())}; };
   for (int threads : {1, 2}) {
     const ThreadLimit limit(threads);
-    const std::vector<Value> v = task_values(1000, f, 7);
+    const std::vector<Value> v = task_values(1000, f);
     ASSERT_EQ(v.size(), 1000u);
     for (long i = 0; i < 1000; ++i) {
       EXPECT_EQ(v[i].task, i);
@@ -96,6 +96,9 @@ TEST(Parallel, TaskValuesHoldEachTasksValueInOrder) {
     }
   }
   EXPECT_TRUE(task_values(0, f).empty());
+  EXPECT_EQ(task_block(10), 1);      // a few costly rays: one a block
+  EXPECT_EQ(task_block(320), 20);
+  EXPECT_EQ(task_block(100000), 64);
 }
 
 TEST(Ranks, OneProcessCountsItsWorkAndReducesToItself) {

@@ -204,24 +204,27 @@ TEST(Checkpoints, ImageBlocksResumeAtTheMissingBlock) {
   ImageLoopHooks hooks;
   hooks.block = camera.width;
   std::atomic<long> calls{0};
-  auto pixel = [&](const Ray&, long i) {
+  auto pixel = [&](const Ray& ray, std::span<double> out) {
     ++calls;
-    return std::vector<double>{static_cast<double>(i), 1.0 / static_cast<double>(i + 3)};
+    out[0] = ray.direction[0];
+    out[1] = 1.0 / (3.0 + ray.direction[1]);
   };
-  std::vector<std::vector<double>> first;
+  std::vector<double> first;
   {
     Checkpoints c(dir, "blocks", false);
-    first = image_loop(camera, {}, pixel, hooks, checkpoint_blocks(&c, "px", 2));
+    first = image_records(camera, {}, 2, pixel, hooks, checkpoint_blocks(&c, "px"));
     EXPECT_EQ(c.computed(), 3);
   }
   EXPECT_EQ(calls, 12);
+  ASSERT_EQ(first.size(), 24u);
+  EXPECT_NE(first[0], first[2]);
   fs::remove(dir / "px.4.txt");  // as if killed before the second row was stored
   calls = 0;
   Checkpoints c(dir, "blocks", true);
-  EXPECT_EQ(image_loop(camera, {}, pixel, hooks, checkpoint_blocks(&c, "px", 2)), first);
+  EXPECT_EQ(image_records(camera, {}, 2, pixel, hooks, checkpoint_blocks(&c, "px")), first);
   EXPECT_EQ(calls, 4);  // the missing row alone
   EXPECT_EQ(c.reused(), 2);
-  EXPECT_EQ(image_loop(camera, {}, pixel, hooks, checkpoint_blocks(nullptr, "px", 2)), first);
+  EXPECT_EQ(image_records(camera, {}, 2, pixel, hooks, checkpoint_blocks(nullptr, "px")), first);
 }
 
 TEST(Checkpoints, RecordsRoundTripOrComputeOnce) {
