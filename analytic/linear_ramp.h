@@ -15,6 +15,8 @@ struct LinearRamp {
 
   double value(const Vec3& p) const { return offset + gradient.dot(p); }
   int degree_along_ray() const { return 1; }
+  Vec3 piece_gradient(const Vec3&, const Vec3&) const { return gradient; }
+  double gradient_noise(const Vec3&) const { return 0; }
   double bandwidth() const { return 0; }
   // Smooth everywhere: no breaks on any ray (any ray and interval types).
   void append_breaks(const auto&, const auto&, std::vector<double>&) const {}

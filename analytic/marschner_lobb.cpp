@@ -28,6 +28,18 @@ double MarschnerLobb::value(const Vec3& p) const {
   return (1 - std::sin(pi * p.z() / 2) + alpha * (1 + rho_r)) / (2 * (1 + alpha));
 }
 
+Vec3 MarschnerLobb::piece_gradient(const Vec3& p, const Vec3&) const {
+  // d rho_r / dr = A (pi/2) sin(A cos(pi r / 2)) sin(pi r / 2), A = 2 pi fM, and d r / dx = x / r:
+  // sin(pi r / 2) / r = (pi/2) sinc(pi r / 2) keeps the axis (r = 0) exact.
+  const double r = std::hypot(p.x(), p.y());
+  const double a = 2 * pi * fM;
+  const double w = pi * r / 2;
+  const double sinc = w < 1e-4 ? 1 - w * w / 6 : std::sin(w) / w;
+  const double k = 1 / (2 * (1 + alpha));
+  const double radial = alpha * a * (pi / 2) * std::sin(a * std::cos(w)) * (pi / 2) * sinc * k;
+  return {radial * p.x(), radial * p.y(), -(pi / 2) * std::cos(pi * p.z() / 2) * k};
+}
+
 double MarschnerLobb::bandwidth_between(const Vec3& p, const Vec3& q) const {
   const Vec3 d = q - p;
   const double length = d.norm();

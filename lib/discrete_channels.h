@@ -28,7 +28,8 @@ class DiscreteChannelCaster {
     casters_.reserve(scene.channel_count());
     for (int c = 0; c < scene.channel_count(); ++c)
       casters_.emplace_back(field, scene.box, scene.color ? scene.color->transfer[c] : scene.transfer,
-                            scene.color ? scene.color->background[c] : scene.background, config);
+                            scene.color ? scene.color->background[c] : scene.background, config,
+                            scene.shading_or_null(), scene.dims);
   }
 
   ChannelsDiscreteResult cast(const Ray& ray) const {

@@ -56,6 +56,12 @@ void validate(const DiscreteConfig& c, bool grid_field) {
     throw OptionError(Option::table_lookup, "needs {0} N (a table to read)", {Option::table_size});
   if (c.classification == Classification::pre && !grid_field)
     throw OptionError(Option::classification, "pre-classification needs a grid field");
+  if (c.gradient == GradientScheme::nodes && !grid_field)
+    throw OptionError(Option::gradient, "nodes (differences at the grid's nodes) needs a grid field");
+  if (c.gradient_offset && (!(*c.gradient_offset > 0) || !std::isfinite(*c.gradient_offset)))
+    throw OptionError(Option::gradient_offset, fmt::format("must be a positive finite length, got {}", *c.gradient_offset));
+  if (c.gradient_offset && c.gradient != GradientScheme::central)
+    throw OptionError(Option::gradient_offset, "applies to {0} central only", {Option::gradient});
 }
 
 void validate(const DiscreteConfig& c, bool grid_field, const TransferFunction& tf) {
@@ -68,7 +74,8 @@ void validate(const DiscreteConfig& c, bool grid_field, const TransferFunction& 
 
 DiscreteResult discrete_raycast(const Scene& scene, const Ray& ray, const DiscreteConfig& config) {
   return visit_field(scene, [&](const auto& field) {
-    const DiscreteRaycaster raycaster(field, scene.box, scene.transfer, scene.background, config);
+    const DiscreteRaycaster raycaster(field, scene.box, scene.transfer, scene.background, config,
+                                      scene.shading_or_null(), scene.dims);
     return raycaster.cast(ray);
   });
 }

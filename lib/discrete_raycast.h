@@ -12,11 +12,13 @@
 
 #include "lib/util/force_inline.h"
 #include "lib/field.h"
+#include "lib/gradient_scheme.h"
 #include "lib/grid_field.h"
 #include "lib/opacity_correction.h"
 #include "lib/sampling.h"
 #include "lib/scene.h"
 #include "lib/segment_rule.h"
+#include "lib/shading.h"
 #include "lib/transfer_function.h"
 #include "lib/transfer_table.h"
 
@@ -65,6 +67,10 @@ struct DiscreteConfig {
   ColorConvention color = ColorConvention::straight;   // alpha rule only
   int table_size = 0;  // 0: the transfer function itself; N >= 2: read from N-entry tables (all rules)
   TableLookup table_lookup = TableLookup::centred;     // how the tables are read (table_size > 0)
+  // Shaded scenes (lib/shading.h): how the gradient is taken (lib/gradient_scheme.h), and the
+  // central differences' offset (default: one node spacing, or one voxel of the scene's dims).
+  GradientScheme gradient = GradientScheme::central;
+  std::optional<double> gradient_offset;
 };
 
 struct DiscreteResult {
@@ -154,8 +160,11 @@ class Classifier {
 template <ScalarField F>
 class DiscreteRaycaster {
  public:
+  // shading: the scene's (lib/shading.h), or none; with it every sample's emission (g and the
+  // colour) is multiplied by S from the gradient taken as config.gradient says (post-classification
+  // shading).  `dims`: the scene's nominal voxel grid (the default central offset of analytic fields).
   DiscreteRaycaster(const F& field, const Box& box, const TransferFunction& tf, double background,
-                    DiscreteConfig config);
+                    DiscreteConfig config, const Shading* shading = nullptr, std::array<int, 3> dims = {64, 64, 64});
   DiscreteResult cast(const Ray& ray) const;
 
  private:
@@ -171,6 +180,14 @@ class DiscreteRaycaster {
   DiscreteConfig config_;
   std::optional<GridField> pre_first_, pre_second_;  // classified node values
   std::optional<TransferTable> table_first_, table_second_;  // config.table_size > 0
+  const Shading* shading_;
+  Vec3 central_offsets_ = Vec3::Ones();        // config.gradient = central
+  std::optional<NodeGradients> node_gradients_;  // config.gradient = nodes
+  // The gradient at p by config.gradient.
+  Vec3 gradient_at(const Vec3& p) const;
+  // c's emission times S at p (shaded scenes).
+  template <class Real>
+  void shade(detail::Classified<Real>& c, const Vec3& p, const ShadingFactor& factor) const;
 };
 
 DiscreteResult discrete_raycast(const Scene& scene, const Ray& ray, const DiscreteConfig& config);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <vector>
 
+#include "lib/option_error.h"
+
 namespace vrv {
 namespace detail {
 
@@ -125,9 +127,22 @@ Composite<Real> segment(SegmentRule rule, const Classified<Real>& a, const Class
 
 template <ScalarField F>
 DiscreteRaycaster<F>::DiscreteRaycaster(const F& field, const Box& box, const TransferFunction& tf,
-                                        double background, DiscreteConfig config)
-    : field_(field), box_(box), tf_(tf), background_(background), config_(std::move(config)) {
+                                        double background, DiscreteConfig config, const Shading* shading,
+                                        std::array<int, 3> dims)
+    : field_(field), box_(box), tf_(tf), background_(background), config_(std::move(config)), shading_(shading) {
   validate(config_, std::is_same_v<F, GridField>, tf);
+  if (shading_) {
+    const GridField* grid = nullptr;
+    if constexpr (std::is_same_v<F, GridField>) {
+      grid = &field;
+      if (config_.gradient == GradientScheme::nodes) node_gradients_.emplace(field);
+    }
+    if constexpr (!requires(const Vec3& p) { field.piece_gradient(p, p); }) {
+      if (config_.gradient == GradientScheme::analytic)
+        throw OptionError(Option::gradient, "analytic: this field has no exact gradient");
+    }
+    central_offsets_ = central_offsets(config_.gradient_offset, grid, box, dims);
+  }
   if (config_.table_size > 0) {
     const double lo = tf.breakpoints().front(), hi = tf.breakpoints().back();
     table_first_.emplace(tf.first(), lo, hi, config_.table_size, config_.table_lookup);
@@ -163,6 +178,27 @@ VRV_FORCE_INLINE detail::Classified<Real> DiscreteRaycaster<F>::classify(const R
 }
 
 template <ScalarField F>
+Vec3 DiscreteRaycaster<F>::gradient_at(const Vec3& p) const {
+  switch (config_.gradient) {
+    case GradientScheme::analytic:
+      if constexpr (requires { field_.piece_gradient(p, p); }) return field_.piece_gradient(p, p);
+      else return Vec3::Zero();  // refused by the constructor
+    case GradientScheme::nodes:
+      return node_gradients_->at(p);
+    default:
+      return central_gradient([&](const Vec3& q) { return field_.value(q); }, p, central_offsets_);
+  }
+}
+
+template <ScalarField F>
+template <class Real>
+void DiscreteRaycaster<F>::shade(detail::Classified<Real>& c, const Vec3& p, const ShadingFactor& factor) const {
+  const Real s = Real(factor(gradient_at(p)));
+  c.g *= s;
+  c.color *= s;
+}
+
+template <ScalarField F>
 DiscreteResult DiscreteRaycaster<F>::cast(const Ray& ray) const {
   const auto iv = clip(ray, box_);
   if (!iv) return {background_, 0};
@@ -184,10 +220,17 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
   const detail::TransferLookup lookup{config_.opacity_unit, table_first_ ? &*table_first_ : nullptr,
                                       table_second_ ? &*table_second_ : nullptr};
   const detail::Classifier classes(tf_, unit_step, with_color, lookup);
+  // Shaded scenes: S for this ray's direction (light, view and half vectors are fixed along it).
+  std::optional<ShadingFactor> factor;
+  if (shading_) factor.emplace(*shading_, ray.direction);
+  auto shaded = [&](detail::Classified<Real> c, Real t) VRV_FORCE_INLINE_LAMBDA {
+    if (factor) shade(c, detail::sample_position(ray, t), *factor);
+    return c;
+  };
   long samples = 0;
   auto sample = [&](Real t) VRV_FORCE_INLINE_LAMBDA {
     ++samples;
-    return classify<Real>(ray, t, classes);
+    return shaded(classify<Real>(ray, t, classes), t);
   };
   // The partial step's sample (plan.partial > 0), for its own length (riemann and alpha).
   const bool partial_first = plan.partial > 0 && plan.partial_first, partial_last = plan.partial > 0 && !plan.partial_first;
@@ -195,7 +238,7 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
     if (out.done()) return;
     const detail::Classifier own(tf_, plan.partial, with_color, lookup);
     ++samples;
-    const auto c = classify<Real>(ray, Real(plan.t_partial), own);
+    const auto c = shaded(classify<Real>(ray, Real(plan.t_partial), own), Real(plan.t_partial));
     if (config_.rule == SegmentRule::riemann) return out.add(riemann_sample(c.g, c.tau, Real(plan.partial)));
     const bool premultiplied = config_.color == ColorConvention::premultiplied;
     out.add({c.color * (premultiplied ? c.alpha_stored : c.alpha_unit), Real(1) - c.alpha_unit});
@@ -206,7 +249,7 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
 
   switch (config_.rule) {
     case SegmentRule::riemann:
-      if (out.plain() && !pre_first_) {
+      if (out.plain() && !pre_first_ && !shading_) {
         // The loop most configurations ask for, without the checks they do not need: a third
         // of the grid raycast's cost over a bare loop (issue 23's ablation), the same values.
         detail::plain_riemann(field_, ray, fine, classes, out);

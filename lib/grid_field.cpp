@@ -99,6 +99,38 @@ double GridField::max_change_within(double distance) const {
   return distance * max_slope_.norm();
 }
 
+Vec3 GridField::piece_gradient(const Vec3& p, const Vec3& inside) const {
+  if (interpolation_ == Interpolation::nearest) return Vec3::Zero();
+  const std::size_t stride[3] = {1, static_cast<std::size_t>(n_[0]), static_cast<std::size_t>(n_[0]) * n_[1]};
+  std::size_t base = 0, step[3];
+  double w[3];
+  bool free[3];
+  for (int a = 0; a < 3; ++a) {
+    const double u_in = (inside[a] - box_.min[a]) / spacing_[a] - offset_;
+    const double u_p = (p[a] - box_.min[a]) / spacing_[a] - offset_;
+    const int last = n_[a] - 1;
+    free[a] = last > 0 && u_in >= 0 && u_in <= last;
+    const int i0 = free[a] ? std::min(static_cast<int>(u_in), last - 1) : (u_in < 0 || last == 0 ? 0 : last - 1);
+    step[a] = (last > 0 ? 1 : 0) * stride[a];
+    base += static_cast<std::size_t>(i0) * stride[a];
+    w[a] = free[a] ? u_p - i0 : (u_in < 0 || last == 0 ? 0.0 : 1.0);
+  }
+  return nodes_.visit([&](auto c) {
+    const auto at = [&](int i, int j, int k) { return c(base + i * step[0] + j * step[1] + k * step[2]); };
+    const auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
+    // d/dw_a of the trilinear form: the other two weights' bilinear blend of the differences along a.
+    const auto blend = [&](auto corner, double s, double t) {
+      return lerp(lerp(corner(0, 0), corner(1, 0), s), lerp(corner(0, 1), corner(1, 1), s), t);
+    };
+    Vec3 g;
+    g.x() = blend([&](int j, int k) { return at(1, j, k) - at(0, j, k); }, w[1], w[2]);
+    g.y() = blend([&](int i, int k) { return at(i, 1, k) - at(i, 0, k); }, w[0], w[2]);
+    g.z() = blend([&](int i, int j) { return at(i, j, 1) - at(i, j, 0); }, w[0], w[1]);
+    for (int a = 0; a < 3; ++a) g[a] = free[a] ? g[a] / spacing_[a] : 0.0;
+    return g;
+  });
+}
+
 GridField GridField::mapped(const std::function<double(double)>& fn) const {
   GridField out = *this;
   out.nodes_ = nodes_.mapped(fn);

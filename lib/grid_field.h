@@ -51,6 +51,16 @@ class GridField {
   template <class F>
   void with_fetch(F&& f) const;
   int degree_along_ray() const { return interpolation_ == Interpolation::trilinear ? 3 : 0; }
+  // Trilinear: the gradient at p of the interpolant on the cell that holds `inside`, continued to p
+  // (the gradient jumps at cell faces: a point on a face takes the side of the piece it belongs
+  // to).  A component is 0 along an axis where `inside` is clamped (beyond the outermost centres
+  // of the cell layout, or an axis of one node).  Nearest: 0 (the value is piecewise constant).
+  Vec3 piece_gradient(const Vec3& p, const Vec3& inside) const;
+  // Absolute rounding of piece_gradient's components: node differences (an ulp of the largest
+  // node each) blended by two lerps, over the spacing.
+  double gradient_noise(const Vec3&) const {
+    return 4 * std::numeric_limits<double>::epsilon() * max_abs_ / spacing_.minCoeff();
+  }
   double bandwidth() const { return 0; }
   // Trilinear: the node planes (the interpolant is a cubic in t between them).
   // Nearest: the planes half way between nodes (the value is constant between them).

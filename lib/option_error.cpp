@@ -10,7 +10,7 @@
 namespace vrv {
 namespace {
 
-constexpr NameTable<Option, 18> kKeys{{{Option::method, "method"},
+constexpr NameTable<Option, 20> kKeys{{{Option::method, "method"},
                                        {Option::strategy, "strategy"},
                                        {Option::rate, "rate"},
                                        {Option::step, "step"},
@@ -27,7 +27,9 @@ constexpr NameTable<Option, 18> kKeys{{{Option::method, "method"},
                                        {Option::table_size, "table_size"},
                                        {Option::table_lookup, "table_lookup"},
                                        {Option::mode, "mode"},
-                                       {Option::max_work, "max_work"}}};
+                                       {Option::max_work, "max_work"},
+                                       {Option::gradient, "gradient"},
+                                       {Option::gradient_offset, "gradient_offset"}}};
 
 // The flag is the key with '-' for '_' behind "--": derived, so the two can never disagree.
 std::string flag_of(std::string_view key) {

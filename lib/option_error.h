@@ -14,7 +14,8 @@ namespace vrv {
 
 enum class Option {
   method, strategy, rate, step, oversample, centred_oversamples, correction, termination, skip,
-  compositing, classification, precision, opacity_unit, color, table_size, table_lookup, mode, max_work
+  compositing, classification, precision, opacity_unit, color, table_size, table_lookup, mode, max_work,
+  gradient, gradient_offset
 };
 
 enum class Spelling { flag, key };  // --table-size, table_size

@@ -8,10 +8,10 @@ namespace vrv {
 namespace detail {
 
 ChannelAccumulators::ChannelAccumulators(const ColorChannels& color, const ReferenceOptions& options, Interval iv,
-                                         double position_error) {
+                                         double position_error, const EmissionWeight* weight) {
   accumulators_.reserve(3);
   for (int c = 0; c < 3; ++c)
-    accumulators_.emplace_back(color.transfer[c], color.background[c], options, iv, position_error);
+    accumulators_.emplace_back(color.transfer[c], color.background[c], options, iv, position_error, weight);
 }
 
 double ChannelAccumulators::field_tolerance() const {
@@ -50,7 +50,8 @@ void ChannelAccumulators::note_cap() {
 ColorReferenceResult integrate_color_reference(const Scene& scene, const Ray& ray, const ReferenceOptions& options) {
   if (!scene.color) throw std::invalid_argument("integrate_color_reference: the scene is grey (one channel)");
   return visit_field(scene, [&](const auto& field) {
-    return integrate_color_reference(field, scene.box, *scene.color, ray, options);
+    return integrate_color_reference(field, scene.box, *scene.color, ray, options,
+                                     scene.shading_or_null());
   });
 }
 

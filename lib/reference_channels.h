@@ -28,7 +28,7 @@ namespace detail {
 class ChannelAccumulators {
  public:
   ChannelAccumulators(const ColorChannels& color, const ReferenceOptions& options, Interval iv,
-                      double position_error);
+                      double position_error, const EmissionWeight* weight = nullptr);
 
   // The tightest of the channels still integrating: a panel good for it is good for all.
   double field_tolerance() const;
@@ -64,8 +64,10 @@ struct AllChannelsTransparent {
 
 template <ScalarField F>
 ColorReferenceResult integrate_color_pass(const F& field, const RayFrame& frame, const ColorChannels& color,
-                                          const ReferenceOptions& options) {
-  ChannelAccumulators acc(color, options, frame.iv, field_change_within(field, frame.position_error));
+                                          const ReferenceOptions& options, const Shading* shading) {
+  const auto weight = shading_on(field, frame, shading);
+  ChannelAccumulators acc(color, options, frame.iv, field_change_within(field, frame.position_error),
+                          weight.get());
   const long evaluations = walk_ray(field, frame, AllChannelsTransparent{color}, options, acc);
   ColorReferenceResult result;
   result.evaluations = evaluations;
@@ -84,21 +86,23 @@ ColorReferenceResult integrate_color_pass(const F& field, const RayFrame& frame,
 // The grey integrate_reference's contract per channel, with the same retry: when any channel
 // missed its tolerance by a little, all three are integrated once more at the tighter tolerance
 // (the panels are shared) and each keeps its smaller estimate.
+// shading: a factor on every channel's emission (lib/shading.h), or none.
 template <ScalarField F>
 ColorReferenceResult integrate_color_reference(const F& field, const Box& box, const ColorChannels& color,
-                                               const Ray& ray, const ReferenceOptions& options = {}) {
+                                               const Ray& ray, const ReferenceOptions& options = {},
+                                               const Shading* shading = nullptr) {
   const auto frame = clip_in_frame(ray, box);
   if (!frame) {
     ColorReferenceResult miss;
     for (int c = 0; c < 3; ++c) miss.channel[c].value = color.background[c];
     return miss;
   }
-  ColorReferenceResult first = detail::integrate_color_pass(field, *frame, color, options);
+  ColorReferenceResult first = detail::integrate_color_pass(field, *frame, color, options, shading);
   bool retry = false;
   for (const ReferenceResult& r : first.channel) retry = retry || detail::worth_retry(r, options.tol);
   if (!retry) return first;
   const ColorReferenceResult second =
-      detail::integrate_color_pass(field, *frame, color, detail::retry_options(options));
+      detail::integrate_color_pass(field, *frame, color, detail::retry_options(options), shading);
   ColorReferenceResult kept;
   kept.evaluations = first.evaluations + second.evaluations;
   for (int c = 0; c < 3; ++c) kept.channel[c] = detail::better_pass(first.channel[c], second.channel[c], options.tol);

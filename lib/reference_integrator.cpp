@@ -79,8 +79,12 @@ std::optional<SignedSlopes> signed_slopes(const TransferSegment& seg, double lo,
 }  // namespace
 
 RayAccumulator::RayAccumulator(const TransferFunction& tf, double background,
-                               const ReferenceOptions& options, Interval iv, double position_error)
+                               const ReferenceOptions& options, Interval iv, double position_error,
+                               const EmissionWeight* weight)
     : tf_(tf),
+      weight_(weight),
+      shade_max_(weight ? weight->max() : 1.0),
+      shade_min_(weight ? weight->min() : 1.0),
       background_(background),
       tol_(options.tol),
       stop_when_opaque_(options.stop_when_opaque),
@@ -95,13 +99,13 @@ RayAccumulator::RayAccumulator(const TransferFunction& tf, double background,
 }
 
 double RayAccumulator::sensitivity_after(double t) const {
-  return emission_done_ ? background_ : tf_.max_emission() * (iv_.t1 - t) + background_;
+  return emission_done_ ? background_ : max_emission() * (iv_.t1 - t) + background_;
 }
 
 double RayAccumulator::field_tolerance() const {
   // A field error df changes g by <= dg/dv df and tau by <= dtau/dv df; the latter reaches
   // everything behind through the transmittance.
-  const double per_unit = (emission_done_ ? 0.0 : tf_.max_emission_slope()) +
+  const double per_unit = (emission_done_ ? 0.0 : tf_.max_emission_slope() * shade_max_) +
                           tf_.max_extinction_slope() * sensitivity_after(iv_.t0);
   const double weight = iv_.length() * per_unit * std::exp(-phi_);
   return weight > 0 ? kFieldShare * tol_ / weight : std::numeric_limits<double>::infinity();
@@ -126,8 +130,7 @@ void RayAccumulator::consume(const RayPanel& panel) {
   if (stopped_) return;
   const double transmittance = std::exp(-phi_);
   const double field_error = panel.error + position_error_;
-  crossings_.clear();
-  if (may_cross(panel, tf_.breakpoints())) find_crossings(panel, tf_.breakpoints(), crossings_);
+  panel_cuts(panel);
   // A proxy error moves the crossings of jumps within their bands (those of kinks only to
   // second order): charged when the ray reaches the band, attenuated by e^-Phi there (emission
   // 1e300 behind optical depth 700 gave estimates of 1e285), its depth error reaching only what
@@ -135,8 +138,8 @@ void RayAccumulator::consume(const RayPanel& panel) {
   find_jump_bands(panel);
   std::size_t next_band = 0;
   double c = panel.a;
-  for (std::size_t k = 0; k <= crossings_.size() && !stopped_; ++k) {
-    const double t = k < crossings_.size() ? crossings_[k].t : panel.b;
+  for (std::size_t k = 0; k <= cuts_.size() && !stopped_; ++k) {
+    const double t = k < cuts_.size() ? cuts_[k] : panel.b;
     next_band = charge_bands(next_band, c, transmittance);
     if (!(t > c)) continue;
     const double v = panel(0.5 * (c + t));
@@ -145,7 +148,8 @@ void RayAccumulator::consume(const RayPanel& panel) {
     double lo = 0, hi = 0;
     const TransferSegment seg = tf_.segment(v, lo, hi);
     branch_slopes_ = slopes;
-    const auto joint = emission_done_ || !(field_error > 0) ? std::nullopt : signed_slopes(seg, lo, hi);
+    // With a weight the emission's slope is dg x S, S varying along the piece: charged apart.
+    const auto joint = emission_done_ || weight_ || !(field_error > 0) ? std::nullopt : signed_slopes(seg, lo, hi);
     if (joint) {
       const double phi0 = phi_, value0 = value_;
       joint_.push_back({field_error * (t - c), joint->emission, joint->extinction, 0, std::exp(-phi_), value_, 0});
@@ -156,7 +160,7 @@ void RayAccumulator::consume(const RayPanel& panel) {
       piece_joint_ = nullptr;
       split_closed_form_joint(panel, c, t, seg, phi0, value0);
     } else {
-      error_ += charge(field_error, t - c, std::exp(-phi_), emission_done_ ? 0.0 : slopes.emission);
+      error_ += charge(field_error, t - c, std::exp(-phi_), emission_done_ ? 0.0 : slopes.emission * shade_max_);
       piece_depth_error_ = charge(field_error, t - c, slopes.extinction);
       book_depth_error(piece_depth_error_);
       integrate_piece(panel, c, t, seg);
@@ -164,6 +168,24 @@ void RayAccumulator::consume(const RayPanel& panel) {
     c = t;
   }
   charge_bands(next_band, panel.b, transmittance);
+}
+
+void RayAccumulator::panel_cuts(const RayPanel& panel) {
+  crossings_.clear();
+  if (may_cross(panel, tf_.breakpoints())) find_crossings(panel, tf_.breakpoints(), crossings_);
+  cuts_.clear();
+  for (const Crossing& x : crossings_) cuts_.push_back(x.t);
+  if (!weight_ || emission_done_) return;
+  switches_.clear();
+  weight_->append_switches(panel.a, panel.b, switches_);
+  const double transmittance = std::exp(-phi_);
+  for (const WeightSwitch& w : switches_) {
+    cuts_.push_back(w.t);
+    // The integrand takes one side's branch up to the found switch: a jump placed dt off the
+    // true one is wrong by at most the weight's spread over dt (attenuated at least as here).
+    if (w.jump) error_ += charge(w.dt, shade_max_ - shade_min_, tf_.max_emission(), transmittance);
+  }
+  std::sort(cuts_.begin(), cuts_.end());
 }
 
 void RayAccumulator::split_closed_form_joint(const RayPanel& panel, double c, double d,
@@ -258,10 +280,10 @@ std::size_t RayAccumulator::charge_bands(std::size_t first, double c, double pan
     // added before x differs from what is added now by at most max g e^-Phi per unit length.
     const double beyond = std::max(0.0, band.u + 2 * band.dt - c), behind = std::max(0.0, c - band.u);
     const double t_lo = std::exp(-(phi_ + max_extinction_ * beyond));
-    const double reach = tf_.max_emission() * transmittance;
+    const double reach = max_emission() * transmittance;
     const auto signed_jump = tf_.signed_jump_at(band.level);
     joint_.push_back({band.dt, signed_jump.emission, signed_jump.extinction, t_lo, transmittance,
-                      value_ - reach * behind, value_ + reach * beyond});
+                      value_ - reach * behind, value_ + reach * beyond, shade_min_, shade_max_});
   }
   return k;
 }
@@ -277,7 +299,10 @@ void RayAccumulator::add(const PieceIntegral& piece) {
 void RayAccumulator::integrate_piece(const RayPanel& panel, double c, double d,
                                      const TransferSegment& seg) {
   const double emission_on = emission_done_ ? 0.0 : 1.0;
-  if (panel.size() == 1) {
+  if (weight_ && !emission_done_) {
+    // A weighted emission has no closed form: every piece is integrated spectrally, S at the nodes.
+    integrate_spectral(panel, c, d, seg, false, 0);
+  } else if (panel.size() == 1) {
     const double v = panel.coefficients[0];
     add(constant_piece(d - c, emission_on * seg.g(v), seg.tau(v)));
   } else if (panel.size() == 2 && tf_.affine()) {
@@ -344,7 +369,7 @@ bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, dou
   // values at the ends of the value range: over the layer [c, e] that holds all but e^-64 of
   // the light, the integral is that bracket times e^-Phi0 (1 - e^-dPhi), and only Phi is needed.
   // Taken when the bracket meets the piece's share of the tolerance; else the spectral route.
-  if (!tf_.affine() || emission_done_ || panel.size() < 2) return false;
+  if (!tf_.affine() || emission_done_ || panel.size() < 2 || weight_) return false;
   double lo = 0, hi = 0;
   tf_.segment(panel(0.5 * (c + d)), lo, hi);
   const double margin = panel.error + position_error_;
@@ -410,6 +435,14 @@ RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, 
     for (int j = 0; j < n; ++j) xs[j] = panel.x_of(mid + half * rule.node(j));
     chebyshev_evaluate_many(panel.coefficients, {xs, count}, {values, count});
   }
+  // The weight at the nodes, and its rounding (only where there is one: grey rays pay nothing).
+  const bool weighted = weight_ && !depth_only;
+  double shade[129], shade_noise[129];
+  if (weighted) {
+    double ts[129];
+    for (int j = 0; j < n; ++j) ts[j] = mid + half * rule.node(j);
+    weight_->values(c, d, {ts, count}, {shade, count}, {shade_noise, count});
+  }
   double v_max = 1, tau_max = 0;
   for (int j = 0; j < n; ++j) {
     const double v = values[j];
@@ -454,6 +487,8 @@ RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, 
     for (int j = n - 1; j-- > 0;) phi[j] = std::max(phi[j], phi[j + 1]);
     double at[129];  // e^-Phi at the nodes
     for (int j = 0; j < n; ++j) at[j] = std::exp(-(phi_ + half * phi[j])), h[j] = g[j] * at[j];
+    if (weighted)
+      for (int j = 0; j < n; ++j) h[j] = g[j] * shade[j] * at[j];
     rule.coefficients({h, count}, {h_c, count});
     // Each node's own noise: the rounding of g and of v through the slope, attenuated there,
     // and of Phi there (the running depth, and the cumulative product's sum of |Q_jk| tau_k),
@@ -464,11 +499,12 @@ RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, 
     for (int j = 0; j < n; ++j) {
       const double depth_rounding = phi_ + half * (phi[j] + tau_max * rule.cumulative_row_abs(j));
       noise[j] = 8 * eps * (slopes.emission * v_max + g[j]) * at[j] * (1 + depth_rounding);
+      if (weighted) noise[j] = noise[j] * shade_max_ + g[j] * shade_noise[j] * at[j];
       h_noise = std::max(h_noise, noise[j]);
     }
     ChebyshevAccuracy h_acc = chebyshev_accuracy({h_c, count}, h_noise);
     if (!h_acc.resolved && position_noise > 0)
-      h_acc = chebyshev_accuracy({h_c, count}, h_noise + slopes.emission * position_noise * std::exp(-phi_));
+      h_acc = chebyshev_accuracy({h_c, count}, h_noise + slopes.emission * shade_max_ * position_noise * std::exp(-phi_));
     const double h_floor = 2 * eps * max_abs({h_c, count});
     const auto node_noise = [&](int j) { return std::max(noise[j], h_floor); };
     out.error = 2 * half * without_noise(h_acc) + half * weighted_sum(rule, node_noise);
@@ -527,11 +563,13 @@ double RayAccumulator::joint_error(double value, double other_error) const {
     // joint charges themselves are of second order there); R >= 0.
     const double r_lo = std::max(0.0, value - j.before_hi - other_error);
     const double r_hi = std::max(0.0, value - j.before_lo + other_error);
-    double worst = 0;  // |dg T - dtau R| is largest at a corner of the box of T and R
-    for (double t : {j.t_lo, j.t_hi})
-      for (double r : {r_lo, r_hi}) worst = std::max(worst, std::abs(j.dg * t - j.dtau * r));
+    double worst = 0;  // |dg S T - dtau R| is largest at a corner of the box of S, T and R
+    for (double s : {j.s_lo, j.s_hi})
+      for (double t : {j.t_lo, j.t_hi})
+        for (double r : {r_lo, r_hi}) worst = std::max(worst, std::abs(j.dg * s * t - j.dtau * r));
     // Second order: e^-x against 1 - x (x = |dtau| size), and the product of both changes.
-    const double second = 0.5 * j.size * j.size * std::abs(j.dtau) * (std::abs(j.dtau) * r_hi + std::abs(j.dg) * j.t_hi);
+    const double second =
+        0.5 * j.size * j.size * std::abs(j.dtau) * (std::abs(j.dtau) * r_hi + std::abs(j.dg) * j.s_hi * j.t_hi);
     sum += charge(j.size, worst, 1) + (second > 0 ? second : 0.0);
   }
   return sum;
@@ -541,7 +579,7 @@ void RayAccumulator::check_termination(double t) {
   if (stopped_) return;
   // Everything still to come emits at most max g per unit length, attenuated by e^-Phi.
   const double transmittance = std::exp(-phi_);
-  const double rest = emission_done_ ? 0.0 : transmittance * tf_.max_emission() * (iv_.t1 - t);
+  const double rest = emission_done_ ? 0.0 : transmittance * max_emission() * (iv_.t1 - t);
   // Opaque: neither the emission to come nor the background (whose share lies in
   // [0, e^-Phi I0], reported as e^-Phi I0) can matter any more.
   const double behind = rest + transmittance * background_;
@@ -563,7 +601,7 @@ void RayAccumulator::give_up(double t) {
   // The rest emits at most max g per unit length, and at most sup g / tau however long it is
   // (a box of +-1e300 gave estimates of 2e300 where I <= 2), and lets through at most e^-Phi I0.
   const double transmittance = std::exp(-phi_);
-  const double rest = std::min(tf_.max_emission() * (iv_.t1 - t), tf_.max_emission_per_extinction());
+  const double rest = std::min(tf_.max_emission() * (iv_.t1 - t), tf_.max_emission_per_extinction()) * shade_max_;
   error_ += transmittance * ((emission_done_ ? 0.0 : rest) + background_);
   stopped_ = capped_ = true;
 }
@@ -591,7 +629,8 @@ ReferenceResult RayAccumulator::finish() const {
 ReferenceResult integrate_reference(const Scene& scene, const Ray& ray,
                                     const ReferenceOptions& options) {
   return visit_field(scene, [&](const auto& field) {
-    return integrate_reference(field, scene.box, scene.transfer, scene.background, ray, options);
+    return integrate_reference(field, scene.box, scene.transfer, scene.background, ray, options,
+                               scene.shading_or_null());
   });
 }
 

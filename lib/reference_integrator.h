@@ -13,6 +13,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "analytic/piece_integrals.h"
@@ -21,6 +24,7 @@
 #include "lib/geometry.h"
 #include "lib/ray_panel.h"
 #include "lib/scene.h"
+#include "lib/shading_weight.h"
 #include "lib/transfer_function.h"
 
 namespace vrv {
@@ -60,9 +64,10 @@ namespace detail {
 class RayAccumulator {
  public:
   // position_error: a field error every panel carries on top of its own (the rounding of a
-  // far ray's entry point, field_change_within(RayFrame::position_error)).
+  // far ray's entry point, field_change_within(RayFrame::position_error)).  weight: a factor on
+  // the emission (shading, lib/shading_weight.h), or none; it must outlive the accumulator.
   RayAccumulator(const TransferFunction& tf, double background, const ReferenceOptions& options,
-                 Interval iv, double position_error = 0);
+                 Interval iv, double position_error = 0, const EmissionWeight* weight = nullptr);
 
   // Field error allowed on a panel starting now, so that its effect on I stays in budget.
   double field_tolerance() const;
@@ -112,6 +117,11 @@ class RayAccumulator {
   // integration), each attenuated at least as much as from its start; returns the next band.
   std::size_t charge_bands(std::size_t first, double c, double panel_transmittance);
   void check_termination(double t);
+  // The cuts of a panel: the transfer function's crossings and, with a weight, its switches
+  // (a misplaced jump of the weight charged over its uncertainty), sorted, into cuts_.
+  void panel_cuts(const RayPanel& panel);
+  // max g, max |dg/dv| over all values, times the weight's largest value.
+  double max_emission() const { return tf_.max_emission() * shade_max_; }
   double sensitivity_after(double t) const;  // a priori bound on |dI / dPhi| at t
   // An uncertainty dPhi in the optical depth here scales everything behind by e^-dPhi, so it
   // costs dPhi times the part of I that comes after this point: known once the ray is done.
@@ -120,6 +130,10 @@ class RayAccumulator {
   void advance_depth(double dphi);
 
   const TransferFunction& tf_;
+  const EmissionWeight* weight_;
+  double shade_max_ = 1, shade_min_ = 1;  // the weight's range (1 without one)
+  std::vector<WeightSwitch> switches_;    // scratch: a panel's switches
+  std::vector<double> cuts_;              // scratch: a panel's cuts
   double background_;
   double tol_;
   bool stop_when_opaque_;
@@ -162,6 +176,7 @@ class RayAccumulator {
     double dg = 0, dtau = 0;              // signed slopes (a piece), signed jumps (a band)
     double t_lo = 0, t_hi = 0;            // transmittance where it applies
     double before_lo = 0, before_hi = 0;  // the emission accumulated before that point
+    double s_lo = 1, s_hi = 1;            // the range of the emission's weight there
   };
   std::vector<JointCharge> joint_;
   JointCharge* piece_joint_ = nullptr;  // the current piece's, while it is integrated
@@ -405,10 +420,21 @@ long walk_ray(const F& field, const RayFrame& frame, const Transparency& tf, con
   return evaluations;
 }
 
+// The emission's weight for `shading` on this ray, or none when the scene does not shade (one
+// allocation per shaded ray; a field without a gradient cannot shade).
+template <ScalarField F>
+std::unique_ptr<EmissionWeight> shading_on(const F& field, const RayFrame& frame, const Shading* shading) {
+  if (!shading) return nullptr;
+  if constexpr (GradientField<F>) return std::make_unique<FieldShading<F>>(field, frame.local, *shading);
+  else throw std::invalid_argument("shading: this field has no gradient to shade with");
+}
+
 template <ScalarField F>
 ReferenceResult integrate_pass(const F& field, const RayFrame& frame, const TransferFunction& tf,
-                               double background, const ReferenceOptions& options) {
-  RayAccumulator acc(tf, background, options, frame.iv, field_change_within(field, frame.position_error));
+                               double background, const ReferenceOptions& options, const Shading* shading = nullptr) {
+  const auto weight = shading_on(field, frame, shading);
+  RayAccumulator acc(tf, background, options, frame.iv, field_change_within(field, frame.position_error),
+                     weight.get());
   const long evaluations = walk_ray(field, frame, tf, options, acc);
   ReferenceResult result = acc.finish();
   result.t_entry = frame.t_entry();
@@ -444,10 +470,11 @@ inline ReferenceResult better_pass(const ReferenceResult& first, const Reference
 
 }  // namespace detail
 
+// shading: a factor on the emission (lib/shading.h), or none.
 template <ScalarField F>
 ReferenceResult integrate_reference(const F& field, const Box& box, const TransferFunction& tf,
                                     double background, const Ray& ray,
-                                    const ReferenceOptions& options = {}) {
+                                    const ReferenceOptions& options = {}, const Shading* shading = nullptr) {
   // Everything works in the ray's own frame (positions near the box).
   const auto frame = clip_in_frame(ray, box);
   if (!frame) {
@@ -455,9 +482,10 @@ ReferenceResult integrate_reference(const F& field, const Box& box, const Transf
     miss.value = background;
     return miss;
   }
-  const ReferenceResult first = detail::integrate_pass(field, *frame, tf, background, options);
+  const ReferenceResult first = detail::integrate_pass(field, *frame, tf, background, options, shading);
   if (!detail::worth_retry(first, options.tol)) return first;
-  const ReferenceResult second = detail::integrate_pass(field, *frame, tf, background, detail::retry_options(options));
+  const ReferenceResult second =
+      detail::integrate_pass(field, *frame, tf, background, detail::retry_options(options), shading);
   return detail::better_pass(first, second, options.tol);
 }
 

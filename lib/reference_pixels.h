@@ -24,7 +24,8 @@ void reference_pixels(const Scene& scene, const Camera& camera, const ReferenceO
     image_loop_into(
         camera, subset,
         [&](const Ray& ray) {
-          return integrate_reference(field, scene.box, scene.transfer, scene.background, ray, options);
+          return integrate_reference(field, scene.box, scene.transfer, scene.background, ray, options,
+                                     scene.shading_or_null());
         },
         put, hooks);
   });
@@ -37,7 +38,7 @@ void color_reference_pixels(const Scene& scene, const Camera& camera, const Refe
   visit_field(scene, [&](const auto& field) {
     image_loop_into(
         camera, subset,
-        [&](const Ray& ray) { return integrate_color_reference(field, scene.box, *scene.color, ray, options); },
+        [&](const Ray& ray) { return integrate_color_reference(field, scene.box, *scene.color, ray, options, scene.shading_or_null()); },
         put, hooks);
   });
 }

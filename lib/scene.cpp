@@ -34,4 +34,12 @@ void require_grey(const Scene& scene, std::string_view source, std::string_view 
       source, what));
 }
 
+void require_unshaded(const Scene& scene, std::string_view source, std::string_view what) {
+  if (!scene.shading) return;
+  throw std::invalid_argument(fmt::format(
+      "{}: shading: the scene shades its emission ([shading]), which {} does not handle yet; the reference "
+      "does (vrv ray, vrv render --reference, and the library's integrate_reference)",
+      source, what));
+}
+
 }  // namespace vrv

@@ -12,6 +12,7 @@
 #include "lib/camera.h"
 #include "lib/geometry.h"
 #include "lib/grid_field.h"
+#include "lib/shading.h"
 #include "lib/transfer_function.h"
 
 namespace vrv {
@@ -41,8 +42,12 @@ struct Scene {
   // Set for an RGB scene (three-valued emission or colour points); `transfer` and `background`
   // are then its red channel, and what draws one channel refuses the scene (require_grey).
   std::optional<ColorChannels> color;
+  // The [shading] table, if the scene shades its emission with the field's gradient (lib/shading.h).
+  std::optional<Shading> shading;
 
   int channel_count() const { return color ? 3 : 1; }
+  // The shading for the field-typed integrators: nullptr when the scene does not shade.
+  const Shading* shading_or_null() const { return shading ? &*shading : nullptr; }
 };
 
 // Channel c of the scene as a grey scene (the field shared, not copied); the scene itself for
@@ -53,6 +58,11 @@ Scene channel_scene(const Scene& scene, int c);
 // commands and studies that compare one channel, so that a colour scene is refused, never
 // reduced silently to its red channel.
 void require_grey(const Scene& scene, std::string_view source, std::string_view what);
+
+// Throws std::invalid_argument naming `source` and `what` when the scene shades: for what does
+// not shade yet (the discrete raycaster, verify, export, the studies), so that a [shading] table is
+// refused, never ignored.
+void require_unshaded(const Scene& scene, std::string_view source, std::string_view what);
 
 // Calls f(field) with the concrete field type, so integrators are instantiated per type.
 template <class F>

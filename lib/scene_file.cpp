@@ -435,6 +435,44 @@ std::vector<double> read_background(const Reader& r, const toml::table* t, int c
 }
 
 // [camera]: only the keys the projection uses; `rays` is the fan's name for `width`.
+// [shading]: the Phong / Blinn-Phong factor on the emission (lib/shading.h); every key optional.
+std::optional<Shading> read_shading(const Reader& r, const toml::table* t, const Field& field) {
+  if (!t) return std::nullopt;
+  r.check_keys(*t, "shading", {"model", "ambient", "diffuse", "specular", "shininess", "light", "normal", "two_sided"});
+  Shading s;
+  s.model = r.choice<ShadingModel>(*t, "model", "shading",
+                                   {{"blinn_phong", ShadingModel::blinn_phong}, {"phong", ShadingModel::phong}});
+  s.normal = r.choice<NormalSign>(*t, "normal", "shading",
+                                  {{"negative_gradient", NormalSign::negative_gradient}, {"gradient", NormalSign::gradient}});
+  s.ambient = r.number_or(*t, "ambient", "shading", s.ambient);
+  s.diffuse = r.number_or(*t, "diffuse", "shading", s.diffuse);
+  s.specular = r.number_or(*t, "specular", "shading", s.specular);
+  s.shininess = r.number_or(*t, "shininess", "shading", s.shininess);
+  if (const toml::node* n = t->get("light")) {
+    if (n->is_string()) {
+      if (r.string(*n, "shading.light") != "headlight")
+        r.fail("shading.light", fmt::format("unknown value \"{}\" (expected \"headlight\" or [x, y, z] toward the light)",
+                                            r.string(*n, "shading.light")));
+    } else {
+      s.light = r.vec3(*n, "shading.light");
+    }
+  }
+  if (const toml::node* n = t->get("two_sided")) {
+    if (!n->is_boolean()) r.fail("shading.two_sided", fmt::format("expected true or false, got {}", type_name(*n)));
+    s.two_sided = **n->as_boolean();
+  }
+  try {
+    validate(s);
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    const auto colon = what.find(": ");
+    r.fail(what.substr(0, colon), what.substr(colon + 2));
+  }
+  if (const auto* grid = std::get_if<GridField>(&field); grid && grid->interpolation() == Interpolation::nearest)
+    r.fail("shading", "a nearest-interpolated grid has no gradient to shade with (use interpolation = \"trilinear\")");
+  return s;
+}
+
 std::optional<Camera> read_camera(const Reader& r, const toml::table* t) {
   if (!t) return std::nullopt;
   Camera c;
@@ -565,7 +603,7 @@ Scene parse_scene(std::string_view toml_text, std::string_view source_name, doub
   const Reader r(source_name, max_volume_bytes);
   const toml::table doc = parse_toml(r, toml_text, source_name);
   // Unknown keys first, so that a typo is reported as such and not as a missing key.
-  r.check_keys(doc, "", {"volume", "field", "transfer", "background", "camera", "mode"});
+  r.check_keys(doc, "", {"volume", "field", "transfer", "background", "camera", "mode", "shading"});
   // mode = "xray" | "mip" | ...: the default of the commands' --mode (lib/scene_mode.h).
   if (const toml::node* mode = doc.get("mode"); mode && !parse_projection_mode(r.string(*mode, "mode")))
     r.fail("mode", fmt::format("unknown value \"{}\" (expected {})", r.string(*mode, "mode"), projection_mode_list()));
@@ -598,6 +636,7 @@ Scene parse_scene(std::string_view toml_text, std::string_view source_name, doub
   scene.background = background[0];
   if (transfer.size() == 3) scene.color = ColorChannels{{transfer[0], transfer[1], transfer[2]}, {background[0], background[1], background[2]}};
   scene.camera = read_camera(r, r.optional_table(doc, "camera", ""));
+  scene.shading = read_shading(r, r.optional_table(doc, "shading", ""), scene.field);
   return scene;
 }
 

@@ -98,6 +98,14 @@ void hash_scene(Hasher& h, const Scene& s) {
                                                                                          : s.color->transfer[c].second());
       h.number(s.color->background[c]);
     }
+  // Only for shaded scenes, likewise: every number and choice of the shading factor.
+  if (s.shading) {
+    const Shading& sh = *s.shading;
+    h.text(fmt::format("shading:{} {} {};", shading_model_name(sh.model), normal_sign_name(sh.normal), sh.two_sided));
+    for (double x : {sh.ambient, sh.diffuse, sh.specular, sh.shininess}) h.number(x);
+    if (sh.light) h.vec(*sh.light);
+    else h.text("headlight");
+  }
 }
 
 }  // namespace

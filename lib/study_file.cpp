@@ -200,9 +200,11 @@ Scene read_any_study_scene(const StudyReader& r, const toml::table& parent, std:
 
 // Studies compare one channel so far: an RGB scene is refused by name.
 Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
-                       std::string& toml_text) {
+                       std::string& toml_text, bool shaded) {
   Scene scene = read_any_study_scene(r, parent, path, toml_text);
   if (scene.color) r.fail(StudyReader::child(path, "scene"), "the scene is RGB (three-valued points), and studies compare one channel so far");
+  if (scene.shading && !shaded)
+    r.fail(StudyReader::child(path, "scene"), "the scene shades ([shading]): only the shading study shades so far");
   return scene;
 }
 
@@ -352,6 +354,22 @@ nlohmann::json method_json(const StudyMethodSpec& m) {
     if (m.max_error) j["max_error"] = *m.max_error;
   }
   return nlohmann::json::parse(j.dump());
+}
+
+RaySample read_ray_sample(const StudyReader& r, const toml::table& doc, RaySample d) {
+  RaySample s;
+  s.reference_tol = r.number_or(doc, "reference_tol", "", d.reference_tol);
+  if (!(s.reference_tol > 0)) r.fail("reference_tol", "must be positive");
+  s.rays = r.integer_or(doc, "rays", "", 1, 100000, d.rays);
+  s.quick_rays = r.integer_or(doc, "quick_rays", "", 1, 100000, d.quick_rays);
+  s.seed = static_cast<std::uint64_t>(r.integer_or(doc, "seed", "", 0, 1L << 40, static_cast<long>(d.seed)));
+  return s;
+}
+
+std::vector<double> read_refinement_steps(const StudyReader& r, const toml::table& doc) {
+  std::vector<double> steps = r.numbers(doc, "steps", "", 1e-6, 1.0);
+  if (steps.size() < 3) r.fail("steps", "at least three steps (an order and its spread)");
+  return steps;
 }
 
 OrderTolerance read_order_tolerance(const StudyReader& r, const toml::table& parent, std::string_view path) {

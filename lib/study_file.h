@@ -3,6 +3,7 @@
 // StudyFileError, so that `vrv study` can print it and exit 2.  Shared by every study kind: the
 // reader with path-aware errors, the [scene] table (parsed by the scene-file parser) and the one
 // way a method is written in a study ({method = "reference", tol} or a discrete configuration).
+#include <cstdint>
 #include <filesystem>
 #include <initializer_list>
 #include <optional>
@@ -68,8 +69,9 @@ std::string read_study_text(const std::filesystem::path& path);
 // keys reported as <path>.scene.<key>; its TOML text goes to `toml_text`.  Or `scene = "FILE"`:
 // a scene file, relative to the study file's folder (its own errors name it); its text goes to
 // `toml_text`.
+// A shaded scene ([shading]) is refused unless `shaded` (the studies whose raycasts shade).
 Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
-                       std::string& toml_text);
+                       std::string& toml_text, bool shaded = false);
 
 // A method as a study writes it: the reference integrator at `tol`, or a discrete raycast.
 struct StudyMethodSpec {
@@ -93,5 +95,16 @@ nlohmann::json method_json(const StudyMethodSpec& m);
 
 // `order_tolerance = { margin = M, floor = F }` under `parent` (lib/order_estimate.h): M > 0, F >= 0.
 OrderTolerance read_order_tolerance(const StudyReader& r, const toml::table& parent, std::string_view path);
+
+// The rays a ray-sampled study casts, each key optional (the given default when absent):
+// rays and quick_rays in [1, 100000], seed in [0, 2^40], reference_tol > 0.
+struct RaySample {
+  long rays = 64, quick_rays = 16;
+  std::uint64_t seed = 0;
+  double reference_tol = 1e-13;
+};
+RaySample read_ray_sample(const StudyReader& r, const toml::table& doc, RaySample defaults);
+// `steps = [...]`: at least three (an order and its spread), each in [1e-6, 1].
+std::vector<double> read_refinement_steps(const StudyReader& r, const toml::table& doc);
 
 }  // namespace vrv

@@ -41,7 +41,8 @@ void reference_values(const Scene& scene, std::span<const Ray> rays,
   validate(options);
   visit_field(scene, [&](const auto& field) {
     parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
-      out[i] = integrate_reference(field, scene.box, scene.transfer, scene.background, rays[i], options);
+      out[i] = integrate_reference(field, scene.box, scene.transfer, scene.background, rays[i], options,
+                                   scene.shading_or_null());
     });
   });
 }
@@ -60,7 +61,7 @@ std::vector<ColorReferenceResult> color_reference_values(const Scene& scene, std
   std::vector<ColorReferenceResult> out(rays.size());
   visit_field(scene, [&](const auto& field) {
     parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
-      out[i] = integrate_color_reference(field, scene.box, *scene.color, rays[i], options);
+      out[i] = integrate_color_reference(field, scene.box, *scene.color, rays[i], options, scene.shading_or_null());
     });
   });
   return out;
@@ -98,7 +99,8 @@ std::vector<DiscreteResult> discrete_values(const Scene& scene, std::span<const 
   std::vector<DiscreteResult> out(rays.size());
   visit_field(scene, [&](const auto& field) {
     using F = std::decay_t<decltype(field)>;
-    const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config);
+    const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config,
+                                      scene.shading_or_null(), scene.dims);
     parallel_for_index(static_cast<long>(rays.size()), [&](long i) { out[i] = caster.cast(rays[i]); });
   });
   return out;
@@ -129,7 +131,8 @@ ValueImage render_discrete_image(const Scene& scene, const Camera& camera, const
   validate(config, std::holds_alternative<GridField>(scene.field));
   const std::vector<DiscreteResult> results = visit_field(scene, [&](const auto& field) {
     using F = std::decay_t<decltype(field)>;
-    const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config);
+    const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config,
+                                      scene.shading_or_null(), scene.dims);
     return image_loop(camera, [&](const Ray& ray) { return caster.cast(ray); });
   });
   ValueImage image{camera.width, camera.height, std::vector<double>(results.size())};

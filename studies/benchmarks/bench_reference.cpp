@@ -3,6 +3,8 @@
 // Counters: evals_per_ray (mean field evaluations), max_error_estimate.
 // BM_Color_*: an RGB ray (lib/reference_channels.h) beside the same rays in grey with each of its
 // channels alone, in one run (the README's RGB cost ratio: rgb over the costliest grey channel).
+// BM_Shading_*: the same rays unshaded (0) and shaded (1: Blinn-Phong, a directional light,
+// two-sided; lib/shading.h) in one run (docs/shading.md's cost ratio).
 #include <random>
 #include <vector>
 
@@ -28,14 +30,15 @@ TransferFunction proportional_tf() {
 std::vector<Ray> random_rays(int count) { return bench::random_rays(count, 7); }
 
 template <class F>
-void run(benchmark::State& state, const F& field, const TransferFunction& tf, double tol) {
+void run(benchmark::State& state, const F& field, const TransferFunction& tf, double tol,
+         const Shading* shading = nullptr) {
   const Box box;
   const std::vector<Ray> rays = random_rays(256);
   long evaluations = 0, count = 0;
   double worst = 0;
   for (auto _ : state) {
     for (const Ray& ray : rays) {
-      const ReferenceResult r = integrate_reference(field, box, tf, 0.0, ray, {tol});
+      const ReferenceResult r = integrate_reference(field, box, tf, 0.0, ray, {tol}, shading);
       benchmark::DoNotOptimize(r.value);
       evaluations += r.evaluations;
       worst = std::max(worst, r.error_estimate);
@@ -115,6 +118,28 @@ void BM_Color_MarschnerLobbGrid64(benchmark::State& state) {
   run_color(state, grid);
 }
 BENCHMARK(BM_Color_MarschnerLobbGrid64)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+
+Shading bench_shading() {
+  Shading s;
+  s.light = Vec3(0.3, -0.4, 0.87);
+  return s;
+}
+
+void BM_Shading_MarschnerLobb(benchmark::State& state) {
+  const Shading s = bench_shading();
+  run(state, MarschnerLobb{}, nonproportional_tf(), 1e-12, state.range(0) ? &s : nullptr);
+  state.SetLabel(state.range(0) ? "shaded" : "unshaded");
+}
+BENCHMARK(BM_Shading_MarschnerLobb)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
+
+void BM_Shading_MarschnerLobbGrid64(benchmark::State& state) {
+  static const GridField grid =
+      make_grid(Box{}, MarschnerLobb{}, {64, 64, 64}, GridLayout::node, Interpolation::trilinear);
+  const Shading s = bench_shading();
+  run(state, grid, nonproportional_tf(), 1e-12, state.range(0) ? &s : nullptr);
+  state.SetLabel(state.range(0) ? "shaded" : "unshaded");
+}
+BENCHMARK(BM_Shading_MarschnerLobbGrid64)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

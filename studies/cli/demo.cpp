@@ -132,6 +132,7 @@ Table error_table(const DemoRun& r, const DemoOptions& opt) {
 void run_demo(const DemoOptions& opt) {
   check(opt);
   const Scene scene = load_scene_or_default(opt.scene);
+  require_unshaded(scene, opt.scene.empty() ? "the default scene" : opt.scene, "vrv demo");
   require_grey(scene, opt.scene, "vrv demo");
   const DemoRun r = run(scene, opt);
   fmt::print("vrv demo: {} rays (fixed seed) through {}.\n\n", opt.rays,

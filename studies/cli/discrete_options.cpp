@@ -37,6 +37,13 @@ void add_convention_options(CLI::App& cmd, DiscreteOptions& opt) {
   cmd.add_option(flag(Option::table_lookup), opt.table_lookup,
                  "centred (entry i read at its own value; half-texel remap) | uncentred (plain texture coordinate)")
       ->capture_default_str();
+  cmd.add_option(flag(Option::gradient), opt.gradient,
+                 "Shaded scenes ([shading]): the gradient the samples shade with: analytic (the field's exact "
+                 "gradient) | central (differences at the sample) | nodes (differences at a grid's nodes, "
+                 "interpolated; Lee & Newman)")
+      ->capture_default_str();
+  cmd.add_option(flag(Option::gradient_offset), opt.gradient_offset,
+                 "The central differences' offset (world length; default one node spacing, or one voxel of volume.dims)");
 }
 
 void set_conventions(const DiscreteOptions& opt, DiscreteConfig& c) {
@@ -44,6 +51,8 @@ void set_conventions(const DiscreteOptions& opt, DiscreteConfig& c) {
   c.color = parse_choice<ColorConvention>(opt.color, Option::color, parse_color_convention, "straight, premultiplied");
   c.table_size = opt.table_size;
   c.table_lookup = parse_choice<TableLookup>(opt.table_lookup, Option::table_lookup, parse_table_lookup, "centred, uncentred");
+  c.gradient = parse_choice<GradientScheme>(opt.gradient, Option::gradient, parse_gradient_scheme, "analytic, central, nodes");
+  c.gradient_offset = opt.gradient_offset;
 }
 
 }  // namespace
@@ -139,6 +148,10 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
   else if (opt.precision == "float") c.precision = Precision::single_precision;
   else throw OptionError(Option::precision, fmt::format("unknown value '{}' (double or float)", opt.precision));
   set_conventions(opt, c);
+  if (!scene.shading)
+    for (const CLI::Option* o : opt.given)
+      if (o->count() > 0 && (given_option(*o) == Option::gradient || given_option(*o) == Option::gradient_offset))
+        throw OptionError(given_option(*o), "applies to a shaded scene only (one with a [shading] table)");
   validate(c, std::holds_alternative<GridField>(scene.field), scene.transfer);
   return c;
 }

@@ -30,6 +30,8 @@ struct DiscreteOptions {
   std::string color = "straight";
   int table_size = 0;
   std::string table_lookup = "centred";
+  std::string gradient = "central";
+  std::optional<double> gradient_offset;
   // Every option above except --method: each is refused without --method (it would do nothing).
   std::vector<CLI::Option*> given;
   // Work limit, for the reference too: a run whose field evaluations (estimated before anything

@@ -252,6 +252,7 @@ void run_export(const ExportOptions& opt) {
     throw std::invalid_argument(fmt::format("--table-points: must be in [1, 1048576], got {}", opt.table_points));
   const InterruptGuard interrupts;  // SIGINT leaves --out as it was (published_folder.h)
   const Scene scene = load_scene_or_default(opt.scene, memory_limit_bytes(opt.max_memory_gib));
+  require_unshaded(scene, opt.scene.empty() ? "the default scene" : opt.scene, "vrv export");
   const Camera camera = scene_camera(scene);  // as vrv render has it
   std::optional<std::array<int, 3>> resolution;
   if (!opt.resolution.empty()) resolution = parse_resolution(opt.resolution);

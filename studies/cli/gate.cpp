@@ -197,6 +197,7 @@ int run_gate(const GateOptions& o) {
       continue;
     }
     scenes.push_back(load_scene_or_default(c->scene.string()));
+    require_unshaded(scenes.back(), c->scene.string(), "vrv gate");
     steps.push_back(case_steps(*c, o.bounds));
     if (c->render && scene_mode(scene_text_or_default(c->scene.string())))
       throw std::invalid_argument(fmt::format("{}: case {}: render: the scene has a projection mode, which a render "

@@ -52,6 +52,7 @@ void run_plan(const PlanCommandOptions& o) {
   const PlanOptions p = plan_options(o.target, o.metric, o.rules, o.strategy, o.max_work);
   if (!(o.tol > 0) || !std::isfinite(o.tol)) throw std::invalid_argument(fmt::format("--tol: must be a positive finite number, got {}", o.tol));
   const Scene scene = load_scene_or_default(o.scene);
+  require_unshaded(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv plan");
   require_grey(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv plan");
   const Camera camera = scene_camera(scene, o.width, o.height);
   const DiscretePlan plan = plan_discrete(scene, camera, p);

@@ -63,6 +63,7 @@ std::vector<double> parse_steps(const std::string& text) {
 int run_verify(const VerifyCliOptions& o) {
   const InterruptGuard interrupts;  // before any thread: SIGINT leaves --out as it was (published_folder.h)
   const Scene scene = load_scene_or_default(o.scene);
+  require_unshaded(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv verify");
   VerifyOptions opt;
   opt.scene_text = scene_text_or_default(o.scene);
   apply(VerifySettings{o.tol, o.order_tolerance, o.order_metric, o.unit_distance, o.alpha}, opt);

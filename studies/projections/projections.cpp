@@ -61,15 +61,11 @@ ProjectionsStudy read_projections_study(const StudyInput& in) {
   s.name = in.name;
   if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
   if (doc.contains("order_tolerance")) s.order_tolerance = read_order_tolerance(r, doc, "");
-  s.reference_tol = r.number_or(doc, "reference_tol", "", s.reference_tol);
-  if (!(s.reference_tol > 0)) r.fail("reference_tol", "must be positive");
-  s.rays = r.integer_or(doc, "rays", "", 1, 100000, s.rays);
-  s.quick_rays = r.integer_or(doc, "quick_rays", "", 1, 100000, s.quick_rays);
-  s.seed = static_cast<std::uint64_t>(r.integer_or(doc, "seed", "", 0, 1L << 40, 26));
+  const RaySample sample = read_ray_sample(r, doc, {s.rays, s.quick_rays, s.seed, s.reference_tol});
+  s.rays = sample.rays, s.quick_rays = sample.quick_rays, s.seed = sample.seed, s.reference_tol = sample.reference_tol;
   s.image_size = static_cast<int>(r.integer_or(doc, "image_size", "", 1, 4096, s.image_size));
   s.quick_image_size = static_cast<int>(r.integer_or(doc, "quick_image_size", "", 1, 4096, s.quick_image_size));
-  s.steps = r.numbers(doc, "steps", "", 1e-6, 1.0);
-  if (s.steps.size() < 3) r.fail("steps", "at least three steps (an order and its spread)");
+  s.steps = read_refinement_steps(r, doc);
   std::string scene_toml;
   s.scene = read_study_scene(r, doc, "", scene_toml);
   const toml::node& methods = r.require(doc, "method", "");

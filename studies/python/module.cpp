@@ -138,7 +138,8 @@ const std::map<std::string, Kind>& keyword_kinds() {
       {"correction", Kind::text},      {"termination", Kind::number},  {"skip", Kind::number},
       {"compositing", Kind::text},     {"classification", Kind::text}, {"precision", Kind::text},
       {"opacity_unit", Kind::text},    {"color", Kind::text},          {"table_size", Kind::integer},
-      {"table_lookup", Kind::text},    {"max_work", Kind::number}};
+      {"table_lookup", Kind::text},    {"max_work", Kind::number},     {"gradient", Kind::text},
+      {"gradient_offset", Kind::number}};
   return kinds;
 }
 

@@ -7,9 +7,11 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "lib/geometry.h"
+#include "lib/scene_file.h"
 
 namespace vrv::test {
 
@@ -36,6 +38,20 @@ inline std::vector<nlohmann::json> truth_lines(const std::string& relative, nloh
     lines.push_back(std::move(j));
   }
   return lines;
+}
+
+// A truth line's grid scene: its nodes as the generator computed them ("grid_nodes", hex) are the
+// doubles vrv's scene reader makes (the truth integrates the same grid).
+inline void expect_grid_nodes_are_the_truths(const std::string& scene_toml, const std::vector<double>& nodes,
+                                             const std::string& tag) {
+  const Scene scene = parse_scene(scene_toml, tag);
+  const auto& grid = std::get<GridField>(scene.field);
+  const auto n = grid.resolution();
+  ASSERT_EQ(nodes.size(), static_cast<std::size_t>(n[0]) * n[1] * n[2]) << tag;
+  std::size_t idx = 0;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) EXPECT_EQ(grid.node(i, j, k), nodes[idx++]) << tag;
 }
 
 }  // namespace vrv::test

@@ -78,15 +78,7 @@ TEST(ColorReference, DataCoverEveryClass) {
 
 TEST(ColorReference, GridNodesAreTheTruthsNodes) {
   for (const ColorRay& r : rays()) {
-    if (r.grid_nodes.empty()) continue;
-    const Scene scene = parse_scene(r.scene_toml, r.tag);
-    const auto& grid = std::get<GridField>(scene.field);
-    const auto n = grid.resolution();
-    ASSERT_EQ(r.grid_nodes.size(), static_cast<std::size_t>(n[0]) * n[1] * n[2]) << r.tag;
-    std::size_t idx = 0;
-    for (int k = 0; k < n[2]; ++k)
-      for (int j = 0; j < n[1]; ++j)
-        for (int i = 0; i < n[0]; ++i) EXPECT_EQ(grid.node(i, j, k), r.grid_nodes[idx++]) << r.tag;
+    if (!r.grid_nodes.empty()) test::expect_grid_nodes_are_the_truths(r.scene_toml, r.grid_nodes, r.tag);
   }
 }
 

@@ -1,0 +1,241 @@
+#include "studies/shading/shading.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "lib/io/atomic_file.h"
+#include "lib/io/table.h"
+#include "lib/metrics.h"
+#include "lib/reference_integrator.h"
+#include "lib/study_file.h"
+#include "lib/util/parallel.h"
+#include "lib/work_estimate.h"
+#include "studies/engine/study_outputs.h"
+#include "studies/engine/study_rays.h"
+
+namespace vrv {
+namespace {
+
+std::vector<GradientScheme> read_schemes(const StudyReader& r, const toml::table& doc) {
+  std::vector<GradientScheme> out;
+  const toml::array& a = r.array(r.require(doc, "schemes", ""), "schemes");
+  if (a.empty()) r.fail("schemes", "expected a non-empty array (analytic, central, nodes)");
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::string path = fmt::format("schemes[{}]", i);
+    const std::string name = r.string(*a.get(i), path);
+    const auto s = parse_gradient_scheme(name);
+    if (!s) r.fail(path, fmt::format("unknown scheme '{}' (analytic, central, nodes)", name));
+    out.push_back(*s);
+  }
+  return out;
+}
+
+// The scene with its field replaced by an n^3 node grid of it (trilinear), its dims the grid's.
+Scene grid_scene(const Scene& scene, int n) {
+  Scene g = scene;
+  const AnalyticField source = std::holds_alternative<LinearRamp>(scene.field)
+                                   ? AnalyticField(std::get<LinearRamp>(scene.field))
+                                   : AnalyticField(std::get<MarschnerLobb>(scene.field));
+  g.field = make_grid(scene.box, source, {n, n, n}, GridLayout::node, Interpolation::trilinear);
+  g.dims = {n, n, n};
+  return g;
+}
+
+double grid_spacing(const Scene& scene, int n) { return scene.box.extent().minCoeff() / (n - 1); }
+
+DiscreteConfig config_of(const ShadingStudy& study, const Scene& scene, GradientScheme scheme, double step) {
+  DiscreteConfig c;
+  c.rule = study.rule;
+  c.sampling.strategy = Strategy::step;
+  c.sampling.step = step;
+  c.sampling.dims = scene.dims;
+  c.gradient = scheme;
+  return c;
+}
+
+struct References {
+  std::vector<ReferenceResult> values;
+};
+
+References references(const Scene& scene, const std::vector<Ray>& rays, double tol, ShadingResult& out) {
+  References r;
+  r.values.resize(rays.size());
+  parallel_for_index(static_cast<long>(rays.size()), [&](long i) { r.values[i] = integrate_reference(scene, rays[i], {tol}); });
+  for (const ReferenceResult& v : r.values) {
+    out.max_reference_estimate = std::max(out.max_reference_estimate, v.error_estimate);
+    if (!v.tolerance_met) ++out.references_missed;
+  }
+  return r;
+}
+
+// |discrete - reference| over the rays that hit the box (a NaN is refused by error_stats, by name).
+ErrorStats errors(const Scene& scene, const DiscreteConfig& config, const std::vector<Ray>& rays, const References& ref) {
+  std::vector<double> e(rays.size());
+  parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
+    e[i] = ref.values[i].hit ? discrete_raycast(scene, rays[i], config).value - ref.values[i].value : 0.0;
+  });
+  std::vector<double> hits;
+  for (std::size_t i = 0; i < e.size(); ++i)
+    if (ref.values[i].hit) hits.push_back(e[i]);
+  return error_stats(hits, 0);
+}
+
+void step_refinement(const ShadingStudy& study, const std::vector<Ray>& rays, ShadingResult& out) {
+  Scene unshaded = study.scene;
+  unshaded.shading.reset();
+  const References shaded_ref = references(study.scene, rays, study.reference_tol, out);
+  const References unshaded_ref = references(unshaded, rays, study.reference_tol, out);
+  std::vector<double> unshaded_errors;
+  for (double h : study.steps)
+    unshaded_errors.push_back(errors(unshaded, config_of(study, unshaded, GradientScheme::central, h), rays, unshaded_ref).mean);
+  for (GradientScheme scheme : study.schemes) {
+    if (scheme == GradientScheme::nodes) continue;  // grids only
+    std::vector<double> means;
+    for (std::size_t k = 0; k < study.steps.size(); ++k) {
+      const double h = study.steps[k];
+      const ErrorStats e = errors(study.scene, config_of(study, study.scene, scheme, h), rays, shaded_ref);
+      out.steps.push_back({std::string(gradient_scheme_name(scheme)), h, e.mean, e.max, unshaded_errors[k]});
+      means.push_back(e.mean);
+    }
+    out.orders.push_back({"step", std::string(gradient_scheme_name(scheme)), estimate_order(study.steps, means)});
+  }
+}
+
+void grid_refinement(const ShadingStudy& study, const std::vector<Ray>& rays, ShadingResult& out) {
+  std::vector<double> spacings;
+  std::vector<std::vector<double>> means(study.schemes.size());
+  for (int n : study.grids) {
+    const Scene grid = grid_scene(study.scene, n);
+    const References ref = references(grid, rays, study.reference_tol, out);
+    const double spacing = grid_spacing(study.scene, n), step = study.grid_step_per_spacing * spacing;
+    spacings.push_back(spacing);
+    for (std::size_t s = 0; s < study.schemes.size(); ++s) {
+      const ErrorStats e = errors(grid, config_of(study, grid, study.schemes[s], step), rays, ref);
+      out.grids.push_back({std::string(gradient_scheme_name(study.schemes[s])), n, spacing, step, e.mean, e.max});
+      means[s].push_back(e.mean);
+    }
+  }
+  for (std::size_t s = 0; s < study.schemes.size(); ++s)
+    out.orders.push_back({"grid", std::string(gradient_scheme_name(study.schemes[s])), estimate_order(spacings, means[s])});
+}
+
+constexpr const char* kShadingPlots = R"json({
+  "plots": [
+    {"name": "steps", "csv": "steps.csv", "style": "lines", "x": "step", "y": "mean_error",
+     "group": "scheme", "xscale": "log", "yscale": "log", "fit": true,
+     "xlabel": "step (world units)", "ylabel": "mean |discrete - shaded reference|",
+     "title": "Shading: error against step (analytic field)"},
+    {"name": "grids", "csv": "grids.csv", "style": "lines", "x": "spacing", "y": "mean_error",
+     "group": "scheme", "xscale": "log", "yscale": "log", "fit": true,
+     "xlabel": "grid spacing (world units)", "ylabel": "mean |discrete - shaded reference|",
+     "title": "Shading: error against grid spacing"}
+  ]
+}
+)json";
+
+}  // namespace
+
+ShadingStudy read_shading_study(const StudyInput& in) {
+  const StudyReader& r = in.reader;
+  const toml::table& doc = in.doc;
+  r.check_keys(doc, "", {"name", "kind", "description", "order_tolerance", "reference_tol", "rays", "quick_rays", "seed",
+                         "steps", "grids", "grid_step_per_spacing", "schemes", "method", "expected_order", "scene"});
+  ShadingStudy s;
+  s.name = in.name;
+  if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
+  if (doc.contains("order_tolerance")) s.order_tolerance = read_order_tolerance(r, doc, "");
+  const RaySample sample = read_ray_sample(r, doc, {s.rays, s.quick_rays, s.seed, s.reference_tol});
+  s.rays = sample.rays, s.quick_rays = sample.quick_rays, s.seed = sample.seed, s.reference_tol = sample.reference_tol;
+  s.steps = read_refinement_steps(r, doc);
+  for (double n : r.numbers(doc, "grids", "", 3, 513)) {
+    if (n != std::floor(n)) r.fail("grids", fmt::format("node counts are whole numbers, got {}", n));
+    s.grids.push_back(static_cast<int>(n));
+  }
+  if (s.grids.size() < 3) r.fail("grids", "at least three grids (an order and its spread)");
+  s.grid_step_per_spacing = r.number_or(doc, "grid_step_per_spacing", "", s.grid_step_per_spacing);
+  if (!(s.grid_step_per_spacing > 0 && s.grid_step_per_spacing <= 4))
+    r.fail("grid_step_per_spacing", fmt::format("must be in (0, 4], got {}", s.grid_step_per_spacing));
+  s.schemes = read_schemes(r, doc);
+  if (doc.contains("method")) {
+    const std::string m = r.string(*doc.get("method"), "method");
+    const auto rule = parse_segment_rule(m);
+    if (!rule) r.fail("method", fmt::format("unknown method '{}' (riemann, alpha, trapezoid, exact_linear, moreland)", m));
+    s.rule = *rule;
+  }
+  s.expected_order = r.number_or(doc, "expected_order", "", s.expected_order);
+  std::string scene_toml;
+  s.scene = read_study_scene(r, doc, "", scene_toml, true);
+  if (!s.scene.shading) r.fail("scene", "needs a [scene.shading] table (the study compares shaded raycasts)");
+  if (std::holds_alternative<GridField>(s.scene.field))
+    r.fail("scene.field", "must be analytic (marschner_lobb or linear_ramp): the study samples it on its grids");
+  if (s.scene.color) r.fail("scene", "the scene is RGB; the study compares one channel");
+  return s;
+}
+
+ShadingResult run_shading(const ShadingStudy& study, bool quick) {
+  ShadingResult out;
+  out.rays = quick ? study.quick_rays : study.rays;
+  const std::vector<Ray> rays = study_rays(study.scene.box, out.rays, study.seed);
+  step_refinement(study, rays, out);
+  grid_refinement(study, rays, out);
+  return out;
+}
+
+void write_shading(const std::filesystem::path& dir, const ShadingResult& result) {
+  Table steps({"scheme", "step", "mean_error", "max_error", "unshaded_mean_error"});
+  for (const char* c : {"mean_error", "max_error", "unshaded_mean_error"}) steps.set_format(c, "{:.3e}");
+  for (const ShadingStepRow& r : result.steps)
+    steps.add_row({r.scheme, r.step, r.mean_error, r.max_error, r.unshaded_mean_error});
+  Table grids({"scheme", "nodes", "spacing", "step", "mean_error", "max_error"});
+  for (const char* c : {"spacing", "step"}) grids.set_format(c, "{:.4g}");
+  for (const char* c : {"mean_error", "max_error"}) grids.set_format(c, "{:.3e}");
+  for (const ShadingGridRow& r : result.grids) grids.add_row({r.scheme, r.nodes, r.spacing, r.step, r.mean_error, r.max_error});
+  Table orders({"refinement", "scheme", "observed", "standard_error"});
+  orders.allow_missing("observed");
+  orders.allow_missing("standard_error");
+  orders.set_format("observed", "{:.2f}");
+  orders.set_format("standard_error", "{:.2f}");
+  for (const ShadingOrder& o : result.orders) orders.add_row({o.refinement, o.scheme, o.fit.order, o.fit.standard_error});
+  write_table(dir, "steps", steps,
+              {"Shading: error of each gradient scheme under step refinement (analytic field)", "tab:shading-steps", {}});
+  write_table(dir, "grids", grids, {"Shading: error of each gradient scheme under grid refinement", "tab:shading-grids", {}});
+  write_table(dir, "orders", orders, {"Shading: observed orders per gradient scheme", "tab:shading-orders", {}});
+  write_file_atomically(dir / "plots.json", kShadingPlots);
+}
+
+std::vector<StudyCheck> shading_checks(const ShadingStudy& study, const ShadingResult& result) {
+  std::vector<StudyCheck> checks;
+  for (const ShadingOrder& o : result.orders)
+    if (o.refinement == "step" && o.scheme == "analytic")
+      checks.push_back(order_check("order analytic (step refinement)", o.fit, study.expected_order, study.order_tolerance));
+  double worst = 0;
+  bool finite = true;
+  for (const ShadingStepRow& r : result.steps) finite = finite && std::isfinite(r.mean_error) && std::isfinite(r.max_error), worst = std::max(worst, r.max_error);
+  for (const ShadingGridRow& r : result.grids) finite = finite && std::isfinite(r.mean_error) && std::isfinite(r.max_error), worst = std::max(worst, r.max_error);
+  checks.push_back({"finite errors", worst, 0, finite, "every scheme's errors at every step and grid are finite", CheckKind::finite});
+  checks.push_back({"references within reference_tol", result.max_reference_estimate, study.reference_tol,
+                    result.references_missed == 0,
+                    fmt::format("largest error estimate of the shaded references; {} missed", result.references_missed),
+                    CheckKind::derived});
+  return checks;
+}
+
+StudyWork shading_work(const ShadingStudy& study, bool quick) {
+  StudyWork work;
+  const double rays = static_cast<double>(quick ? study.quick_rays : study.rays);
+  work.add("references", 2 * rays, reference_evaluations(study.scene, study.reference_tol));
+  for (double h : study.steps)
+    work.add(fmt::format("step {:g}", h), rays * static_cast<double>(study.schemes.size() + 1),
+             discrete_samples(config_of(study, study.scene, GradientScheme::central, h), study.scene));
+  for (int n : study.grids) {
+    const Scene grid = grid_scene(study.scene, n);
+    work.add(fmt::format("grid {}^3 references", n), rays, reference_evaluations(grid, study.reference_tol));
+    const DiscreteConfig c = config_of(study, grid, GradientScheme::central, study.grid_step_per_spacing * grid_spacing(study.scene, n));
+    work.add(fmt::format("grid {}^3", n), rays * static_cast<double>(study.schemes.size()), discrete_samples(c, grid));
+  }
+  return work;
+}
+
+}  // namespace vrv

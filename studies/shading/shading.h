@@ -1,0 +1,67 @@
+#pragma once
+// Study kind "shading" (issue 25): what gradient reconstruction costs a shaded raycast in accuracy.
+// Marschner-Lobb (designed to test gradient reconstruction, Marschner & Lobb 1994) with a
+// [shading] table, each gradient scheme (lib/gradient_scheme.h) against the shaded reference:
+//   step refinement on the analytic field: mean error, and the same rule's error unshaded (what
+//   shading adds), and each scheme's observed order;
+//   grid refinement: the field sampled on n^3 node grids, the step a fixed fraction of the
+//   spacing, each scheme against the grid scene's own shaded reference, and the observed order
+//   in the spacing.
+// Read from shading.toml; run by driver.cpp.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "lib/discrete_raycast.h"
+#include "lib/order_estimate.h"
+#include "lib/scene.h"
+#include "studies/engine/study_driver.h"
+#include "studies/engine/study_work.h"
+
+namespace vrv {
+
+struct ShadingStudy {
+  std::string name, description;
+  Scene scene;  // analytic, with [shading]
+  SegmentRule rule = SegmentRule::trapezoid;
+  std::vector<GradientScheme> schemes;
+  std::vector<double> steps;
+  std::vector<int> grids;           // nodes per axis of the refined grids
+  double grid_step_per_spacing = 0.25;
+  double expected_order = 2;        // the analytic gradient's under step refinement (checked)
+  long rays = 48, quick_rays = 12;
+  std::uint64_t seed = 25;
+  double reference_tol = 1e-11;
+  OrderTolerance order_tolerance;
+};
+
+struct ShadingStepRow {
+  std::string scheme;
+  double step = 0, mean_error = 0, max_error = 0, unshaded_mean_error = 0;
+};
+struct ShadingGridRow {
+  std::string scheme;
+  int nodes = 0;
+  double spacing = 0, step = 0, mean_error = 0, max_error = 0;
+};
+struct ShadingOrder {
+  std::string refinement, scheme;
+  OrderEstimate fit;
+};
+struct ShadingResult {
+  long rays = 0;
+  std::vector<ShadingStepRow> steps;
+  std::vector<ShadingGridRow> grids;
+  std::vector<ShadingOrder> orders;
+  double max_reference_estimate = 0;
+  long references_missed = 0;
+};
+
+ShadingStudy read_shading_study(const StudyInput& in);
+ShadingResult run_shading(const ShadingStudy& study, bool quick);
+// steps.{csv,md,tex}, grids.{csv,md,tex}, orders.{csv,md,tex} and plots.json in `dir`.
+void write_shading(const std::filesystem::path& dir, const ShadingResult& result);
+std::vector<StudyCheck> shading_checks(const ShadingStudy& study, const ShadingResult& result);
+StudyWork shading_work(const ShadingStudy& study, bool quick);
+
+}  // namespace vrv

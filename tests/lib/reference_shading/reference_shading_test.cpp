@@ -1,0 +1,181 @@
+// The shaded reference (lib/shading_weight.h through lib/reference_integrator.h) on rays with an
+// independent mpmath truth (make_shading_truth.py, same folder: its own gradients, shading factor,
+// kink finding and quadrature).  On every ray, at tol 1e-12 and 1e-10:
+//   honest:     |value - truth| <= error_estimate, both finite;
+//   not absurd: error_estimate <= max(100 max(|error|, floor), tol) (the adversarial test's rule);
+//   met:        the tolerance is met (no cap reached; the shininess-128 highlights at 1e-10 only);
+// except on Marschner-Lobb's axis (a line of vanishing gradient), where only honesty is asserted.
+// And the cases the definitions pin down without a truth file: ambient alone is the unshaded
+// integral scaled; a grid whose gradient vanishes shades with the ambient term alone; three equal
+// RGB channels are the grey shaded ray bit for bit.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "lib/reference_channels.h"
+#include "lib/reference_integrator.h"
+#include "lib/scene.h"
+#include "lib/scene_file.h"
+#include "tests/lib/truth_lines.h"
+
+namespace vrv::reference_shading_test {
+namespace {
+
+struct ShadedRay {
+  std::string cls, tag, scene_toml, truth_text;
+  Vec3 origin, direction;
+  long double truth = 0;
+  double floor = 0;
+  std::vector<double> grid_nodes;
+};
+
+const std::vector<ShadedRay>& rays() {
+  static const std::vector<ShadedRay> all = [] {
+    std::vector<ShadedRay> out;
+    for (const nlohmann::json& j : test::truth_lines("tests/lib/reference_shading/shading_rays.jsonl")) {
+      ShadedRay r;
+      r.cls = j["class"];
+      r.tag = j["tag"];
+      r.scene_toml = j["scene"];
+      r.origin = test::hex_vec3(j["origin"]);
+      r.direction = test::hex_vec3(j["direction"]);
+      r.truth_text = j["truth"];
+      r.truth = std::strtold(r.truth_text.c_str(), nullptr);
+      r.floor = j["floor"];
+      if (j.contains("grid_nodes"))
+        for (const auto& v : j["grid_nodes"]) r.grid_nodes.push_back(test::hex_double(v));
+      out.push_back(std::move(r));
+    }
+    return out;
+  }();
+  return all;
+}
+
+TEST(ShadedReference, DataCoverEveryClass) {
+  std::vector<std::string> classes;
+  for (const ShadedRay& r : rays()) classes.push_back(r.cls);
+  for (const char* c : {"blinn", "phong", "headlight", "highlight", "grazing", "far", "grid", "flat", "thick",
+                        "opacity", "miss"})
+    EXPECT_NE(std::find(classes.begin(), classes.end(), c), classes.end()) << c;
+}
+
+TEST(ShadedReference, GridNodesAreTheTruthsNodes) {
+  for (const ShadedRay& r : rays()) {
+    if (!r.grid_nodes.empty()) test::expect_grid_nodes_are_the_truths(r.scene_toml, r.grid_nodes, r.tag);
+  }
+}
+
+void check_against_truth(double tol) {
+  int checked = 0;
+  for (const ShadedRay& r : rays()) {
+    const Scene scene = parse_scene(r.scene_toml, r.tag);
+    ASSERT_TRUE(scene.shading) << r.tag;
+    const ReferenceResult res = integrate_reference(scene, make_ray(r.origin, r.direction), {tol});
+    const long double error = static_cast<long double>(res.value) - r.truth;
+    const double bound = std::max(100 * std::max(static_cast<double>(std::fabs(error)), r.floor), tol);
+    const bool finite = std::isfinite(res.value) && std::isfinite(res.error_estimate);
+    EXPECT_TRUE(finite && std::fabs(error) <= static_cast<long double>(res.error_estimate))
+        << fmt::format("[{} | {}] tol {:.0e}: DISHONEST value {:.17g} truth {} error {:.3Le} estimate {:.3e}", r.cls,
+                       r.tag, tol, res.value, r.truth_text, error, res.error_estimate);
+    ++checked;
+    // A ray along Marschner-Lobb's axis runs through a line where the gradient vanishes (its
+    // radial part) and meets isolated zeros of the rest: the estimate there is honest but loose
+    // (1e-7 to 1e-3 today, docs/shading.md "Not done yet"), and the ray says it missed.
+    if (r.tag.rfind("axis_", 0) == 0) {
+      EXPECT_EQ(res.tolerance_met, res.error_estimate <= tol) << r.tag;
+      continue;
+    }
+    EXPECT_LE(res.error_estimate, bound) << fmt::format(
+        "[{} | {}] tol {:.0e}: ABSURD estimate {:.3e}, error {:.3Le}, floor {:.3g}", r.cls, r.tag, tol,
+        res.error_estimate, error, r.floor);
+    // Shininess 128 multiplies the normal's rounding by up to 128 in S: the highlight rays' honest
+    // rounding floor is about 1e-12 (1.03e-12 on one ray), so at 1e-12 they need not meet it.
+    if (r.cls == "highlight" && tol < 1e-11) continue;
+    EXPECT_TRUE(res.tolerance_met) << fmt::format("[{} | {}] tol {:.0e}: missed, estimate {:.3e}, {} evaluations",
+                                                  r.cls, r.tag, tol, res.error_estimate, res.evaluations);
+  }
+  EXPECT_EQ(checked, static_cast<int>(rays().size()));
+}
+
+TEST(ShadedReference, HonestAndNotAbsurdAtTol1em12) { check_against_truth(1e-12); }
+TEST(ShadedReference, HonestAndNotAbsurdAtTol1em10) { check_against_truth(1e-10); }
+
+Scene default_with(const Shading& shading) {
+  Scene scene = default_scene();
+  scene.shading = shading;
+  return scene;
+}
+
+// S = ambient everywhere: the integral is the unshaded one with emission scaled by ambient (the
+// background is not shaded), each within its own estimate.
+TEST(ShadedReference, AmbientAloneScalesTheEmission) {
+  Shading flat;
+  flat.ambient = 0.37, flat.diffuse = 0, flat.specular = 0;
+  const Scene shaded = default_with(flat);
+  const Scene plain = default_scene();
+  for (const Vec3& d : {Vec3(0.1, 0.2, 1), Vec3(1, -0.3, 0.2), Vec3(-0.4, 1, 0.7)}) {
+    const Ray ray = make_ray(-3 * d.normalized() + Vec3(0.05, -0.1, 0.02), d);
+    const ReferenceResult a = integrate_reference(shaded, ray, {1e-12});
+    const ReferenceResult b = integrate_reference(plain, ray, {1e-12});
+    EXPECT_TRUE(a.tolerance_met && b.tolerance_met);
+    EXPECT_NEAR(a.value, 0.37 * b.value, a.error_estimate + 0.37 * b.error_estimate) << d.transpose();
+    EXPECT_GT(b.value, 0.01);
+  }
+}
+
+// A grid whose nodes are all equal has no gradient: S = ambient, whatever the light.
+TEST(ShadedReference, AVanishingGradientShadesWithTheAmbientTermAlone) {
+  Scene scene = default_scene();
+  scene.field = GridField(scene.box, {5, 4, 6}, GridLayout::node, Interpolation::trilinear,
+                          std::vector<double>(5 * 4 * 6, 0.6));
+  Shading s;
+  s.light = Vec3(0.2, 0.3, 0.9);
+  s.two_sided = false;
+  scene.shading = s;
+  Scene plain = scene;
+  plain.shading.reset();
+  const Ray ray = make_ray(Vec3(-3, 0.1, 0.2), Vec3(1, 0.05, 0.02));
+  const ReferenceResult a = integrate_reference(scene, ray, {1e-12});
+  const ReferenceResult b = integrate_reference(plain, ray, {1e-12});
+  EXPECT_TRUE(a.tolerance_met);
+  EXPECT_NEAR(a.value, s.ambient * b.value, a.error_estimate + s.ambient * b.error_estimate);
+  EXPECT_GT(b.value, 0.1);
+}
+
+// The same transfer function in three channels: every channel is the grey shaded ray, bit for bit.
+TEST(ShadedReference, EqualChannelsAreTheGreyShadedRayBitwise) {
+  Shading s;
+  s.light = Vec3(0.3, -0.5, 0.8);
+  Scene grey = default_with(s);
+  Scene rgb = grey;
+  rgb.color = ColorChannels{{grey.transfer, grey.transfer, grey.transfer}, {0.0, 0.0, 0.0}};
+  for (const Vec3& d : {Vec3(0.1, 0.2, 1), Vec3(1, -0.3, 0.2)}) {
+    const Ray ray = make_ray(-3 * d.normalized(), d);
+    const ReferenceResult one = integrate_reference(grey, ray, {1e-11});
+    const ColorReferenceResult three = integrate_color_reference(rgb, ray, {1e-11});
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(three.channel[c].value, one.value) << c;
+      EXPECT_EQ(three.channel[c].error_estimate, one.error_estimate) << c;
+    }
+  }
+}
+
+// Shading changes the value (the tests above would pass if it were ignored by a scaled route).
+TEST(ShadedReference, ALightChangesTheValue) {
+  Shading left, right;
+  left.light = Vec3(-1, 0, 0.2), right.light = Vec3(1, 0, 0.2);
+  const Ray ray = make_ray(Vec3(0.1, -3, 0.05), Vec3(0, 1, 0));
+  const double a = integrate_reference(default_with(left), ray, {1e-12}).value;
+  const double b = integrate_reference(default_with(right), ray, {1e-12}).value;
+  EXPECT_GT(std::abs(a - b), 1e-3 * std::max(std::abs(a), std::abs(b)));
+}
+
+}  // namespace
+}  // namespace vrv::reference_shading_test

@@ -1,0 +1,67 @@
+"""Shaded scenes ([shading], docs/shading.md) from Python: the reference and the discrete raycast
+are `vrv ray`'s bit for bit, gradient= chooses the scheme, and a keyword that would do nothing is
+refused by name.  Run by CTest as `python` (test_module.py's set-up)."""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import vrv
+
+VRV = os.environ.get("VRV_EXE", "vrv")
+
+SHADED = """[volume]
+min = [-1.0, -1.0, -1.0]
+max = [1.0, 1.0, 1.0]
+[field]
+kind = "marschner_lobb"
+[transfer]
+emission = [[0.0, 0.0], [1.0, 1.0]]
+extinction = [[0.0, 0.0], [1.0, 0.5]]
+[shading]
+light = [0.3, -0.4, 0.87]
+two_sided = false
+"""
+
+ORIGINS = np.array([[0.1, 0.2, -3.0], [-3.0, 0.2, 0.1]])
+DIRECTIONS = np.array([[0.0, 0.05, 1.0], [1.0, 0.1, -0.05]])
+
+
+def ray_json(scene_path, origin, direction, *args):
+    p = subprocess.run([VRV, "ray", "--scene", str(scene_path), "--origin", ",".join(map(str, origin)),
+                        "--direction", ",".join(map(str, direction)), "--json", *args], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    return json.loads(p.stdout)
+
+
+def test_shaded_reference_and_discrete_are_vrv_ray_bitwise(tmp_path):
+    path = tmp_path / "shaded.toml"
+    path.write_text(SHADED)
+    scene = vrv.Scene.from_toml(SHADED)
+    ref = scene.reference(ORIGINS, DIRECTIONS, tol=1e-11)
+    disc = scene.discrete(ORIGINS, DIRECTIONS, method="trapezoid", step=0.01, gradient="analytic")
+    for i in range(len(ORIGINS)):
+        line = ray_json(path, ORIGINS[i], DIRECTIONS[i], "--tol", "1e-11")
+        assert ref["value"][i] == line["value"]
+        line = ray_json(path, ORIGINS[i], DIRECTIONS[i], "--method", "trapezoid", "--step", "0.01",
+                        "--gradient", "analytic")
+        assert disc["value"][i] == line["value"]
+    # One-sided: S is continuous, and a finer step is closer (two-sided, S jumps where the normal
+    # turns and the error is O(h) with an erratic constant).
+    finer = scene.discrete(ORIGINS, DIRECTIONS, method="trapezoid", step=0.0025, gradient="analytic")
+    assert np.all(np.abs(finer["value"] - ref["value"]) < np.abs(disc["value"] - ref["value"]))
+    plain = vrv.Scene.from_toml(SHADED.split("[shading]")[0]).reference(ORIGINS, DIRECTIONS, tol=1e-11)
+    assert np.all(np.abs(plain["value"] - ref["value"]) > 1e-4)
+
+
+def test_gradient_keywords_are_checked():
+    shaded = vrv.Scene.from_toml(SHADED)
+    with pytest.raises(ValueError, match="gradient: nodes"):
+        shaded.discrete(ORIGINS, DIRECTIONS, method="trapezoid", step=0.01, gradient="nodes")
+    with pytest.raises(ValueError, match="gradient_offset: applies to gradient central only"):
+        shaded.discrete(ORIGINS, DIRECTIONS, method="trapezoid", step=0.01, gradient="analytic", gradient_offset=0.01)
+    plain = vrv.Scene.from_toml(SHADED.split("[shading]")[0])
+    with pytest.raises(ValueError, match="gradient: applies to a shaded scene only"):
+        plain.discrete(ORIGINS, DIRECTIONS, method="trapezoid", step=0.01, gradient="analytic")
