@@ -19,7 +19,7 @@ struct MarschnerLobb {
   // grad f at p (smooth everywhere: `inside`, the point naming a smooth piece, is not needed).
   Vec3 piece_gradient(const Vec3& p, const Vec3& inside) const;
   // Absolute rounding of piece_gradient's components at p: the radial phase A cos(pi r / 2),
-  // A = 2 pi fM, is off by about an ulp of A (cos's and the product's rounding), which sin passes
+  // A = 2 pi fM, is off by a few ulps of A (hypot's, cos's and the product's rounding), which sin passes
   // on and the radial components' factor alpha A (pi/2)^2 sinc / (2 (1 + alpha)) x (x or y)
   // multiplies (so it vanishes on the axis, where the radial components are exactly 0); the
   // factor's own rounding and the z term are a few ulps of the terms.
@@ -28,7 +28,7 @@ struct MarschnerLobb {
     constexpr double eps = std::numeric_limits<double>::epsilon();
     const double a = 2 * pi * std::abs(fM);
     const double radial = std::abs(alpha) * pi * pi / 4 * a * (1 + a) * std::max(std::abs(p.x()), std::abs(p.y()));
-    return 2 * eps * (pi / 2 + radial) / (2 * std::abs(1 + alpha));
+    return 6 * eps * (pi / 2 + radial) / (2 * std::abs(1 + alpha));
   }
   int degree_along_ray() const { return -1; }
   // |d/dr of the phase 2 pi fM cos(pi r / 2)| <= pi^2 fM, plus pi/2 from sin(pi z / 2).

@@ -57,9 +57,14 @@ class GridField {
   // of the cell layout, or an axis of one node).  Nearest: 0 (the value is piecewise constant).
   Vec3 piece_gradient(const Vec3& p, const Vec3& inside) const;
   // Absolute rounding of piece_gradient's components: node differences (an ulp of the largest
-  // node each) blended by two lerps, over the spacing.
+  // node each) blended by two lerps, over the spacing; and the weights' own rounding (an ulp of a
+  // coordinate up to n), which moves a component by the mixed difference of its cell, at most
+  // twice the largest node difference along another axis, over its own spacing.
   double gradient_noise(const Vec3&) const {
-    return 4 * std::numeric_limits<double>::epsilon() * max_abs_ / spacing_.minCoeff();
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    const double n = std::max({n_[0], n_[1], n_[2]});
+    const double aspect = spacing_.maxCoeff() / spacing_.minCoeff();
+    return 4 * eps * max_abs_ / spacing_.minCoeff() + 2 * eps * n * max_slope_.maxCoeff() * aspect;
   }
   double bandwidth() const { return 0; }
   // Trilinear: the node planes (the interpolant is a cubic in t between them).

@@ -180,7 +180,7 @@ void RayAccumulator::panel_cuts(const RayPanel& panel) {
   weight_->append_switches(panel.a, panel.b, switches_);
   const double transmittance = std::exp(-phi_);
   for (const WeightSwitch& w : switches_) {
-    cuts_.push_back(w.t);
+    if (w.cut) cuts_.push_back(w.t);
     // The integrand takes one side's branch up to the found switch: a jump placed dt off the
     // true one is wrong by at most the weight's spread over dt (attenuated at least as here).
     if (w.jump) error_ += charge(w.dt, shade_max_ - shade_min_, tf_.max_emission(), transmittance);
@@ -441,6 +441,8 @@ RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, 
   if (weighted) {
     double ts[129];
     for (int j = 0; j < n; ++j) ts[j] = mid + half * rule.node(j);
+    // The ends exactly (mid + half may round past d): the weight knows a node at an end by it.
+    ts[0] = d, ts[n - 1] = c;
     weight_->values(c, d, {ts, count}, {shade, count}, {shade_noise, count});
   }
   double v_max = 1, tau_max = 0;

@@ -35,17 +35,24 @@ void validate(const Shading& s) {
   require_coefficient(s.specular, "specular");
   if (!(s.shininess >= 1) || !std::isfinite(s.shininess))
     throw std::invalid_argument(fmt::format("shading.shininess: must be a finite number >= 1, got {}", s.shininess));
-  if (s.light && (!s.light->allFinite() || !(s.light->norm() > 0)))
+  if (!std::isfinite(s.max_factor()))
+    throw std::invalid_argument("shading.specular: ambient + diffuse + specular must be finite");
+  if (!std::isfinite(4 * s.specular * s.shininess))
+    throw std::invalid_argument(fmt::format("shading.shininess: specular x shininess must be finite, got {} x {}",
+                                            s.specular, s.shininess));
+  if (s.light && (!s.light->allFinite() || !(s.light->cwiseAbs().maxCoeff() > 0)))
     throw std::invalid_argument("shading.light: must be a finite, non-zero direction (toward the light)");
 }
 
 ShadingFactor::ShadingFactor(const Shading& shading, const Vec3& direction) : shading_(shading) {
   sign_ = shading.normal == NormalSign::gradient ? 1.0 : -1.0;
   view_ = -direction.normalized();
-  light_ = shading.light ? shading.light->normalized() : view_;
+  // Scaled before normalising: a light of 1e200 (or 1e-170) is still a direction.
+  light_ = shading.light ? Vec3((*shading.light / shading.light->cwiseAbs().maxCoeff()).normalized()) : view_;
   const Vec3 sum = light_ + view_;
-  // Light straight behind the volume (l = -v): no half vector; n.h is then taken as 0 (no highlight).
-  half_ = sum.norm() > 0 ? Vec3(sum.normalized()) : Vec3::Zero();
+  // Light straight behind the volume (l = -v, up to rounding): no half vector; n.h is then taken
+  // as 0 (no highlight), not a direction made of rounding.
+  half_ = sum.norm() > 8 * std::numeric_limits<double>::epsilon() ? Vec3(sum.normalized()) : Vec3::Zero();
   light_dot_view_ = light_.dot(view_);
   max_ = shading.max_factor();
   min_ = shading.min_factor();
@@ -83,25 +90,37 @@ ShadingFactor::Value ShadingFactor::evaluate(const Vec3& gradient, const Branch&
   constexpr double eps = std::numeric_limits<double>::epsilon();
   double norm = 0;
   const Vec3 n = normal(gradient, b.sign, norm);
-  Value v{shading_.ambient, 0, 0};
+  Value v;
+  v.s = shading_.ambient;
   if (b.zero || !(norm > 0)) return v;
   // On the branch the terms are continued smoothly up to the piece's ends: n.l may be a rounding
   // below 0 at an end that lies on its switch; the specular base is clamped, x^p being undefined
   // below 0 (and continuous at 0 for p >= 1).
   const double n_l = n.dot(light_);
-  if (b.diffuse) v.s += shading_.diffuse * n_l, v.per_normal += shading_.diffuse;
+  if (b.diffuse) v.s += shading_.diffuse * n_l, v.diffuse = true;
   double highlight = 0;
   if (b.specular && shading_.specular > 0) {
     const bool blinn = shading_.model == ShadingModel::blinn_phong;
-    const double base = std::max(blinn ? n.dot(half_) : 2 * n_l * n.dot(view_) - light_dot_view_, 0.0);
-    const double p = shading_.shininess;
-    highlight = shading_.specular * std::pow(base, p);
+    v.base = std::max(blinn ? n.dot(half_) : 2 * n_l * n.dot(view_) - light_dot_view_, 0.0);
+    highlight = shading_.specular * std::pow(v.base, shading_.shininess);
     v.s += highlight;
-    v.per_normal += shading_.specular * p * std::pow(base, p - 1) * (blinn ? 1.0 : 4.0);
+    v.specular = true;
   }
   // A few ulps per term; pow's relative error grows with the exponent times the base's.
   v.rounding = 16 * eps * (v.s + highlight * shading_.shininess);
   return v;
+}
+
+double ShadingFactor::change_within(const Value& v, double dn) const {
+  dn = std::min(dn, 2.0);  // two unit vectors are at most 2 apart
+  double change = 0;
+  if (v.diffuse) change += shading_.diffuse * dn;
+  if (v.specular) {
+    const double moved = (shading_.model == ShadingModel::blinn_phong ? 1.0 : 4.0) * dn;
+    const double p = shading_.shininess;
+    change += shading_.specular * std::min(1.0, p * std::pow(std::min(1.0, v.base + moved), p - 1) * moved);
+  }
+  return change;
 }
 
 bool ShadingFactor::has_switch(int k) const {

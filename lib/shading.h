@@ -39,8 +39,9 @@ struct Shading {
 };
 
 // Throws std::invalid_argument naming the key ("shading.ambient: ...") unless the coefficients
-// are finite and >= 0, shininess finite and >= 1 (max(0, x)^p is then continuous at its kink),
-// and the light finite and non-zero (it is normalised by the scene reader, not here).
+// are finite and >= 0 and their sum finite, shininess finite and >= 1 (max(0, x)^p is then
+// continuous at its kink) with specular x shininess finite, and the light finite and non-zero
+// (ShadingFactor normalises it, scaled first: any finite size is a direction).
 void validate(const Shading& shading);
 
 // S along the rays of one direction: l, v and h are fixed along a ray.  The switches of S (where a
@@ -61,15 +62,18 @@ class ShadingFactor {
   Branch branch(const Vec3& gradient) const;
   // S on a branch; a gradient of 0 gives the ambient term alone.
   double operator()(const Vec3& gradient, const Branch& branch) const { return evaluate(gradient, branch).s; }
-  // S with what bounds its errors: `per_normal` x |dn| for an error dn of the unit normal (first
-  // order: the diffuse term's 1, the specular's p base^(p-1), x 4 for Phong's r.v), and the
-  // rounding of its own evaluation.
+  // S with the rounding of its own evaluation, and what change_within needs.
   struct Value {
     double s = 0;
-    double per_normal = 0;
     double rounding = 0;
+    bool diffuse = false, specular = false;  // the terms taken
+    double base = 0;                         // the specular base (n.h or r.v), clamped at 0
   };
   Value evaluate(const Vec3& gradient, const Branch& branch) const;
+  // A bound on |S(n') - S(n)| for every unit n' within dn of the normal that gave v, on v's
+  // branch: diffuse dn, and specular |x^p - y^p| <= p max(x, y)^(p - 1) |x - y| with the base
+  // moved by at most dn (4 dn for Phong's r.v), never more than the term's own range.
+  double change_within(const Value& v, double dn) const;
   // S where the gradient is (its own branch).
   double operator()(const Vec3& gradient) const { return (*this)(gradient, branch(gradient)); }
 

@@ -25,6 +25,9 @@ struct WeightSwitch {
   double t = 0;
   double dt = 0;
   bool jump = false;
+  // False for a stretch [t, t + dt] where a jump's function comes within its proxy's error of 0
+  // without a located crossing: the function may cross there (twice) or not; charged, not cut.
+  bool cut = true;
 };
 
 class EmissionWeight {
@@ -68,7 +71,9 @@ class FieldShading final : public EmissionWeight {
       const Vec3 g = field_.piece_gradient(ray_.at(ts[j]), inside);
       const ShadingFactor::Value v = factor_.evaluate(g, branch);
       s[j] = v.s;
-      noise[j] = v.rounding + v.per_normal * direction_error(g, ts[j]);
+      // An exactly vanishing gradient is the definition's ambient term (a constant cell, a ramp
+      // without slope); a small one is a direction known only to direction_error.
+      noise[j] = v.rounding + factor_.change_within(v, direction_error(g, ts[j]));
       // A piece that ends where the gradient vanishes (its switch: a one-sided normal turns there)
       // takes S's limit from inside, which the end itself cannot give (its normal is rounding).
       const bool end = ts[j] == c || ts[j] == d;
@@ -113,6 +118,7 @@ class FieldShading final : public EmissionWeight {
                                                         16 * n * std::numeric_limits<double>::epsilon() * size);
       crossings_.clear();
       const double zero[1] = {0.0};
+      if (k == 0) append_unlocated_flips(a, b, proxy_error, out);
       if (!may_cross(panel_, zero)) continue;
       find_crossings(panel_, zero, crossings_);
       for (std::size_t i = 0; i < crossings_.size(); ++i) {
@@ -143,6 +149,25 @@ class FieldShading final : public EmissionWeight {
   double min() const override { return factor_.min(); }
 
  private:
+  // Where a two-sided normal's flips (switch 0) may lie: on each monotone part of the proxy, the
+  // stretch where it is within its error of 0 (level_band) holds every zero the function has
+  // there, however many (the proxy may touch 0, or cross it once where the function crosses
+  // three times).  Each such stretch is charged whole as a jump, without a cut (the crossings
+  // the proxy does have are cut, and charged their own dt on top).
+  void append_unlocated_flips(double a, double b, double proxy_error, std::vector<WeightSwitch>& out) const {
+    const double zero[1] = {0.0};
+    if (!may_cross(panel_, zero, proxy_error)) return;
+    breaks_.clear();
+    monotone_breaks(panel_, breaks_);
+    for (std::size_t i = 0; i + 1 < breaks_.size(); ++i) {
+      const auto band = level_band(panel_, breaks_[i], breaks_[i + 1], 0.0, proxy_error);
+      if (!band) continue;
+      out.push_back({band->u, std::max(band->w - band->u, 4 * std::numeric_limits<double>::epsilon() *
+                                                              std::max(std::abs(a), std::abs(b))),
+                     true, false});
+    }
+  }
+
   // Below this many times its rounding the gradient's direction is not known.
   static constexpr double kVanishing = 1024;
 
@@ -164,7 +189,7 @@ class FieldShading final : public EmissionWeight {
     const Vec3 g2 = field_.piece_gradient(ray_.at(t + 2 * side * h), inside);
     const ShadingFactor::Value v1 = factor_.evaluate(g1, branch), v2 = factor_.evaluate(g2, branch);
     s = 2 * v1.s - v2.s;
-    noise = 3 * (v1.rounding + v1.per_normal * direction_error(g1, t + side * h)) + 2 * std::abs(v1.s - v2.s);
+    noise = 3 * (v1.rounding + factor_.change_within(v1, direction_error(g1, t + side * h))) + 2 * std::abs(v1.s - v2.s);
   }
 
   const F& field_;
@@ -172,6 +197,7 @@ class FieldShading final : public EmissionWeight {
   ShadingFactor factor_;
   mutable RayPanel panel_;               // scratch for append_switches
   mutable std::vector<Crossing> crossings_;
+  mutable std::vector<double> breaks_;     // scratch: the proxy's monotone parts
 };
 
 }  // namespace vrv
