@@ -57,7 +57,7 @@ void read_bound_set(const StudyReader& r, const toml::table& t, std::string_view
 GateRenderSpec read_render(const StudyReader& r, const toml::node& n, std::string_view path) {
   const toml::table& t = r.table(n, path);
   r.check_keys(t, path, {"method", "strategy", "correction", "precision", "oversample", "opacity_unit", "color",
-                         "table_size", "table_lookup"});
+                         "table_size", "table_lookup", "gradient", "gradient_offset"});
   GateRenderSpec s;
   if (const auto* v = t.get("method")) s.method = r.string(*v, StudyReader::child(path, "method"));
   if (const auto* v = t.get("strategy")) s.strategy = r.string(*v, StudyReader::child(path, "strategy"));
@@ -70,6 +70,9 @@ GateRenderSpec read_render(const StudyReader& r, const toml::node& n, std::strin
   if (const auto* v = t.get("color")) s.color = r.string(*v, StudyReader::child(path, "color"));
   s.table_size = static_cast<int>(r.integer_or(t, "table_size", path, 0, 1 << 20, 0));
   if (const auto* v = t.get("table_lookup")) s.table_lookup = r.string(*v, StudyReader::child(path, "table_lookup"));
+  // A shaded scene's gradient scheme (vrv render --gradient, --gradient-offset), checked likewise.
+  if (const auto* v = t.get("gradient")) s.gradient = r.string(*v, StudyReader::child(path, "gradient"));
+  if (t.get("gradient_offset")) s.gradient_offset = r.number_or(t, "gradient_offset", path, 0.0);
   return s;
 }
 

@@ -63,6 +63,9 @@ struct GateRenderSpec {  // a case where vrv renders its own discrete method
   int oversample = 1;
   std::string opacity_unit = "sample", color = "straight", table_lookup = "centred";
   int table_size = 0;  // 0: the transfer function itself, no table
+  // Shaded scenes only (vrv render --gradient, --gradient-offset); none: the default scheme.
+  std::optional<std::string> gradient;
+  std::optional<double> gradient_offset;
 };
 
 struct GateCase {

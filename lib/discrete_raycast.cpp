@@ -62,6 +62,11 @@ void validate(const DiscreteConfig& c, bool grid_field) {
     throw OptionError(Option::gradient_offset, fmt::format("must be a positive finite length, got {}", *c.gradient_offset));
   if (c.gradient_offset && c.gradient != GradientScheme::central)
     throw OptionError(Option::gradient_offset, "applies to {0} central only", {Option::gradient});
+  if (c.shade_at == ShadeAt::nodes && !grid_field)
+    throw OptionError(Option::shade_at, "nodes (shading the grid's nodes) needs a grid field");
+  if (c.shade_at == ShadeAt::nodes && (c.classification != Classification::pre || c.gradient != GradientScheme::nodes))
+    throw OptionError(Option::shade_at, "nodes shades each node's classified colour with its node gradient: it needs "
+                                        "{0} pre and {1} nodes", {Option::classification, Option::gradient});
 }
 
 void validate(const DiscreteConfig& c, bool grid_field, const TransferFunction& tf) {
@@ -74,9 +79,7 @@ void validate(const DiscreteConfig& c, bool grid_field, const TransferFunction& 
 
 DiscreteResult discrete_raycast(const Scene& scene, const Ray& ray, const DiscreteConfig& config) {
   return visit_field(scene, [&](const auto& field) {
-    const DiscreteRaycaster raycaster(field, scene.box, scene.transfer, scene.background, config,
-                                      scene.shading_or_null(), scene.dims);
-    return raycaster.cast(ray);
+    return scene_raycaster(field, scene, config).cast(ray);
   });
 }
 

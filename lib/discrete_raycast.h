@@ -71,6 +71,9 @@ struct DiscreteConfig {
   // central differences' offset (default: one node spacing, or one voxel of the scene's dims).
   GradientScheme gradient = GradientScheme::central;
   std::optional<double> gradient_offset;
+  // Where S is taken (lib/gradient_scheme.h): nodes needs a grid, pre-classification and the node
+  // differences (the gradient a node has).
+  ShadeAt shade_at = ShadeAt::samples;
 };
 
 struct DiscreteResult {
@@ -161,8 +164,8 @@ template <ScalarField F>
 class DiscreteRaycaster {
  public:
   // shading: the scene's (lib/shading.h), or none; with it every sample's emission (g and the
-  // colour) is multiplied by S from the gradient taken as config.gradient says (post-classification
-  // shading).  `dims`: the scene's nominal voxel grid (the default central offset of analytic fields).
+  // colour) is multiplied by S from the gradient taken as config.gradient says, at the sample or
+  // at the nodes (config.shade_at).  `dims`: the scene's nominal voxel grid (the default central offset of analytic fields).
   DiscreteRaycaster(const F& field, const Box& box, const TransferFunction& tf, double background,
                     DiscreteConfig config, const Shading* shading = nullptr, std::array<int, 3> dims = {64, 64, 64});
   DiscreteResult cast(const Ray& ray) const;
@@ -172,6 +175,11 @@ class DiscreteRaycaster {
   DiscreteResult cast_in(const Ray& ray, Interval iv) const;
   template <class Real>
   detail::Classified<Real> classify(const Ray& ray, Real t, const detail::Classifier& classes) const;
+  // config.shade_at = nodes: the classes interpolated from the nodes' shaded classes (S of each
+  // node's gradient for this ray's `factor`).
+  template <class Real>
+  detail::Classified<Real> classify_shaded_nodes(const Ray& ray, Real t, const detail::Classifier& classes,
+                                                 const ShadingFactor& factor) const;
 
   const F& field_;
   Box box_;
@@ -191,6 +199,14 @@ class DiscreteRaycaster {
 };
 
 DiscreteResult discrete_raycast(const Scene& scene, const Ray& ray, const DiscreteConfig& config);
+
+// The raycaster of a grey scene whose field is `field` (visit_field's argument): the scene's box,
+// transfer function, background, shading and voxel grid.  The scene and field must outlive it.
+template <ScalarField F>
+DiscreteRaycaster<F> scene_raycaster(const F& field, const Scene& scene, const DiscreteConfig& config) {
+  return DiscreteRaycaster<F>(field, scene.box, scene.transfer, scene.background, config, scene.shading_or_null(),
+                              scene.dims);
+}
 
 }  // namespace vrv
 

@@ -178,6 +178,24 @@ VRV_FORCE_INLINE detail::Classified<Real> DiscreteRaycaster<F>::classify(const R
 }
 
 template <ScalarField F>
+template <class Real>
+detail::Classified<Real> DiscreteRaycaster<F>::classify_shaded_nodes(const Ray& ray, Real t,
+                                                                     const detail::Classifier& classes,
+                                                                     const ShadingFactor& factor) const {
+  const Vec3 p = detail::sample_position(ray, t);
+  const NodeGradients& g = *node_gradients_;
+  const auto s = [&](std::size_t n) { return factor(Vec3(g.x.nodes()[n], g.y.nodes()[n], g.z.nodes()[n])); };
+  const GridNodes &first = pre_first_->nodes(), &second = pre_second_->nodes();
+  if (tf_.convention() != Convention::opacity_color)  // the emission is shaded, the extinction not
+    return classes.from_emission_extinction<Real>(pre_first_->interpolate(p, [&](std::size_t n) { return first[n] * s(n); }),
+                                                  pre_second_->value(p));
+  // The colour (premultiplied: colour x opacity) is shaded, the opacity not.
+  const double a = pre_first_->value(p), b = pre_second_->interpolate(p, [&](std::size_t n) { return second[n] * s(n); });
+  const bool premultiplied = config_.color == ColorConvention::premultiplied;
+  return classes.from_opacity_color<Real>(a, premultiplied ? (a > 0 ? b / a : 0.0) : b);
+}
+
+template <ScalarField F>
 Vec3 DiscreteRaycaster<F>::gradient_at(const Vec3& p) const {
   switch (config_.gradient) {
     case GradientScheme::analytic:
@@ -223,14 +241,18 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
   // Shaded scenes: S for this ray's direction (light, view and half vectors are fixed along it).
   std::optional<ShadingFactor> factor;
   if (shading_) factor.emplace(*shading_, ray.direction);
-  auto shaded = [&](detail::Classified<Real> c, Real t) VRV_FORCE_INLINE_LAMBDA {
+  const bool shade_nodes = factor && config_.shade_at == ShadeAt::nodes;
+  // A sample's classes, shaded at the sample or from the shaded nodes.
+  auto shaded = [&](Real t, const detail::Classifier& cl) VRV_FORCE_INLINE_LAMBDA {
+    if (shade_nodes) return classify_shaded_nodes<Real>(ray, t, cl, *factor);
+    auto c = classify<Real>(ray, t, cl);
     if (factor) shade(c, detail::sample_position(ray, t), *factor);
     return c;
   };
   long samples = 0;
   auto sample = [&](Real t) VRV_FORCE_INLINE_LAMBDA {
     ++samples;
-    return shaded(classify<Real>(ray, t, classes), t);
+    return shaded(t, classes);
   };
   // The partial step's sample (plan.partial > 0), for its own length (riemann and alpha).
   const bool partial_first = plan.partial > 0 && plan.partial_first, partial_last = plan.partial > 0 && !plan.partial_first;
@@ -238,7 +260,7 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
     if (out.done()) return;
     const detail::Classifier own(tf_, plan.partial, with_color, lookup);
     ++samples;
-    const auto c = shaded(classify<Real>(ray, Real(plan.t_partial), own), Real(plan.t_partial));
+    const auto c = shaded(Real(plan.t_partial), own);
     if (config_.rule == SegmentRule::riemann) return out.add(riemann_sample(c.g, c.tau, Real(plan.partial)));
     const bool premultiplied = config_.color == ColorConvention::premultiplied;
     out.add({c.color * (premultiplied ? c.alpha_stored : c.alpha_unit), Real(1) - c.alpha_unit});

@@ -10,6 +10,7 @@ namespace {
 constexpr NameTable<GradientScheme, 3> kSchemes{{{GradientScheme::analytic, "analytic"},
                                                  {GradientScheme::central, "central"},
                                                  {GradientScheme::nodes, "nodes"}}};
+constexpr NameTable<ShadeAt, 2> kShadeAt{{{ShadeAt::samples, "samples"}, {ShadeAt::nodes, "nodes"}}};
 
 // The spacing of the grid's nodes along axis a (as GridField places them).
 double spacing(const GridField& g, int a) {
@@ -44,6 +45,8 @@ GridField node_derivative(const GridField& g, int a) {
 
 std::optional<GradientScheme> parse_gradient_scheme(std::string_view name) { return parse_name(kSchemes, name); }
 std::string_view gradient_scheme_name(GradientScheme s) { return name_of(kSchemes, s); }
+std::optional<ShadeAt> parse_shade_at(std::string_view name) { return parse_name(kShadeAt, name); }
+std::string_view shade_at_name(ShadeAt s) { return name_of(kShadeAt, s); }
 
 Vec3 central_offsets(const std::optional<double>& offset, const GridField* grid, const Box& box,
                      const std::array<int, 3>& dims) {

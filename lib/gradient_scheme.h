@@ -18,6 +18,17 @@ enum class GradientScheme { analytic, central, nodes };
 std::optional<GradientScheme> parse_gradient_scheme(std::string_view name);  // "analytic", "central", "nodes"
 std::string_view gradient_scheme_name(GradientScheme s);
 
+// Where a discrete raycast shades:
+//   samples  at each sample, after classifying its interpolated value (post-shading);
+//   nodes    at the grid's nodes, before interpolation: each node's classified colour times S of
+//            its node gradient, the shaded colours interpolated to the sample (pre-classification
+//            with pre-shading, the voxel pipeline of Levoy 1988 and the lecture notes: shade the
+//            voxels, then resample).  S depends on the ray's direction, so it is taken per ray at
+//            the 8 nodes around each sample.
+enum class ShadeAt { samples, nodes };
+std::optional<ShadeAt> parse_shade_at(std::string_view name);  // "samples", "nodes"
+std::string_view shade_at_name(ShadeAt s);
+
 // The offsets of `central` per axis: `offset` where given, else one node spacing of a grid, or the
 // box's extent over `dims` (the scene's nominal voxel grid) for an analytic field.
 Vec3 central_offsets(const std::optional<double>& offset, const GridField* grid, const Box& box,

@@ -46,6 +46,13 @@ class GridField {
 
   // Inline (defined below): the discrete raycaster calls it once per sample.
   double value(const Vec3& p) const;
+  // The grid's interpolation (as value()) of value_at(n), any value per node (n: the flat node
+  // index, as nodes()), at p: pre-shaded node colours, for one.
+  template <class NodeValue>
+  double interpolate(const Vec3& p, NodeValue value_at) const {
+    const double u[3] = {coordinate(p.x(), 0), coordinate(p.y(), 1), coordinate(p.z(), 2)};
+    return interpolation_ == Interpolation::nearest ? nearest_value(u, value_at) : trilinear_value(u, value_at);
+  }
   // f(fetch), fetch(p) == value(p) for every p, with the interpolation and the nodes' type
   // chosen once: a loop of many samples inside f pays no dispatch per sample.
   template <class F>

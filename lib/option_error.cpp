@@ -10,7 +10,7 @@
 namespace vrv {
 namespace {
 
-constexpr NameTable<Option, 20> kKeys{{{Option::method, "method"},
+constexpr NameTable<Option, 21> kKeys{{{Option::method, "method"},
                                        {Option::strategy, "strategy"},
                                        {Option::rate, "rate"},
                                        {Option::step, "step"},
@@ -29,7 +29,8 @@ constexpr NameTable<Option, 20> kKeys{{{Option::method, "method"},
                                        {Option::mode, "mode"},
                                        {Option::max_work, "max_work"},
                                        {Option::gradient, "gradient"},
-                                       {Option::gradient_offset, "gradient_offset"}}};
+                                       {Option::gradient_offset, "gradient_offset"},
+                                       {Option::shade_at, "shade_at"}}};
 
 // The flag is the key with '-' for '_' behind "--": derived, so the two can never disagree.
 std::string flag_of(std::string_view key) {

@@ -15,7 +15,7 @@ namespace vrv {
 enum class Option {
   method, strategy, rate, step, oversample, centred_oversamples, correction, termination, skip,
   compositing, classification, precision, opacity_unit, color, table_size, table_lookup, mode, max_work,
-  gradient, gradient_offset
+  gradient, gradient_offset, shade_at
 };
 
 enum class Spelling { flag, key };  // --table-size, table_size

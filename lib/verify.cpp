@@ -106,8 +106,8 @@ VerificationWork verification_work(const Scene& scene, const VerifyOptions& opt,
 VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>& images,
                            const VerifyOptions& given) {
   VerifyOptions opt = given;
-  require_unshaded(scene, "scene", "verify");
   if (opt.mode) require_grey(scene, "scene", "verify with a projection mode");
+  if (opt.mode) require_unshaded(scene, "scene", "verify with a projection mode");
   if (opt.mode && !opt.expected_order) opt.expected_order = expected_projection_order(*opt.mode, scene.transfer);
   check_inputs(images, opt);
   const std::vector<int> truth = reference_channels(images.front(), scene.channel_count());

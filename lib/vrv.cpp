@@ -99,8 +99,7 @@ std::vector<DiscreteResult> discrete_values(const Scene& scene, std::span<const 
   std::vector<DiscreteResult> out(rays.size());
   visit_field(scene, [&](const auto& field) {
     using F = std::decay_t<decltype(field)>;
-    const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config,
-                                      scene.shading_or_null(), scene.dims);
+    const DiscreteRaycaster<F> caster = scene_raycaster(field, scene, config);
     parallel_for_index(static_cast<long>(rays.size()), [&](long i) { out[i] = caster.cast(rays[i]); });
   });
   return out;
@@ -131,8 +130,7 @@ ValueImage render_discrete_image(const Scene& scene, const Camera& camera, const
   validate(config, std::holds_alternative<GridField>(scene.field));
   const std::vector<DiscreteResult> results = visit_field(scene, [&](const auto& field) {
     using F = std::decay_t<decltype(field)>;
-    const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config,
-                                      scene.shading_or_null(), scene.dims);
+    const DiscreteRaycaster<F> caster = scene_raycaster(field, scene, config);
     return image_loop(camera, [&](const Ray& ray) { return caster.cast(ray); });
   });
   ValueImage image{camera.width, camera.height, std::vector<double>(results.size())};

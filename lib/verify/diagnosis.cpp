@@ -95,6 +95,46 @@ std::vector<bool> leaders(const std::vector<Candidate>& c, const std::vector<std
   return lead;
 }
 
+std::vector<std::size_t> indices(std::size_t n) {
+  std::vector<std::size_t> all(n);
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  return all;
+}
+
+// Every model's RMS on the ranking pixels, and its casts there.
+struct Ranking {
+  std::vector<Casts> casts;
+  std::vector<Candidate> candidates;
+};
+Ranking rank(const Scene& scene, const Camera& camera, const std::vector<Model>& models,
+             const std::vector<const ImageWithStep*>& sorted, int channel, const std::vector<long>& pixels,
+             AlphaMode alpha) {
+  Ranking r{cast_models(scene, camera, models, indices(models.size()), pixels), {}};
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    r.candidates.push_back(models[m].label);
+    measure(r.candidates[m], r.casts[m], sorted, channel, pixels, scene.background, alpha);
+  }
+  return r;
+}
+
+// A shaded scene's gradient scheme nearest the images: each scheme with each of the ranking's first
+// kMinLeaders models, on the ranking pixels of the finest image (where the discretisation differs
+// least, and a scheme's floor does not shrink).
+GradientChoice nearest_gradient(const Scene& scene, const Camera& camera, const std::vector<Model>& models,
+                                const std::vector<std::size_t>& order, const std::vector<const ImageWithStep*>& sorted,
+                                int channel, const std::vector<long>& pixels, AlphaMode alpha) {
+  const std::vector<GradientChoice> choices = gradient_choices(scene);
+  std::vector<Model> probes;  // (choice, model) pairs at the finest step
+  for (const GradientChoice& g : choices)
+    for (std::size_t r = 0; r < std::min(kMinLeaders, order.size()); ++r) {
+      probes.push_back(with_gradient(models[order[r]], g, scene));
+      probes.back().per_step = {probes.back().per_step.back()};
+    }
+  const Ranking r = rank(scene, camera, probes, {sorted.back()}, channel, pixels, alpha);
+  const std::size_t nearest = ranked(r.candidates, indices(probes.size())).front();
+  return choices[nearest / std::min(kMinLeaders, order.size())];
+}
+
 }  // namespace
 
 std::vector<long> diagnosis_pixels(int width, int height) { return lattice_pixels(width, height, kDiagnosisPixels); }
@@ -112,7 +152,7 @@ std::vector<double> cast_pixels(const Scene& scene, const Camera& camera, const 
                                 const std::vector<long>& pixels) {
   return visit_field(scene, [&](const auto& field) {
     using F = std::decay_t<decltype(field)>;
-    const DiscreteRaycaster<F> caster(field, scene.box, scene.transfer, scene.background, config);
+    const DiscreteRaycaster<F> caster = scene_raycaster(field, scene, config);
     return image_loop(camera, pixels, [&](const Ray& ray) { return caster.cast(ray).value; });
   });
 }
@@ -132,17 +172,31 @@ std::vector<Candidate> diagnose(const Scene& scene, const Camera& camera,
                                 const VerifyOptions& opt) {
   std::vector<double> steps;
   for (const auto* im : sorted) steps.push_back(im->step);
-  const std::vector<Model> models = distinct_models(scene, steps, opt);
-  std::vector<std::size_t> all(models.size());
-  std::iota(all.begin(), all.end(), std::size_t{0});
   const std::vector<long> coarse = ranking_pixels(camera.width, camera.height);
-  const std::vector<Casts> coarse_casts = cast_models(scene, camera, models, all, coarse);
-  std::vector<Candidate> c;
-  for (std::size_t m = 0; m < models.size(); ++m) {
-    c.push_back(models[m].label);
-    measure(c[m], coarse_casts[m], sorted, channel, coarse, scene.background, opt.alpha);
+  std::vector<Model> models = distinct_models(scene, steps, opt);
+  std::vector<std::size_t> all = indices(models.size());
+  Ranking coarse_rank = rank(scene, camera, models, sorted, channel, coarse, opt.alpha);
+  // A shaded scene: the models shade with the scheme nearest the images (ranked again when it is
+  // not the default), and the nearest model is cast with every other scheme too, as leaders.
+  if (!models.empty() && scene.shading) {
+    const GradientChoice g =
+        nearest_gradient(scene, camera, models, ranked(coarse_rank.candidates, all), sorted, channel, coarse, opt.alpha);
+    if (g.scheme != GradientScheme::central || g.offset) {
+      for (Model& m : models) m = with_gradient(m, g, scene);
+      coarse_rank = rank(scene, camera, models, sorted, channel, coarse, opt.alpha);
+    }
   }
-  const std::vector<bool> lead = leaders(c, ranked(c, all));
+  std::vector<Candidate>& c = coarse_rank.candidates;
+  const std::vector<Casts>& coarse_casts = coarse_rank.casts;
+  std::vector<bool> lead = leaders(c, ranked(c, all));
+  if (!models.empty())
+    for (Model& v : gradient_variants(models[ranked(c, all).front()], scene)) {
+      if (std::any_of(models.begin(), models.end(), [&](const Model& m) { return same_model(m, v, scene); })) continue;
+      c.push_back(v.label);
+      models.push_back(std::move(v));
+      lead.push_back(true);
+      all.push_back(models.size() - 1);
+    }
   std::vector<std::size_t> leading;
   for (std::size_t m : all)
     if (lead[m]) leading.push_back(m);
@@ -179,9 +233,14 @@ double diagnosis_work(const Scene& scene, const Camera& camera, const std::vecto
     for (const DiscreteConfig& config : m.per_step) samples += camera_work(scene, camera, 0, &config) / pixels;
     per_model.push_back(samples);
   }
-  // The leaders: at least kMinLeaders, counted as the dearest.
+  // The leaders: at least kMinLeaders, counted as the dearest.  A shaded scene's choice of the
+  // gradient (every scheme with kMinLeaders models at the finest step, then the ranking again) and
+  // its schemes on the nearest model (each counted as the dearest).
   std::sort(per_model.rbegin(), per_model.rend());
   double work = 0;
+  if (const double schemes = static_cast<double>(gradient_choices(scene).size()); schemes > 0 && !per_model.empty())
+    work += schemes * per_model.front() * (kMinLeaders * coarse + fine) +
+            std::accumulate(per_model.begin(), per_model.end(), 0.0) * coarse;
   for (std::size_t m = 0; m < per_model.size(); ++m)
     work += per_model[m] * (coarse + (m < kMinLeaders ? fine : 0));
   return work;

@@ -35,8 +35,11 @@ std::vector<long> ranking_pixels(int width, int height);
 // configuration (same_model, model_catalogue.h).
 std::vector<Model> distinct_models(const Scene& scene, const std::vector<double>& steps, const VerifyOptions& options);
 
-// The distinct models against channel `channel` of the images `sorted` (by decreasing step): the
-// leaders first, by their RMS on the diagnosis pixels, then the others by their RMS on the ranking
+// The distinct models against channel `channel` of the images `sorted` (by decreasing step).  On a
+// shaded scene the models take the gradient scheme nearest the finest image (each scheme with the
+// ranking's first kMinLeaders models, on the ranking pixels; ranked again with it), and the
+// ranking's nearest model is also cast with each other scheme (gradient_variants), as leaders.
+// The leaders first, by their RMS on the diagnosis pixels, then the others by their RMS on the ranking
 // pixels (Candidate::pixels says which); a model whose pixels equal an earlier one's to rounding
 // is left out.
 std::vector<Candidate> diagnose(const Scene& scene, const Camera& camera,

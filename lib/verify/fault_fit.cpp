@@ -224,7 +224,7 @@ std::vector<double> cast_rays(const Perturbed& m, const std::vector<long>& pixel
                               const std::function<Ray(long)>& ray) {
   return visit_field(m.scene, [&](const auto& field) {
     using F = std::decay_t<decltype(field)>;
-    const DiscreteRaycaster<F> caster(field, m.scene.box, m.scene.transfer, m.scene.background, m.config);
+    const DiscreteRaycaster<F> caster = scene_raycaster(field, m.scene, m.config);
     return image_loop(m.camera, pixels, [&](const Ray&, long pixel) { return caster.cast(ray(pixel)).value; });
   });
 }
@@ -308,7 +308,21 @@ bool stalls(const VerifyReport& rep) {
                      [](const Fault& f) { return f.kind == FaultKind::constant_floor; });
 }
 
-// The floor is fitted on top of the model of the renderer's placement and rule: among the models
+// `model` at the finest step; on a shaded scene with the gradient scheme (gradient_variants)
+// nearest the finest image on `pixels`: a scheme's error does not cancel in differences of steps.
+DiscreteConfig nearest_gradient(const Model& model, const Scene& scene, const Camera& camera,
+                                const ImageWithStep& finest, int channel, AlphaMode alpha,
+                                const std::vector<long>& pixels) {
+  DiscreteConfig best = model.per_step.back();
+  const std::vector<double> u = observed(finest, channel, scene, alpha, pixels);
+  double best_ss = std::numeric_limits<double>::infinity();
+  for (const Model& v : gradient_variants(model, scene))
+    if (const double ss = squared_residual(u, cast_pixels(scene, camera, v.per_step.back(), pixels)); ss < best_ss)
+      best_ss = ss, best = v.per_step.back();
+  return best;
+}
+
+// The floor is fitted on top of the model of the renderer's placement and rule (and gradient): among the models
 // whose opacity is corrected and that read the transfer function itself (no table), the one whose differences between successive steps match the
 // images' (a step-independent floor cancels in them, the discretisation does not), at the finest
 // step.  On the ranking pixels of the kDifferenceImages coarsest images (the cheapest casts, and
@@ -322,7 +336,7 @@ std::optional<DiscreteConfig> discretisation_model(const Scene& scene, const Cam
   std::vector<std::vector<double>> u;
   const std::size_t n = std::min(kDifferenceImages, sorted.size());
   for (std::size_t k = 0; k < n; ++k) u.push_back(observed(*sorted[k], channel, scene, opt.alpha, pixels));
-  std::optional<DiscreteConfig> best;
+  std::optional<Model> best;
   double best_ss = std::numeric_limits<double>::infinity();
   for (const Model& m : distinct_models(scene, steps, opt)) {
     // A table is a detail of the value path, which the catalogue fits: the curves themselves here.
@@ -335,9 +349,10 @@ std::optional<DiscreteConfig> discretisation_model(const Scene& scene, const Cam
         const double d = (u[k][j] - u[k + 1][j]) - (v[k][j] - v[k + 1][j]);
         if (std::isfinite(d)) ss += d * d;
       }
-    if (ss < best_ss) best_ss = ss, best = m.per_step.back();
+    if (ss < best_ss) best_ss = ss, best = m;
   }
-  return best;
+  if (!best) return std::nullopt;
+  return nearest_gradient(*best, scene, camera, *sorted.back(), channel, opt.alpha, pixels);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/gradient_scheme.h"
 #include "lib/util/not_a_number.h"
 
 namespace vrv {
@@ -194,6 +195,26 @@ std::optional<Fault> missing_opacity_correction(const VerifyReport& rep) {
                            "{:.3g} away", best.name, best.rms, corrected_rms)};
 }
 
+// A shaded image whose nearest model takes its gradient otherwise than exactly, far nearer than
+// that model with the field's exact gradient (gradient_variants, model_catalogue.h): the images'
+// gradient scheme leaves an error of its own, which a finer step does not remove.
+std::optional<Fault> gradient_floor(const VerifyReport& rep) {
+  const std::string_view exact = gradient_scheme_name(GradientScheme::analytic);
+  if (rep.diagnosis.empty() || rep.diagnosis.front().gradient.empty() || rep.diagnosis.front().gradient == exact)
+    return std::nullopt;
+  const Candidate& best = rep.diagnosis.front();
+  const auto twin = std::find_if(rep.diagnosis.begin(), rep.diagnosis.end(), [&](const Candidate& c) {
+    return c.gradient == exact && c.pixels == best.pixels && c.placement == best.placement && c.rule == best.rule &&
+           c.opacity == best.opacity && c.color == best.color && c.table == best.table;
+  });
+  if (twin == rep.diagnosis.end() || !(best.rms < 0.3 * twin->rms)) return std::nullopt;
+  return Fault{FaultKind::gradient_floor,
+               fmt::format("nearest model: {} (RMS {:.3g}); with the field's exact gradient it is {:.3g} away: "
+                           "the images shade with approximate gradients, an error a finer step does not remove",
+                           best.name, best.rms, twin->rms),
+               fmt::format("gradient {}", best.gradient)};
+}
+
 }  // namespace
 
 std::vector<Fault> find_faults(const VerifyReport& rep, const PixelGeometry& g, int channel_count, int colour,
@@ -214,6 +235,7 @@ std::vector<Fault> find_faults(const VerifyReport& rep, const PixelGeometry& g, 
   add(jitter(e, faults));
   add(error_at_jumps(e));
   add(missing_opacity_correction(rep));
+  add(gradient_floor(rep));
   return faults;
 }
 

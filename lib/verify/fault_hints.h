@@ -1,7 +1,7 @@
 #pragma once
 // The known faults whose pattern a verification's errors match: quantisation, a half-step offset,
-// a constant floor, a first-order border band, jitter, error at transfer-function jumps and a
-// missing opacity correction, each with one sentence of evidence.
+// a constant floor, a first-order border band, jitter, error at transfer-function jumps, a
+// missing opacity correction and a shaded image's gradient floor, each with one sentence of evidence.
 #include <vector>
 
 #include "lib/verify/pixel_geometry.h"

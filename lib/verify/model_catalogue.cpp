@@ -48,6 +48,26 @@ std::string_view placement_text(Strategy s) {
   return strategy_name(s);
 }
 
+// The default offset of central differences (one voxel, gradient_scheme.h): its smallest axis.
+double default_offset(const Scene& scene) {
+  return central_offsets(std::nullopt, std::get_if<GridField>(&scene.field), scene.box, scene.dims).minCoeff();
+}
+
+// A shaded model's gradient, as the report's short text and as words.
+std::pair<std::string, std::string> gradient_words(const DiscreteConfig& c, const Scene& scene) {
+  switch (c.gradient) {
+    case GradientScheme::analytic: return {"analytic", "the field's exact gradient"};
+    case GradientScheme::nodes:
+      return {"nodes", "gradients by central differences at the grid's nodes, interpolated (Lee & Newman)"};
+    default:
+      if (c.gradient_offset)
+        return {fmt::format("central {:g}", *c.gradient_offset),
+                fmt::format("gradients by central differences at the sample, offset {:g}", *c.gradient_offset)};
+      return {"central", fmt::format("gradients by central differences at the sample, offset one voxel ({:g})",
+                                     default_offset(scene))};
+  }
+}
+
 Candidate label(const DiscreteConfig& base, const std::string& opacity, bool opacity_corrected) {
   Candidate l;
   l.placement = std::string(strategy_name(base.sampling.strategy));
@@ -70,9 +90,21 @@ Candidate label(const DiscreteConfig& base, const std::string& opacity, bool opa
 }
 
 // `base` at every step, labelled from its own settings; `opacity` describes its opacity.
+// label() with a shaded scene's gradient scheme.
+Candidate scene_label(const DiscreteConfig& base, const Scene& scene, const std::string& opacity,
+                      bool opacity_corrected) {
+  Candidate l = label(base, opacity, opacity_corrected);
+  if (scene.shading) {
+    auto [gradient, words] = gradient_words(base, scene);
+    l.gradient = std::move(gradient);
+    l.name += ", " + words;
+  }
+  return l;
+}
+
 Model model(const Scene& scene, const std::vector<double>& steps, const DiscreteConfig& base,
             const std::string& opacity, bool opacity_corrected = true) {
-  Model m{label(base, opacity, opacity_corrected), {}};
+  Model m{scene_label(base, scene, opacity, opacity_corrected), {}};
   for (double h : steps) {
     DiscreteConfig c = base;
     c.sampling.step = h;
@@ -165,6 +197,29 @@ std::vector<Model> model_catalogue(const Scene& scene, const std::vector<double>
   return out;
 }
 
+std::vector<GradientChoice> gradient_choices(const Scene& scene) {
+  if (!scene.shading) return {};
+  std::vector<GradientChoice> out{{GradientScheme::analytic, std::nullopt},
+                                  {GradientScheme::central, std::nullopt},
+                                  {GradientScheme::central, 0.5 * default_offset(scene)},
+                                  {GradientScheme::central, 2 * default_offset(scene)}};
+  if (std::holds_alternative<GridField>(scene.field)) out.push_back({GradientScheme::nodes, std::nullopt});
+  return out;
+}
+
+Model with_gradient(const Model& model, const GradientChoice& gradient, const Scene& scene) {
+  Model m = model;
+  for (DiscreteConfig& c : m.per_step) c.gradient = gradient.scheme, c.gradient_offset = gradient.offset;
+  m.label = scene_label(m.per_step.back(), scene, model.label.opacity, model.label.opacity_corrected);
+  return m;
+}
+
+std::vector<Model> gradient_variants(const Model& nearest, const Scene& scene) {
+  std::vector<Model> out;
+  for (const GradientChoice& g : gradient_choices(scene)) out.push_back(with_gradient(nearest, g, scene));
+  return out;
+}
+
 namespace {
 
 // Whether a centred N-entry table reproduces the transfer function (to rounding): every
@@ -191,13 +246,14 @@ std::string configuration_key(DiscreteConfig c, const Scene& scene) {
   const auto optional = [](const std::optional<double>& v) { return v ? fmt::format("{:a}", *v) : "-"; };
   return fmt::format("rule {} strategy {} rate {:a} step {:a} dims {} {} {} eye {} oversample {} centred {} "
                      "correction {} termination {} skip {} compositing {} classification {} precision {} "
-                     "opacity {} color {} table {} {}",
+                     "opacity {} color {} table {} {} gradient {} {} shade {}",
                      static_cast<int>(c.rule), static_cast<int>(s.strategy), s.rate, s.step, s.dims[0], s.dims[1],
                      s.dims[2], s.eye ? fmt::format("{:a} {:a} {:a}", (*s.eye)[0], (*s.eye)[1], (*s.eye)[2]) : "-",
                      c.oversample, c.centred_oversamples, static_cast<int>(c.correction), optional(c.termination),
                      optional(c.skip_below), static_cast<int>(c.compositing), static_cast<int>(c.classification),
                      static_cast<int>(c.precision), static_cast<int>(c.opacity_unit), static_cast<int>(c.color),
-                     c.table_size, static_cast<int>(c.table_lookup));
+                     c.table_size, static_cast<int>(c.table_lookup), static_cast<int>(c.gradient),
+                     optional(c.gradient_offset), static_cast<int>(c.shade_at));
 }
 
 bool same_model(const Model& a, const Model& b, const Scene& scene) {

@@ -4,7 +4,10 @@
 // functions the renderers' convention (opacity per unit distance corrected to the sample
 // distance), also with premultiplied colour; that corrected alpha rule with the transfer function
 // read from N-entry tables, with and without half-texel centring; and, for
-// emission/extinction, the opacity of a fixed unit distance left uncorrected.
+// emission/extinction, the opacity of a fixed unit distance left uncorrected.  On a shaded scene
+// every model takes the gradient by central differences (the default); the diagnosis gives them
+// the scheme nearest the images (with_gradient) and tries the others on its nearest model.
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -28,6 +31,19 @@ std::span<const std::pair<Strategy, const char*>> diagnosis_placements();
 
 // The catalogue for images at `steps` (in the images' order), in the order the report lists ties.
 std::vector<Model> model_catalogue(const Scene& scene, const std::vector<double>& steps, const VerifyOptions& options);
+
+// A shaded scene's gradient schemes: the field's exact gradient, central differences at the sample
+// with the default offset (one voxel) and with half and twice it, and on a grid the node
+// differences; none for an unshaded scene.
+struct GradientChoice {
+  GradientScheme scheme = GradientScheme::central;
+  std::optional<double> offset;  // central only; none: the default
+};
+std::vector<GradientChoice> gradient_choices(const Scene& scene);
+// `model` at every step with `gradient`, labelled for it.
+Model with_gradient(const Model& model, const GradientChoice& gradient, const Scene& scene);
+// `nearest` with each of gradient_choices.
+std::vector<Model> gradient_variants(const Model& nearest, const Scene& scene);
 
 // A configuration's cast on `scene` as text, with what does not change it normalised away: the
 // table lookup without a table, and a centred table that holds every breakpoint of the transfer

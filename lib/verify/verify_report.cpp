@@ -15,7 +15,7 @@ constexpr NameTable<Region, 5> kRegionNames{{{Region::outside, "outside"},
 
 constexpr NameTable<OrderKind, 2> kOrderKindNames{{{OrderKind::reference, "reference"}, {OrderKind::self, "self"}}};
 
-constexpr NameTable<FaultKind, 9> kFaultNames{{{FaultKind::quantisation, "quantisation"},
+constexpr NameTable<FaultKind, 10> kFaultNames{{{FaultKind::quantisation, "quantisation"},
                                                {FaultKind::half_step_offset, "half-step offset"},
                                                {FaultKind::constant_floor, "constant floor"},
                                                {FaultKind::first_order_border_band, "first-order border band"},
@@ -23,6 +23,7 @@ constexpr NameTable<FaultKind, 9> kFaultNames{{{FaultKind::quantisation, "quanti
                                                {FaultKind::error_at_tf_jumps, "error at transfer-function jumps"},
                                                {FaultKind::missing_opacity_correction, "missing opacity correction"},
                                                {FaultKind::swapped_channels, "swapped channels"},
+                                               {FaultKind::gradient_floor, "gradient floor"},
                                                {FaultKind::fitted, "fitted fault"}}};
 
 nlohmann::ordered_json number(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr; }
@@ -68,8 +69,13 @@ nlohmann::ordered_json to_json(const OrderReport& o) {
 }
 
 nlohmann::ordered_json to_json(const Candidate& c) {
-  return {{"name", c.name}, {"placement", c.placement}, {"rule", c.rule}, {"opacity", c.opacity},
-          {"color", c.color}, {"table", c.table}, {"rms", number(c.rms)}, {"max", number(c.max)}, {"pixels", c.pixels}};
+  nlohmann::ordered_json j = {{"name", c.name}, {"placement", c.placement}, {"rule", c.rule}, {"opacity", c.opacity},
+                              {"color", c.color}, {"table", c.table}};
+  if (!c.gradient.empty()) j["gradient"] = c.gradient;  // shaded scenes only: an unshaded report as before
+  j["rms"] = number(c.rms);
+  j["max"] = number(c.max);
+  j["pixels"] = c.pixels;
+  return j;
 }
 
 nlohmann::ordered_json to_json(const FaultFit& f) {

@@ -60,6 +60,9 @@ struct Candidate {
   std::string placement, rule, opacity;
   std::string color = "straight";  // alpha rule: "premultiplied" when colour is stored times opacity
   std::string table = "none";      // transfer function read from tables: "256 centred", "1024 uncentred"
+  // A shaded scene's gradient scheme (lib/gradient_scheme.h): "analytic", "central" (the default
+  // offset), "central 0.0156" (another offset), "nodes"; empty for an unshaded scene.
+  std::string gradient;
   // false when the model takes an opacity per sample whatever the sample distance (no correction)
   bool opacity_corrected = true;
   double rms = 0, max = 0;  // RMS over all images of the per-pixel difference, and its max
@@ -75,10 +78,12 @@ enum class FaultKind {
   error_at_tf_jumps,
   missing_opacity_correction,
   swapped_channels,  // an RGB image whose colour channels match the reference in another order
+  gradient_floor,    // a shaded image whose floor is its gradient scheme's (lib/verify/fault_hints.h)
   fitted,  // an entry of the fitted fault catalogue (lib/verify/fault_fit.h); behaviour says which
 };
 // "quantisation", "half-step offset", "constant floor", "first-order border band", "jitter",
-// "error at transfer-function jumps", "missing opacity correction", "swapped channels", "fitted fault"
+// "error at transfer-function jumps", "missing opacity correction", "swapped channels", "gradient floor",
+// "fitted fault"
 std::string_view fault_name(FaultKind kind);
 
 struct Fault {

@@ -44,6 +44,10 @@ void add_convention_options(CLI::App& cmd, DiscreteOptions& opt) {
       ->capture_default_str();
   cmd.add_option(flag(Option::gradient_offset), opt.gradient_offset,
                  "The central differences' offset (world length; default one node spacing, or one voxel of volume.dims)");
+  cmd.add_option(flag(Option::shade_at), opt.shade_at,
+                 "Shaded scenes: samples (shade each sample) | nodes (shade each grid node's classified colour "
+                 "with its node gradient, then interpolate; needs --classification pre --gradient nodes)")
+      ->capture_default_str();
 }
 
 void set_conventions(const DiscreteOptions& opt, DiscreteConfig& c) {
@@ -53,6 +57,7 @@ void set_conventions(const DiscreteOptions& opt, DiscreteConfig& c) {
   c.table_lookup = parse_choice<TableLookup>(opt.table_lookup, Option::table_lookup, parse_table_lookup, "centred, uncentred");
   c.gradient = parse_choice<GradientScheme>(opt.gradient, Option::gradient, parse_gradient_scheme, "analytic, central, nodes");
   c.gradient_offset = opt.gradient_offset;
+  c.shade_at = parse_choice<ShadeAt>(opt.shade_at, Option::shade_at, parse_shade_at, "samples, nodes");
 }
 
 }  // namespace
@@ -150,7 +155,8 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
   set_conventions(opt, c);
   if (!scene.shading)
     for (const CLI::Option* o : opt.given)
-      if (o->count() > 0 && (given_option(*o) == Option::gradient || given_option(*o) == Option::gradient_offset))
+      if (o->count() > 0 && (given_option(*o) == Option::gradient || given_option(*o) == Option::gradient_offset ||
+                             given_option(*o) == Option::shade_at))
         throw OptionError(given_option(*o), "applies to a shaded scene only (one with a [shading] table)");
   validate(c, std::holds_alternative<GridField>(scene.field), scene.transfer);
   return c;

@@ -32,6 +32,7 @@ struct DiscreteOptions {
   std::string table_lookup = "centred";
   std::string gradient = "central";
   std::optional<double> gradient_offset;
+  std::string shade_at = "samples";
   // Every option above except --method: each is refused without --method (it would do nothing).
   std::vector<CLI::Option*> given;
   // Work limit, for the reference too: a run whose field evaluations (estimated before anything

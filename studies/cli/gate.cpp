@@ -87,6 +87,8 @@ DiscreteOptions discrete_options(const GateRenderSpec& spec, double h) {
   d.color = spec.color;
   d.table_size = spec.table_size;
   d.table_lookup = spec.table_lookup;
+  if (spec.gradient) d.gradient = *spec.gradient;
+  d.gradient_offset = spec.gradient_offset;
   return d;
 }
 
@@ -197,12 +199,15 @@ int run_gate(const GateOptions& o) {
       continue;
     }
     scenes.push_back(load_scene_or_default(c->scene.string()));
-    require_unshaded(scenes.back(), c->scene.string(), "vrv gate");
     steps.push_back(case_steps(*c, o.bounds));
     if (c->render && scene_mode(scene_text_or_default(c->scene.string())))
       throw std::invalid_argument(fmt::format("{}: case {}: render: the scene has a projection mode, which a render "
                                               "case does not render; give the renderer's images", o.bounds, c->name));
     if (c->render) {
+      if ((c->render->gradient || c->render->gradient_offset) && !scenes.back().shading)
+        throw std::invalid_argument(fmt::format("{}: case {}: render: {}: applies to a shaded scene only (one with a "
+                                                "[shading] table)", o.bounds, c->name,
+                                                c->render->gradient ? "gradient" : "gradient_offset"));
       try {
         discrete_config(discrete_options(*c->render, c->steps.front()), scenes.back());
       } catch (const std::invalid_argument& e) {

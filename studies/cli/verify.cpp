@@ -63,7 +63,6 @@ std::vector<double> parse_steps(const std::string& text) {
 int run_verify(const VerifyCliOptions& o) {
   const InterruptGuard interrupts;  // before any thread: SIGINT leaves --out as it was (published_folder.h)
   const Scene scene = load_scene_or_default(o.scene);
-  require_unshaded(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv verify");
   VerifyOptions opt;
   opt.scene_text = scene_text_or_default(o.scene);
   apply(VerifySettings{o.tol, o.order_tolerance, o.order_metric, o.unit_distance, o.alpha}, opt);
@@ -73,6 +72,7 @@ int run_verify(const VerifyCliOptions& o) {
     if (!opt.mode)
       throw std::invalid_argument(fmt::format("--mode: unknown value '{}' (one of {}, {})", mode,
                                               projection_mode_list(), kEmissionAbsorption));
+    require_unshaded(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv verify --mode");
   }
   opt.diagnose = !o.no_diagnosis;
   opt.progress = !o.quiet;

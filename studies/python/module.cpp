@@ -139,7 +139,7 @@ const std::map<std::string, Kind>& keyword_kinds() {
       {"compositing", Kind::text},     {"classification", Kind::text}, {"precision", Kind::text},
       {"opacity_unit", Kind::text},    {"color", Kind::text},          {"table_size", Kind::integer},
       {"table_lookup", Kind::text},    {"max_work", Kind::number},     {"gradient", Kind::text},
-      {"gradient_offset", Kind::number}};
+      {"gradient_offset", Kind::number}, {"shade_at", Kind::text}};
   return kinds;
 }
 

@@ -87,7 +87,7 @@ std::vector<RayValue> discrete_rays(const Scene& scene, const std::vector<Ray>& 
                                     const DiscreteConfig& c) {
   std::vector<RayValue> out(rays.size());
   visit_field(scene, [&](const auto& field) {
-    const DiscreteRaycaster caster(field, scene.box, scene.transfer, scene.background, c);
+    const auto caster = scene_raycaster(field, scene, c);
     parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
       const DiscreteResult r = caster.cast(rays[static_cast<std::size_t>(i)]);
       out[static_cast<std::size_t>(i)] = {r.value, r.samples};

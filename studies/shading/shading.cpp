@@ -8,7 +8,9 @@
 #include "lib/io/atomic_file.h"
 #include "lib/io/table.h"
 #include "lib/metrics.h"
+#include "lib/image_loop.h"
 #include "lib/reference_integrator.h"
+#include "lib/reference_pixels.h"
 #include "lib/study_file.h"
 #include "lib/util/parallel.h"
 #include "lib/work_estimate.h"
@@ -18,16 +20,22 @@
 namespace vrv {
 namespace {
 
-std::vector<GradientScheme> read_schemes(const StudyReader& r, const toml::table& doc) {
-  std::vector<GradientScheme> out;
+constexpr const char* kShadedNodes = "shaded_nodes";
+
+std::vector<ShadingScheme> read_schemes(const StudyReader& r, const toml::table& doc) {
+  std::vector<ShadingScheme> out;
   const toml::array& a = r.array(r.require(doc, "schemes", ""), "schemes");
-  if (a.empty()) r.fail("schemes", "expected a non-empty array (analytic, central, nodes)");
+  if (a.empty()) r.fail("schemes", "expected a non-empty array (analytic, central, nodes, shaded_nodes)");
   for (std::size_t i = 0; i < a.size(); ++i) {
     const std::string path = fmt::format("schemes[{}]", i);
     const std::string name = r.string(*a.get(i), path);
+    if (name == kShadedNodes) {
+      out.push_back({GradientScheme::nodes, ShadeAt::nodes});
+      continue;
+    }
     const auto s = parse_gradient_scheme(name);
-    if (!s) r.fail(path, fmt::format("unknown scheme '{}' (analytic, central, nodes)", name));
-    out.push_back(*s);
+    if (!s) r.fail(path, fmt::format("unknown scheme '{}' (analytic, central, nodes, shaded_nodes)", name));
+    out.push_back({*s, ShadeAt::samples});
   }
   return out;
 }
@@ -45,13 +53,15 @@ Scene grid_scene(const Scene& scene, int n) {
 
 double grid_spacing(const Scene& scene, int n) { return scene.box.extent().minCoeff() / (n - 1); }
 
-DiscreteConfig config_of(const ShadingStudy& study, const Scene& scene, GradientScheme scheme, double step) {
+DiscreteConfig config_of(const ShadingStudy& study, const Scene& scene, const ShadingScheme& scheme, double step) {
   DiscreteConfig c;
   c.rule = study.rule;
   c.sampling.strategy = Strategy::step;
   c.sampling.step = step;
   c.sampling.dims = scene.dims;
-  c.gradient = scheme;
+  c.gradient = scheme.gradient;
+  c.shade_at = scheme.shade_at;
+  if (scheme.shade_at == ShadeAt::nodes) c.classification = Classification::pre;  // classes at the nodes
   return c;
 }
 
@@ -89,17 +99,17 @@ void step_refinement(const ShadingStudy& study, const std::vector<Ray>& rays, Sh
   const References unshaded_ref = references(unshaded, rays, study.reference_tol, out);
   std::vector<double> unshaded_errors;
   for (double h : study.steps)
-    unshaded_errors.push_back(errors(unshaded, config_of(study, unshaded, GradientScheme::central, h), rays, unshaded_ref).mean);
-  for (GradientScheme scheme : study.schemes) {
-    if (scheme == GradientScheme::nodes) continue;  // grids only
+    unshaded_errors.push_back(errors(unshaded, config_of(study, unshaded, {}, h), rays, unshaded_ref).mean);
+  for (const ShadingScheme& scheme : study.schemes) {
+    if (scheme.grid_only()) continue;
     std::vector<double> means;
     for (std::size_t k = 0; k < study.steps.size(); ++k) {
       const double h = study.steps[k];
       const ErrorStats e = errors(study.scene, config_of(study, study.scene, scheme, h), rays, shaded_ref);
-      out.steps.push_back({std::string(gradient_scheme_name(scheme)), h, e.mean, e.max, unshaded_errors[k]});
+      out.steps.push_back({scheme.name(), h, e.mean, e.max, unshaded_errors[k]});
       means.push_back(e.mean);
     }
-    out.orders.push_back({"step", std::string(gradient_scheme_name(scheme)), estimate_order(study.steps, means)});
+    out.orders.push_back({"step", scheme.name(), estimate_order(study.steps, means)});
   }
 }
 
@@ -113,12 +123,102 @@ void grid_refinement(const ShadingStudy& study, const std::vector<Ray>& rays, Sh
     spacings.push_back(spacing);
     for (std::size_t s = 0; s < study.schemes.size(); ++s) {
       const ErrorStats e = errors(grid, config_of(study, grid, study.schemes[s], step), rays, ref);
-      out.grids.push_back({std::string(gradient_scheme_name(study.schemes[s])), n, spacing, step, e.mean, e.max});
+      out.grids.push_back({study.schemes[s].name(), n, spacing, step, e.mean, e.max});
       means[s].push_back(e.mean);
     }
   }
   for (std::size_t s = 0; s < study.schemes.size(); ++s)
-    out.orders.push_back({"grid", std::string(gradient_scheme_name(study.schemes[s])), estimate_order(spacings, means[s])});
+    out.orders.push_back({"grid", study.schemes[s].name(), estimate_order(spacings, means[s])});
+}
+
+// The images' camera: the scene's (or the default), square at the study's size.
+Camera image_camera(const ShadingStudy& study, bool quick) {
+  Camera c = study.scene.camera ? *study.scene.camera : default_camera(study.scene.box);
+  c.width = c.height = quick ? study.quick_image_size : study.image_size;
+  return c;
+}
+
+struct ReferenceImage {
+  std::vector<double> value;
+  std::vector<char> hit;
+};
+
+// The reference at every pixel; its estimates and misses join the study's (in pixel order).
+ReferenceImage reference_image(const Scene& scene, const Camera& camera, double tol, ShadingResult& out) {
+  const auto n = static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height);
+  ReferenceImage r{std::vector<double>(n), std::vector<char>(n)};
+  std::vector<double> estimate(n);
+  std::vector<char> met(n);
+  reference_pixels(scene, camera, {tol}, [&](long i, const ReferenceResult& v) {
+    r.value[i] = v.value, r.hit[i] = v.hit, estimate[i] = v.error_estimate, met[i] = v.tolerance_met;
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    out.max_reference_estimate = std::max(out.max_reference_estimate, estimate[i]);
+    out.references_missed += !met[i];
+  }
+  return r;
+}
+
+Image to_image(const std::vector<double>& v, const Camera& camera) {
+  Image im(camera.width, camera.height);
+  std::transform(v.begin(), v.end(), im.pixels.begin(), [](double x) { return static_cast<float>(x); });
+  return im;
+}
+
+// The discrete raycast's signed error at every pixel, and its statistics over the hits.
+std::pair<Image, ErrorStats> error_image(const Scene& scene, const Camera& camera, const DiscreteConfig& config,
+                                         const ReferenceImage& ref) {
+  std::vector<double> e = visit_field(scene, [&](const auto& field) {
+    const auto caster = scene_raycaster(field, scene, config);
+    return image_loop(camera, [&](const Ray& ray) { return caster.cast(ray).value; });
+  });
+  std::vector<double> hits;
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    e[i] -= ref.value[i];
+    if (ref.hit[i]) hits.push_back(e[i]);
+  }
+  return {to_image(e, camera), error_stats(hits, 0)};
+}
+
+// One field's images: its shaded reference, each scheme's error map at `step`, and with
+// `unshaded` the unshaded raycast's against the unshaded reference; the maps share one colour bar.
+void field_images(const ShadingStudy& study, const Scene& scene, const std::string& field, const std::string& stem,
+                  const std::vector<ShadingScheme>& schemes, double step, bool unshaded, bool quick,
+                  ShadingResult& out) {
+  const Camera camera = image_camera(study, quick);
+  const ReferenceImage ref = reference_image(scene, camera, study.reference_tol, out);
+  out.images.push_back({stem + "_reference", to_image(ref.value, camera), false, 0});
+  const std::size_t first_map = out.images.size();
+  for (const ShadingScheme& scheme : schemes) {
+    auto [map, stats] = error_image(scene, camera, config_of(study, scene, scheme, step), ref);
+    const std::string name = scheme.name();
+    out.image_rows.push_back({field, name, step, stats});
+    out.images.push_back({fmt::format("{}_{}_error", stem, name), std::move(map), true, 0});
+  }
+  if (unshaded) {
+    Scene plain = scene;
+    plain.shading.reset();
+    const ReferenceImage plain_ref = reference_image(plain, camera, study.reference_tol, out);
+    auto [map, stats] = error_image(plain, camera, config_of(study, plain, {}, step), plain_ref);
+    out.image_rows.push_back({field, "unshaded", step, stats});
+    out.images.push_back({stem + "_unshaded_error", std::move(map), true, 0});
+  }
+  // One bar for the field's maps: the largest of their 99.5 % quantiles of |error| (a few pixels
+  // beyond it, clamped, would otherwise wash the maps out).
+  double range = 0;
+  for (std::size_t k = first_map; k < out.images.size(); ++k)
+    range = std::max(range, abs_pixel_quantile(out.images[k].pixels, 0.995));
+  for (std::size_t k = first_map; k < out.images.size(); ++k) out.images[k].range = range;
+}
+
+void images(const ShadingStudy& study, bool quick, ShadingResult& out) {
+  std::vector<ShadingScheme> analytic_schemes;
+  for (const ShadingScheme& s : study.schemes)
+    if (!s.grid_only()) analytic_schemes.push_back(s);
+  field_images(study, study.scene, "analytic", "analytic", analytic_schemes, study.image_step, true, quick, out);
+  const Scene grid = grid_scene(study.scene, study.image_grid);
+  field_images(study, grid, fmt::format("grid {}^3", study.image_grid), fmt::format("grid{}", study.image_grid),
+               study.schemes, study.image_step, false, quick, out);
 }
 
 constexpr const char* kShadingPlots = R"json({
@@ -137,11 +237,16 @@ constexpr const char* kShadingPlots = R"json({
 
 }  // namespace
 
+std::string ShadingScheme::name() const {
+  return shade_at == ShadeAt::nodes ? kShadedNodes : std::string(gradient_scheme_name(gradient));
+}
+
 ShadingStudy read_shading_study(const StudyInput& in) {
   const StudyReader& r = in.reader;
   const toml::table& doc = in.doc;
   r.check_keys(doc, "", {"name", "kind", "description", "order_tolerance", "reference_tol", "rays", "quick_rays", "seed",
-                         "steps", "grids", "grid_step_per_spacing", "schemes", "method", "expected_order", "scene"});
+                         "steps", "grids", "grid_step_per_spacing", "schemes", "method", "expected_order", "scene",
+                         "image_size", "quick_image_size", "image_step", "image_grid"});
   ShadingStudy s;
   s.name = in.name;
   if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
@@ -158,6 +263,12 @@ ShadingStudy read_shading_study(const StudyInput& in) {
   if (!(s.grid_step_per_spacing > 0 && s.grid_step_per_spacing <= 4))
     r.fail("grid_step_per_spacing", fmt::format("must be in (0, 4], got {}", s.grid_step_per_spacing));
   s.schemes = read_schemes(r, doc);
+  s.image_size = static_cast<int>(r.integer_or(doc, "image_size", "", 1, 4096, s.image_size));
+  s.quick_image_size = static_cast<int>(r.integer_or(doc, "quick_image_size", "", 1, 4096, s.quick_image_size));
+  s.image_step = r.number_or(doc, "image_step", "", s.image_step);
+  if (!(s.image_step > 0 && std::isfinite(s.image_step)))
+    r.fail("image_step", fmt::format("must be a positive finite length, got {}", s.image_step));
+  s.image_grid = static_cast<int>(r.integer_or(doc, "image_grid", "", 3, 513, s.image_grid));
   if (doc.contains("method")) {
     const std::string m = r.string(*doc.get("method"), "method");
     const auto rule = parse_segment_rule(m);
@@ -180,6 +291,7 @@ ShadingResult run_shading(const ShadingStudy& study, bool quick) {
   const std::vector<Ray> rays = study_rays(study.scene.box, out.rays, study.seed);
   step_refinement(study, rays, out);
   grid_refinement(study, rays, out);
+  images(study, quick, out);
   return out;
 }
 
@@ -202,6 +314,16 @@ void write_shading(const std::filesystem::path& dir, const ShadingResult& result
               {"Shading: error of each gradient scheme under step refinement (analytic field)", "tab:shading-steps", {}});
   write_table(dir, "grids", grids, {"Shading: error of each gradient scheme under grid refinement", "tab:shading-grids", {}});
   write_table(dir, "orders", orders, {"Shading: observed orders per gradient scheme", "tab:shading-orders", {}});
+  Table image_errors({"field", "scheme", "step", "pixels", "max_error", "mean_error", "rms_error"});
+  for (const char* c : {"max_error", "mean_error", "rms_error"}) image_errors.set_format(c, "{:.3e}");
+  for (const ShadingImageRow& r : result.image_rows)
+    image_errors.add_row({r.field, r.scheme, r.step, r.error.count, r.error.max, r.error.mean, r.error.rms});
+  write_table(dir, "image_errors", image_errors,
+              {"Shading: image error of each gradient scheme (pixels that hit the volume)", "tab:shading-images", {}});
+  std::filesystem::create_directories(dir / "images");
+  for (const ShadingImage& im : result.images)
+    im.error ? write_error_image(im.pixels, dir / "images" / im.stem, im.range)
+             : write_value_image(im.pixels, dir / "images" / im.stem);
   write_file_atomically(dir / "plots.json", kShadingPlots);
 }
 
@@ -214,7 +336,10 @@ std::vector<StudyCheck> shading_checks(const ShadingStudy& study, const ShadingR
   bool finite = true;
   for (const ShadingStepRow& r : result.steps) finite = finite && std::isfinite(r.mean_error) && std::isfinite(r.max_error), worst = std::max(worst, r.max_error);
   for (const ShadingGridRow& r : result.grids) finite = finite && std::isfinite(r.mean_error) && std::isfinite(r.max_error), worst = std::max(worst, r.max_error);
-  checks.push_back({"finite errors", worst, 0, finite, "every scheme's errors at every step and grid are finite", CheckKind::finite});
+  for (const ShadingImageRow& r : result.image_rows)
+    finite = finite && std::isfinite(r.error.mean) && std::isfinite(r.error.max), worst = std::max(worst, r.error.max);
+  checks.push_back({"finite errors", worst, 0, finite, "every scheme's errors at every step and grid, and in every image, are finite",
+                    CheckKind::finite});
   checks.push_back({"references within reference_tol", result.max_reference_estimate, study.reference_tol,
                     result.references_missed == 0,
                     fmt::format("largest error estimate of the shaded references; {} missed", result.references_missed),
@@ -228,11 +353,18 @@ StudyWork shading_work(const ShadingStudy& study, bool quick) {
   work.add("references", 2 * rays, reference_evaluations(study.scene, study.reference_tol));
   for (double h : study.steps)
     work.add(fmt::format("step {:g}", h), rays * static_cast<double>(study.schemes.size() + 1),
-             discrete_samples(config_of(study, study.scene, GradientScheme::central, h), study.scene));
+             discrete_samples(config_of(study, study.scene, {}, h), study.scene));
+  const double pixels = std::pow(quick ? study.quick_image_size : study.image_size, 2);
+  const Scene imaged = grid_scene(study.scene, study.image_grid);
+  for (const Scene* scene : {&study.scene, &imaged}) {
+    work.add("image references", 2 * pixels, reference_evaluations(*scene, study.reference_tol));
+    work.add("images", pixels * static_cast<double>(study.schemes.size() + 1),
+             discrete_samples(config_of(study, *scene, {}, study.image_step), *scene));
+  }
   for (int n : study.grids) {
     const Scene grid = grid_scene(study.scene, n);
     work.add(fmt::format("grid {}^3 references", n), rays, reference_evaluations(grid, study.reference_tol));
-    const DiscreteConfig c = config_of(study, grid, GradientScheme::central, study.grid_step_per_spacing * grid_spacing(study.scene, n));
+    const DiscreteConfig c = config_of(study, grid, {}, study.grid_step_per_spacing * grid_spacing(study.scene, n));
     work.add(fmt::format("grid {}^3", n), rays * static_cast<double>(study.schemes.size()), discrete_samples(c, grid));
   }
   return work;

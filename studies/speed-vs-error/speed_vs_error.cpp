@@ -177,7 +177,7 @@ double one_pass(const Scene& scene, const StudyMethodSpec& spec, const std::vect
     }
   } else {
     visit_field(scene, [&](const auto& field) {
-      const DiscreteRaycaster caster(field, scene.box, scene.transfer, scene.background, spec.config);
+      const auto caster = scene_raycaster(field, scene, spec.config);
       for (std::size_t i = 0; i < rays.size(); ++i) {
         const DiscreteResult res = caster.cast(rays[i]);
         value[i] = res.value;

@@ -74,7 +74,9 @@ TEST(DiscreteShading, CentralDifferencesApproachTheAnalyticGradient) {
     DiscreteConfig c = trapezoid(0.01, GradientScheme::central);
     c.gradient_offset = h;
     const double d = std::abs(discrete_raycast(scene, kRay, c).value - exact);
-    if (previous > 0) EXPECT_GT(previous / d, 3.0) << h;  // O(h^2) differences
+    if (previous > 0) {
+      EXPECT_GT(previous / d, 3.0) << h;  // O(h^2) differences
+    }
     previous = d;
   }
   EXPECT_LT(previous, 1e-4);
@@ -109,6 +111,97 @@ TEST(DiscreteShading, SchemesAreCheckedWhereTheyCannotApply) {
   c.gradient = GradientScheme::central;
   c.gradient_offset = -1;
   EXPECT_THROW(discrete_raycast(scene, kRay, c), OptionError);
+}
+
+// Shading at the nodes (pre-classification, pre-shading): the classes interpolated from each
+// node's classified colour times S of its node gradient.
+DiscreteConfig shaded_at_nodes(double step) {
+  DiscreteConfig c = trapezoid(step, GradientScheme::nodes);
+  c.classification = Classification::pre;
+  c.shade_at = ShadeAt::nodes;
+  return c;
+}
+
+Scene opacity_color_scene(Scene scene) {
+  scene.transfer = TransferFunction::opacity_color(PiecewiseLinear({{0, 0}, {1, 0.6}}),
+                                                   PiecewiseLinear({{0, 0.2}, {1, 1}}), 0.25);
+  return scene;
+}
+
+// S = ambient at every node: the shaded nodes are the unshaded classes times it, in both
+// transfer-function conventions and with premultiplied colour.
+TEST(DiscreteShading, ShadingAtNodesWithAmbientAloneScalesThePreClassifiedRaycast) {
+  Scene shaded = default_scene();
+  shaded.field = make_grid(shaded.box, MarschnerLobb{}, {17, 17, 17}, GridLayout::node, Interpolation::trilinear);
+  Shading flat;
+  flat.ambient = 0.4, flat.diffuse = 0, flat.specular = 0;
+  shaded.shading = flat;
+  for (const Scene& scene : {shaded, opacity_color_scene(shaded)})
+    for (ColorConvention color : {ColorConvention::straight, ColorConvention::premultiplied}) {
+      DiscreteConfig at_nodes = shaded_at_nodes(0.01);
+      at_nodes.rule = SegmentRule::alpha;
+      at_nodes.color = color;
+      DiscreteConfig plain = at_nodes;
+      plain.shade_at = ShadeAt::samples;
+      Scene unshaded = scene;
+      unshaded.shading.reset();
+      const double a = discrete_raycast(scene, kRay, at_nodes).value;
+      const double b = discrete_raycast(unshaded, kRay, plain).value;
+      EXPECT_NEAR(a, 0.4 * b, 1e-14) << color_convention_name(color);
+      EXPECT_GT(b, 0.01);
+    }
+}
+
+// A linear field: every node difference is its exact gradient, S is one number at every node and
+// every sample, and shading at the nodes is shading at the samples (to rounding).
+TEST(DiscreteShading, ShadingAtNodesIsShadingAtSamplesWhereTheNormalIsConstant) {
+  Scene scene = lit_scene();
+  scene.field = make_grid(scene.box, LinearRamp{Vec3(0.2, 0.1, 0.15), 0.5}, {9, 9, 9}, GridLayout::node,
+                          Interpolation::trilinear);
+  DiscreteConfig at_samples = shaded_at_nodes(0.01);
+  at_samples.shade_at = ShadeAt::samples;
+  const double a = discrete_raycast(scene, kRay, shaded_at_nodes(0.01)).value;
+  const double b = discrete_raycast(scene, kRay, at_samples).value;
+  EXPECT_NEAR(a, b, 1e-13 * b);
+  Scene unshaded = scene;
+  unshaded.shading.reset();
+  EXPECT_GT(std::abs(a - discrete_raycast(unshaded, kRay, at_samples).value), 1e-3);  // it does shade
+}
+
+// On Marschner-Lobb's grid the normals turn between nodes: interpolating shaded colours is not
+// shading the interpolated normal.
+TEST(DiscreteShading, ShadingAtNodesDiffersFromShadingAtSamplesWhereNormalsTurn) {
+  Scene scene = lit_scene();
+  scene.field = make_grid(scene.box, MarschnerLobb{}, {17, 17, 17}, GridLayout::node, Interpolation::trilinear);
+  DiscreteConfig at_samples = shaded_at_nodes(0.01);
+  at_samples.shade_at = ShadeAt::samples;
+  const double a = discrete_raycast(scene, kRay, shaded_at_nodes(0.01)).value;
+  const double b = discrete_raycast(scene, kRay, at_samples).value;
+  EXPECT_GT(std::abs(a - b), 1e-4 * std::abs(b));
+}
+
+TEST(DiscreteShading, ShadingAtNodesNeedsItsPipeline) {
+  Scene scene = lit_scene();
+  const auto refused = [&](const DiscreteConfig& c, const std::string& words) {
+    try {
+      discrete_raycast(scene, kRay, c);
+      ADD_FAILURE() << "accepted: " << words;
+    } catch (const OptionError& e) {
+      EXPECT_EQ(e.option(), Option::shade_at);
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  DiscreteConfig analytic_field = shaded_at_nodes(0.01);  // pre-classification is refused first there
+  analytic_field.gradient = GradientScheme::central;
+  analytic_field.classification = Classification::post;
+  refused(analytic_field, "needs a grid field");
+  scene.field = make_grid(scene.box, MarschnerLobb{}, {9, 9, 9}, GridLayout::node, Interpolation::trilinear);
+  DiscreteConfig post = shaded_at_nodes(0.01);
+  post.classification = Classification::post;
+  refused(post, "--classification pre and --gradient nodes");
+  DiscreteConfig central = shaded_at_nodes(0.01);
+  central.gradient = GradientScheme::central;
+  refused(central, "--classification pre and --gradient nodes");
 }
 
 }  // namespace

@@ -17,6 +17,8 @@
 
 namespace vrv::verify_color_test {
 
+using verify_toy::fault_of;
+
 // Channels that differ (a colour jump at 0.55 in green only), a coloured background.
 constexpr const char* kScene = R"(
 [volume]
@@ -65,12 +67,6 @@ std::vector<ImageWithStep> rgb_images(const toy::RendererConvention& c = {}, std
     out.push_back({fmt::format("toy_{}", h), h, std::move(im)});
   }
   return out;
-}
-
-const Fault* fault_of(const VerifyReport& r, FaultKind kind) {
-  for (const Fault& f : r.faults)
-    if (f.kind == kind) return &f;
-  return nullptr;
 }
 
 // A straight-colour renderer: every channel its own model to rounding, nothing swapped.

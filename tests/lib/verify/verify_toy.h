@@ -96,9 +96,14 @@ inline VerifyOptions options() {
   return o;
 }
 
-inline bool has_fault(const VerifyReport& r, FaultKind kind) {
-  return std::any_of(r.faults.begin(), r.faults.end(), [&](const Fault& f) { return f.kind == kind; });
+// The report's first fault of `kind`, or nullptr.
+inline const Fault* fault_of(const VerifyReport& r, FaultKind kind) {
+  for (const Fault& f : r.faults)
+    if (f.kind == kind) return &f;
+  return nullptr;
 }
+
+inline bool has_fault(const VerifyReport& r, FaultKind kind) { return fault_of(r, kind) != nullptr; }
 
 class VerifyToy : public ::testing::Test {
  protected:
