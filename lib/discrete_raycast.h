@@ -190,7 +190,7 @@ class DiscreteRaycaster {
   std::optional<TransferTable> table_first_, table_second_;  // config.table_size > 0
   const Shading* shading_;
   Vec3 central_offsets_ = Vec3::Ones();        // config.gradient = central
-  std::optional<NodeGradients> node_gradients_;  // config.gradient = nodes
+  const NodeGradients* node_gradients_ = nullptr;  // config.gradient = nodes: the field's own
   // The gradient at p by config.gradient.
   Vec3 gradient_at(const Vec3& p) const;
   // c's emission times S at p (shaded scenes).

@@ -135,7 +135,7 @@ DiscreteRaycaster<F>::DiscreteRaycaster(const F& field, const Box& box, const Tr
     const GridField* grid = nullptr;
     if constexpr (std::is_same_v<F, GridField>) {
       grid = &field;
-      if (config_.gradient == GradientScheme::nodes) node_gradients_.emplace(field);
+      if (config_.gradient == GradientScheme::nodes) node_gradients_ = &field.node_gradients();
     }
     if constexpr (!requires(const Vec3& p) { field.piece_gradient(p, p); }) {
       if (config_.gradient == GradientScheme::analytic)

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "lib/gradient_scheme.h"
+
 namespace vrv {
 namespace {
 
@@ -135,6 +137,7 @@ GridField GridField::mapped(const std::function<double(double)>& fn) const {
   GridField out = *this;
   out.nodes_ = nodes_.mapped(fn);
   out.bricks_ = std::make_shared<BrickRanges>();
+  out.gradients_ = std::make_shared<GradientCache>();
   out.summarise();
   return out;
 }
@@ -196,6 +199,11 @@ std::pair<double, double> GridField::node_range_between(const Vec3& p, const Vec
         }
   });
   return {mn, mx};
+}
+
+const NodeGradients& GridField::node_gradients() const {
+  std::call_once(gradients_->made, [&] { gradients_->value = std::make_shared<const NodeGradients>(*this); });
+  return *gradients_->value;
 }
 
 const GridField::BrickRanges& GridField::bricks() const {

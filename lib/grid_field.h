@@ -21,6 +21,8 @@
 
 namespace vrv {
 
+struct NodeGradients;  // lib/gradient_scheme.h
+
 enum class GridLayout { node, cell };
 enum class Interpolation { trilinear, nearest };
 
@@ -109,6 +111,9 @@ class GridField {
     return nodes_[(static_cast<std::size_t>(k) * n_[1] + j) * n_[0] + i];
   }
   const GridNodes& nodes() const { return nodes_; }
+  // The node differences' gradient grids (lib/gradient_scheme.h), made on first use and shared by
+  // the grid's copies: raycasts with node gradients (verify casts many) build none of their own.
+  const NodeGradients& node_gradients() const;
 
  private:
   // Checks the resolution and the node count, sets spacing_ and offset_; refuses a non-finite node.
@@ -152,6 +157,11 @@ class GridField {
   };
   std::shared_ptr<BrickRanges> bricks_ = std::make_shared<BrickRanges>();
   const BrickRanges& bricks() const;
+  struct GradientCache {
+    std::once_flag made;
+    std::shared_ptr<const NodeGradients> value;
+  };
+  std::shared_ptr<GradientCache> gradients_ = std::make_shared<GradientCache>();
 };
 
 template <class Transparent>

@@ -66,8 +66,18 @@ double grid_reference_evaluations(const std::array<int, 3>& nodes, int degree) {
   return cells * (degree + 1);
 }
 
+double evaluations_per_sample(const DiscreteConfig& config, const Scene& scene) {
+  if (!scene.shading) return 1;
+  switch (config.gradient) {
+    case GradientScheme::central: return 7;   // six differences
+    case GradientScheme::analytic: return 2;  // about one evaluation's worth
+    default: return 4;                        // three interpolated gradient grids
+  }
+}
+
 double camera_work(const Scene& scene, const Camera& camera, double tol, const DiscreteConfig* config) {
   constexpr int kSide = 64;  // at most kSide x kSide pixels are estimated
+  const double per_sample = config ? evaluations_per_sample(*config, scene) : 1;
   const int sx = std::min(camera.width, kSide), sy = std::min(camera.height, kSide);
   double work = 0;
   for (int j = 0; j < sy; ++j)
@@ -75,7 +85,7 @@ double camera_work(const Scene& scene, const Camera& camera, double tol, const D
       // The centre of each sub-grid cell, a pixel of the image.
       const Ray ray = camera.ray(static_cast<int>((i + 0.5) * camera.width / sx),
                                  static_cast<int>((j + 0.5) * camera.height / sy));
-      work += config ? discrete_samples(*config, scene, ray) : reference_evaluations(scene, ray, tol);
+      work += config ? per_sample * discrete_samples(*config, scene, ray) : reference_evaluations(scene, ray, tol);
     }
   return work * (static_cast<double>(camera.width) * camera.height) / (static_cast<double>(sx) * sy);
 }

@@ -35,8 +35,12 @@ double reference_evaluations(const Scene& scene, double tol);
 // is built: one panel per cell the box's diagonal crosses, at most the sum of the cells per axis.
 double grid_reference_evaluations(const std::array<int, 3>& nodes, int degree);
 
+// Field evaluations per sample of a discrete raycast: 1, and on a shaded scene its gradient's too
+// (central differences 7 in all, the exact gradient about 2, node gradients 4).
+double evaluations_per_sample(const DiscreteConfig& config, const Scene& scene);
+
 // Over every pixel of `camera`: the reference's evaluations at `tol`, or with `config` a discrete
-// raycast's samples, from at most 4096 pixels on a regular sub-grid scaled to all of them (each
+// raycast's samples times evaluations_per_sample, from at most 4096 pixels on a regular sub-grid scaled to all of them (each
 // of a 8192 x 8192 image's 67 M rays, one by one, took a minute to estimate).
 double camera_work(const Scene& scene, const Camera& camera, double tol, const DiscreteConfig* config = nullptr);
 

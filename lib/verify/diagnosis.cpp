@@ -83,7 +83,9 @@ void measure(Candidate& c, const Casts& casts, const std::vector<const ImageWith
 // The models ranked by their RMS (ties in catalogue order); NaN last.
 std::vector<std::size_t> ranked(const std::vector<Candidate>& c, const std::vector<std::size_t>& which) {
   std::vector<std::size_t> order = which;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return c[a].rms < c[b].rms; });
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return !std::isnan(c[a].rms) && (std::isnan(c[b].rms) || c[a].rms < c[b].rms);
+  });
   return order;
 }
 

@@ -203,10 +203,14 @@ std::optional<Fault> gradient_floor(const VerifyReport& rep) {
   if (rep.diagnosis.empty() || rep.diagnosis.front().gradient.empty() || rep.diagnosis.front().gradient == exact)
     return std::nullopt;
   const Candidate& best = rep.diagnosis.front();
-  const auto twin = std::find_if(rep.diagnosis.begin(), rep.diagnosis.end(), [&](const Candidate& c) {
-    return c.gradient == exact && c.pixels == best.pixels && c.placement == best.placement && c.rule == best.rule &&
+  // The same model with the exact gradient; else (another leader came first on the diagnosis
+  // pixels) the nearest model with it on the same pixels.
+  const auto exact_on_same_pixels = [&](const Candidate& c) { return c.gradient == exact && c.pixels == best.pixels; };
+  auto twin = std::find_if(rep.diagnosis.begin(), rep.diagnosis.end(), [&](const Candidate& c) {
+    return exact_on_same_pixels(c) && c.placement == best.placement && c.rule == best.rule &&
            c.opacity == best.opacity && c.color == best.color && c.table == best.table;
   });
+  if (twin == rep.diagnosis.end()) twin = std::find_if(rep.diagnosis.begin(), rep.diagnosis.end(), exact_on_same_pixels);
   if (twin == rep.diagnosis.end() || !(best.rms < 0.3 * twin->rms)) return std::nullopt;
   return Fault{FaultKind::gradient_floor,
                fmt::format("nearest model: {} (RMS {:.3g}); with the field's exact gradient it is {:.3g} away: "

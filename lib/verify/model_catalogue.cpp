@@ -48,10 +48,12 @@ std::string_view placement_text(Strategy s) {
   return strategy_name(s);
 }
 
-// The default offset of central differences (one voxel, gradient_scheme.h): its smallest axis.
-double default_offset(const Scene& scene) {
-  return central_offsets(std::nullopt, std::get_if<GridField>(&scene.field), scene.box, scene.dims).minCoeff();
+// The default offsets of central differences (one voxel per axis, gradient_scheme.h).
+Vec3 default_offsets(const Scene& scene) {
+  return central_offsets(std::nullopt, std::get_if<GridField>(&scene.field), scene.box, scene.dims);
 }
+// Their smallest: the scale of the other offsets tried (one number, as --gradient-offset takes).
+double default_offset(const Scene& scene) { return default_offsets(scene).minCoeff(); }
 
 // A shaded model's gradient, as the report's short text and as words.
 std::pair<std::string, std::string> gradient_words(const DiscreteConfig& c, const Scene& scene) {
@@ -63,8 +65,11 @@ std::pair<std::string, std::string> gradient_words(const DiscreteConfig& c, cons
       if (c.gradient_offset)
         return {fmt::format("central {:g}", *c.gradient_offset),
                 fmt::format("gradients by central differences at the sample, offset {:g}", *c.gradient_offset)};
-      return {"central", fmt::format("gradients by central differences at the sample, offset one voxel ({:g})",
-                                     default_offset(scene))};
+      const Vec3 h = default_offsets(scene);
+      return {"central", h.minCoeff() == h.maxCoeff()
+                             ? fmt::format("gradients by central differences at the sample, offset one voxel ({:g})", h[0])
+                             : fmt::format("gradients by central differences at the sample, offset one voxel per "
+                                           "axis ({:g}, {:g}, {:g})", h[0], h[1], h[2])};
   }
 }
 
@@ -89,7 +94,6 @@ Candidate label(const DiscreteConfig& base, const std::string& opacity, bool opa
   return l;
 }
 
-// `base` at every step, labelled from its own settings; `opacity` describes its opacity.
 // label() with a shaded scene's gradient scheme.
 Candidate scene_label(const DiscreteConfig& base, const Scene& scene, const std::string& opacity,
                       bool opacity_corrected) {
@@ -102,6 +106,7 @@ Candidate scene_label(const DiscreteConfig& base, const Scene& scene, const std:
   return l;
 }
 
+// `base` at every step, labelled from its own settings; `opacity` describes its opacity.
 Model model(const Scene& scene, const std::vector<double>& steps, const DiscreteConfig& base,
             const std::string& opacity, bool opacity_corrected = true) {
   Model m{scene_label(base, scene, opacity, opacity_corrected), {}};
@@ -199,8 +204,9 @@ std::vector<Model> model_catalogue(const Scene& scene, const std::vector<double>
 
 std::vector<GradientChoice> gradient_choices(const Scene& scene) {
   if (!scene.shading) return {};
-  std::vector<GradientChoice> out{{GradientScheme::analytic, std::nullopt},
-                                  {GradientScheme::central, std::nullopt},
+  // The default first: ties (nothing separates the schemes) keep it.
+  std::vector<GradientChoice> out{{GradientScheme::central, std::nullopt},
+                                  {GradientScheme::analytic, std::nullopt},
                                   {GradientScheme::central, 0.5 * default_offset(scene)},
                                   {GradientScheme::central, 2 * default_offset(scene)}};
   if (std::holds_alternative<GridField>(scene.field)) out.push_back({GradientScheme::nodes, std::nullopt});

@@ -32,9 +32,9 @@ std::span<const std::pair<Strategy, const char*>> diagnosis_placements();
 // The catalogue for images at `steps` (in the images' order), in the order the report lists ties.
 std::vector<Model> model_catalogue(const Scene& scene, const std::vector<double>& steps, const VerifyOptions& options);
 
-// A shaded scene's gradient schemes: the field's exact gradient, central differences at the sample
-// with the default offset (one voxel) and with half and twice it, and on a grid the node
-// differences; none for an unshaded scene.
+// A shaded scene's gradient schemes: central differences at the sample with the default offset
+// (one voxel; first, so that ties keep it), the field's exact gradient, central differences at half
+// and twice the default offset, and on a grid the node differences; none for an unshaded scene.
 struct GradientChoice {
   GradientScheme scheme = GradientScheme::central;
   std::optional<double> offset;  // central only; none: the default

@@ -64,12 +64,16 @@ VerifyTables verify_tables(const VerifyReport& rep) {
     for (std::size_t k = 0; k < o.steps.size(); ++k)
       if (o.errors[k] > 0) t.points.add_row({series, o.steps[k], o.errors[k]});
   }
+  // A shaded scene's diagnosis has a gradient column; an unshaded one's table is as before.
+  const bool shaded = std::any_of(rep.diagnosis.begin(), rep.diagnosis.end(), [](const Candidate& c) { return !c.gradient.empty(); });
+  if (shaded) t.diagnosis = Table({"rank", "placement", "rule", "opacity", "color", "table", "gradient", "rms", "max", "model"});
   t.diagnosis.allow_missing("rms");
   t.diagnosis.set_format("rms", "{:.3e}");
   t.diagnosis.set_format("max", "{:.3e}");
   long rank = 1;
   for (const Candidate& c : rep.diagnosis)
-    t.diagnosis.add_row({rank++, c.placement, c.rule, c.opacity, c.color, c.table, c.rms, c.max, c.name});
+    shaded ? t.diagnosis.add_row({rank++, c.placement, c.rule, c.opacity, c.color, c.table, c.gradient, c.rms, c.max, c.name})
+           : t.diagnosis.add_row({rank++, c.placement, c.rule, c.opacity, c.color, c.table, c.rms, c.max, c.name});
   for (const Fault& f : rep.faults) t.faults.add_row({f.name(), f.evidence});
   for (const Fault& f : rep.conventions) t.conventions.add_row({f.name(), f.behaviour, f.implied_order, f.evidence});
   return t;

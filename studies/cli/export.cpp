@@ -26,6 +26,7 @@
 #include "lib/transfer_export.h"
 #include "lib/volume_export.h"
 #include "lib/scene_hash.h"
+#include "lib/shading.h"
 #include "lib/vrv.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
@@ -161,6 +162,32 @@ ExportedScene exported_scene(const Scene& scene, const ExportedNodes& v, const E
   return e;
 }
 
+// A shaded scene's [shading] for a renderer (docs/shading.md): what multiplies the emission.
+nlohmann::ordered_json shading_manifest(const Shading& s) {
+  nlohmann::ordered_json j;
+  j["model"] = shading_model_name(s.model);
+  j["ambient"] = s.ambient;
+  j["diffuse"] = s.diffuse;
+  j["specular"] = s.specular;
+  j["shininess"] = s.shininess;
+  if (s.light) {
+    const Vec3 l = s.light->normalized();
+    j["light"] = {l[0], l[1], l[2]};
+  } else {
+    j["light"] = "headlight";
+  }
+  j["normal"] = normal_sign_name(s.normal);
+  j["two_sided"] = s.two_sided;
+  j["formula"] = s.model == ShadingModel::blinn_phong
+                     ? "S = ambient + diffuse max(0, n.l) + specular max(0, n.h)^shininess, h = (l + v) / |l + v|"
+                     : "S = ambient + diffuse max(0, n.l) + specular max(0, r.v)^shininess, r = 2 (n.l) n - l";
+  j["applies_to"] = "the emission (a renderer's colour) is multiplied by S; extinction (opacity) is not; n = the "
+                    "normalised gradient (negative_gradient: its negative), turned toward the eye when two_sided; "
+                    "v toward the eye; l toward the light (the eye's direction for the headlight); S = ambient where "
+                    "the gradient vanishes";
+  return j;
+}
+
 nlohmann::ordered_json manifest(const Scene& scene, const Camera& camera, const ExportedNodes& v,
                                 const ExportOptions& opt, const std::vector<OutputFile>& files,
                                 const ExportedScene& exported) {
@@ -184,6 +211,7 @@ nlohmann::ordered_json manifest(const Scene& scene, const Camera& camera, const 
   }
   j["background"] = scene.color ? nlohmann::ordered_json(scene.color->background) : nlohmann::ordered_json(scene.background);
   j["integral"] = "I = integral of g(f(s)) exp(-integral_entry^s tau(f(u)) du) ds + background exp(-integral tau), over the ray clipped to the box";
+  if (scene.shading) j["shading"] = shading_manifest(*scene.shading);  // shaded scenes only: others as before
   auto names = nlohmann::ordered_json::array();
   for (const auto& f : files) names.push_back(f.name);
   j["files"] = names;
@@ -252,7 +280,6 @@ void run_export(const ExportOptions& opt) {
     throw std::invalid_argument(fmt::format("--table-points: must be in [1, 1048576], got {}", opt.table_points));
   const InterruptGuard interrupts;  // SIGINT leaves --out as it was (published_folder.h)
   const Scene scene = load_scene_or_default(opt.scene, memory_limit_bytes(opt.max_memory_gib));
-  require_unshaded(scene, opt.scene.empty() ? "the default scene" : opt.scene, "vrv export");
   const Camera camera = scene_camera(scene);  // as vrv render has it
   std::optional<std::array<int, 3>> resolution;
   if (!opt.resolution.empty()) resolution = parse_resolution(opt.resolution);

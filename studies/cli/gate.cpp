@@ -200,9 +200,13 @@ int run_gate(const GateOptions& o) {
     }
     scenes.push_back(load_scene_or_default(c->scene.string()));
     steps.push_back(case_steps(*c, o.bounds));
-    if (c->render && scene_mode(scene_text_or_default(c->scene.string())))
+    const bool projection = scene_mode(scene_text_or_default(c->scene.string())).has_value();
+    if (c->render && projection)
       throw std::invalid_argument(fmt::format("{}: case {}: render: the scene has a projection mode, which a render "
                                               "case does not render; give the renderer's images", o.bounds, c->name));
+    // Before any case runs: a projection of a shaded scene is refused (verify_images would refuse
+    // it mid-run).
+    if (projection) require_unshaded(scenes.back(), c->scene.string(), "vrv gate (a projection's images)");
     if (c->render) {
       if ((c->render->gradient || c->render->gradient_offset) && !scenes.back().shading)
         throw std::invalid_argument(fmt::format("{}: case {}: render: {}: applies to a shaded scene only (one with a "

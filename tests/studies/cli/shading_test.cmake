@@ -90,6 +90,21 @@ run(gate_central 1 gate --bounds ${OUT}/gate_central.toml --out ${OUT}/gate_cent
 expect_error(gate_plain "gate_plain.toml: case plain: render: gradient: applies to a shaded scene only"
   gate --bounds ${OUT}/gate_plain.toml --out ${OUT}/gate_plain --no-cache)
 
+# vrv export writes a shaded scene: export.json states S for the renderer, and scene.toml keeps the
+# [shading] table, so that the renderer's images are verified against the shaded reference.
+run(export 0 export --scene ${OUT}/lit16.toml --out ${OUT}/export --formats nrrd)
+file(READ ${OUT}/export/export.json manifest)
+string(JSON light GET "${manifest}" shading light)
+string(JSON model GET "${manifest}" shading model)
+string(JSON diffuse GET "${manifest}" shading diffuse)
+file(READ ${OUT}/export/scene.toml exported)
+if(NOT model STREQUAL "blinn_phong" OR diffuse LESS 0.6999 OR diffuse GREATER 0.7001 OR NOT light MATCHES "^\\[" OR NOT exported MATCHES "\\[shading\\]")
+  message(FATAL_ERROR "export of a shaded scene: shading ${model} ${diffuse} ${light}\n${exported}")
+endif()
+# --gradient is refused on an unshaded scene: accepted here, the exported scene shades.
+run(exported_ray 0 ray --scene ${OUT}/export/scene.toml --method trapezoid --step 0.05 --gradient analytic
+    --origin 0.1,0.2,-3 --direction 0,0,1 --json)
+
 # Shading at the nodes (a grid, pre-classified, node gradients) from the command line, and refused
 # without its pipeline.
 file(WRITE ${OUT}/grid_lit.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"grid\"\nsource = { kind = \"marschner_lobb\" }\nresolution = [17, 17, 17]\nlayout = \"node\"\ninterpolation = \"trilinear\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[shading]\nlight = [0.0, 0.3, 1.0]\n")
@@ -109,7 +124,6 @@ expect_error(shade_at_unshaded "--shade-at: applies to a shaded scene only"
   ray --scene ${OUT}/plain.toml --method trapezoid --step 0.01 --shade-at nodes --origin 0,0,-3 --direction 0,0,1)
 
 # Refused, naming the scene and what does not shade yet.
-expect_error(export "lit.toml: shading: .*vrv export" export --scene ${OUT}/lit.toml --out ${OUT}/export)
 expect_error(verify_mode "lit.toml: shading: .*vrv verify --mode" verify --scene ${OUT}/lit.toml ${OUT}/lit.exr --steps 0.1 --mode mip)
 expect_error(plan "lit.toml: shading: .*vrv plan" plan --scene ${OUT}/lit.toml --target 1e-3)
 expect_error(bad_key "lit_bad.toml: shading.shininess: must be a finite number >= 1, got 0.5"
