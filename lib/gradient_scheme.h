@@ -18,6 +18,12 @@ enum class GradientScheme { analytic, central, nodes };
 std::optional<GradientScheme> parse_gradient_scheme(std::string_view name);  // "analytic", "central", "nodes"
 std::string_view gradient_scheme_name(GradientScheme s);
 
+// A scheme with its offset, as a configuration holds them (DiscreteConfig::gradient, gradient_offset).
+struct GradientChoice {
+  GradientScheme scheme = GradientScheme::central;
+  std::optional<double> offset;  // central only; none: the default
+};
+
 // Where a discrete raycast shades:
 //   samples  at each sample, after classifying its interpolated value (post-shading);
 //   nodes    at the grid's nodes, before interpolation: each node's classified colour times S of

@@ -75,31 +75,51 @@ bool may_cross(const RayPanel& panel, std::span<const double> levels, double mar
   return first != levels.end() && *first <= hi;
 }
 
-ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
-                          std::vector<Crossing>& out) {
-  std::vector<double> breaks;
-  monotone_breaks(panel, breaks);
-  ValueRange range{INFINITY, -INFINITY};
-  double dc[129];
-  const auto n = static_cast<std::size_t>(panel.size());
-  chebyshev_derivative(panel.coefficients, {dc, n});
-  auto slope = [&](double t) { return chebyshev_evaluate({dc, n}, panel.x_of(t)) * 2 / (panel.b - panel.a); };
-  const std::size_t start = out.size();
+namespace {
+
+// Searches one level on every monotone part, appending its crossings to panel.found.
+void search_level(const RayPanel& panel, double v, std::span<const double> derivative) {
+  const std::vector<double>& breaks = panel.monotone_parts;
+  const std::vector<double>& p = panel.found.part_values;
+  const auto slope = [&](double t) { return chebyshev_evaluate(derivative, panel.x_of(t)) * 2 / (panel.b - panel.a); };
   for (std::size_t i = 0; i + 1 < breaks.size(); ++i) {
     const double lo = breaks[i], hi = breaks[i + 1];
-    const double p_lo = panel(lo), p_hi = panel(hi);
-    range.min = std::min({range.min, p_lo, p_hi});
-    range.max = std::max({range.max, p_lo, p_hi});
-    if (!(hi > lo) || levels.empty()) continue;
-    // Monotone here: each level strictly between the end values is crossed exactly once.
-    const auto first = std::upper_bound(levels.begin(), levels.end(), std::min(p_lo, p_hi));
-    const auto last = std::lower_bound(levels.begin(), levels.end(), std::max(p_lo, p_hi));
-    for (auto level = first; level < last; ++level) {
-      const double v = *level;
-      const double t = bracketed_root([&](double u) { return panel(u) - v; }, lo, hi, p_lo - v, p_hi - v);
-      out.push_back({t, v, slope(t)});
+    if (!(hi > lo)) continue;
+    // Monotone here: a level strictly between the end values is crossed exactly once.
+    if (std::min(p[i], p[i + 1]) < v && v < std::max(p[i], p[i + 1])) {
+      const double t = bracketed_root([&](double u) { return panel(u) - v; }, lo, hi, p[i] - v, p[i + 1] - v);
+      panel.found.crossings.push_back({t, v, slope(t)});
     }
-    if (i > 0 && std::binary_search(levels.begin(), levels.end(), p_lo)) out.push_back({lo, p_lo, slope(lo)});
+    if (i > 0 && p[i] == v) panel.found.crossings.push_back({lo, v, slope(lo)});
+  }
+}
+
+}  // namespace
+
+ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
+                          std::vector<Crossing>& out) {
+  RayPanel::Found& found = panel.found;
+  if (panel.monotone_parts.empty()) {
+    std::vector<double> ignored;
+    monotone_breaks(panel, ignored);
+  }
+  if (found.part_values.empty())
+    for (double t : panel.monotone_parts) found.part_values.push_back(panel(t));
+  ValueRange range{INFINITY, -INFINITY};
+  for (double p : found.part_values) range.min = std::min(range.min, p), range.max = std::max(range.max, p);
+  double dc[129];
+  bool have_derivative = false;
+  const std::size_t start = out.size();
+  for (double v : levels) {
+    const auto searched = std::lower_bound(found.levels.begin(), found.levels.end(), v);
+    if (searched == found.levels.end() || *searched != v) {
+      if (!have_derivative) chebyshev_derivative(panel.coefficients, {dc, panel.coefficients.size()});
+      have_derivative = true;
+      search_level(panel, v, {dc, panel.coefficients.size()});
+      found.levels.insert(searched, v);
+    }
+    for (const Crossing& x : found.crossings)
+      if (x.level == v) out.push_back(x);
   }
   std::sort(out.begin() + static_cast<std::ptrdiff_t>(start), out.end(),
             [](const Crossing& x, const Crossing& y) { return x.t < y.t; });
@@ -122,6 +142,14 @@ std::optional<LevelBand> level_band(const RayPanel& panel, double lo, double hi,
   const double below = where(level - margin, rising ? lo : hi);
   const double above = where(level + margin, rising ? hi : lo);
   return LevelBand{std::min(below, above), std::max(below, above)};
+}
+
+std::optional<LevelBand> part_level_band(const RayPanel& panel, std::size_t part, double level, double margin) {
+  for (const RayPanel::Found::Band& b : panel.found.bands)
+    if (b.part == part && b.level == level && b.margin == margin) return b.band;
+  const auto band = level_band(panel, panel.monotone_parts[part], panel.monotone_parts[part + 1], level, margin);
+  panel.found.bands.push_back({part, level, margin, band});
+  return band;
 }
 
 }  // namespace vrv

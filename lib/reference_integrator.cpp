@@ -224,6 +224,7 @@ void RayAccumulator::split_closed_form_joint(const RayPanel& panel, double c, do
 }
 
 bool RayAccumulator::jumps_located(const RayPanel& panel) {
+  if (jump_levels_.empty()) return true;  // the bands need the crossings; nothing else here does
   crossings_.clear();
   if (may_cross(panel, tf_.breakpoints())) find_crossings(panel, tf_.breakpoints(), crossings_);
   return find_jump_bands(panel);
@@ -243,7 +244,7 @@ bool RayAccumulator::find_jump_bands(const RayPanel& panel) {
   bool located = true;
   for (std::size_t i = 0; i + 1 < breaks_.size(); ++i) {
     for (double level : jump_levels_) {
-      const auto band = level_band(panel, breaks_[i], breaks_[i + 1], level, margin(level));
+      const auto band = part_level_band(panel, i, level, margin(level));
       if (!band) continue;
       // A crossing the proxy has moves to anywhere in the band; where it has none (p passes
       // within its error of the level), the field may still cross anywhere in it.

@@ -200,7 +200,7 @@ void refit_panel(const F& field, const Ray& ray, double a, double b, int n, long
   panel.a = a, panel.b = b;
   panel.values.resize(n);
   panel.coefficients.resize(n);
-  panel.monotone_parts.clear();
+  panel.forget_derived();
   for (int j = 0; j < n; ++j) panel.values[j] = field.value(ray.at(panel.t_of(rule.node(j))));
   evaluations += n;
   rule.coefficients(panel.values, panel.coefficients);

@@ -103,7 +103,7 @@ class FieldShading final : public EmissionWeight {
       panel_.a = a, panel_.b = b;
       panel_.values.resize(n);
       panel_.coefficients.resize(n);
-      panel_.monotone_parts.clear();
+      panel_.forget_derived();
       double size = 0;
       for (int j = 0; j < n; ++j) {
         panel_.values[j] = factor_.switch_value(k, gradients[j]);

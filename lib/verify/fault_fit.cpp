@@ -308,28 +308,16 @@ bool stalls(const VerifyReport& rep) {
                      [](const Fault& f) { return f.kind == FaultKind::constant_floor; });
 }
 
-// `model` at the finest step; on a shaded scene with the gradient scheme (gradient_variants)
-// nearest the finest image on `pixels`: a scheme's error does not cancel in differences of steps.
-DiscreteConfig nearest_gradient(const Model& model, const Scene& scene, const Camera& camera,
-                                const ImageWithStep& finest, int channel, AlphaMode alpha,
-                                const std::vector<long>& pixels) {
-  DiscreteConfig best = model.per_step.back();
-  const std::vector<double> u = observed(finest, channel, scene, alpha, pixels);
-  double best_ss = std::numeric_limits<double>::infinity();
-  for (const Model& v : gradient_variants(model, scene))
-    if (const double ss = squared_residual(u, cast_pixels(scene, camera, v.per_step.back(), pixels)); ss < best_ss)
-      best_ss = ss, best = v.per_step.back();
-  return best;
-}
-
-// The floor is fitted on top of the model of the renderer's placement and rule (and gradient): among the models
+// The floor is fitted on top of the model of the renderer's placement and rule: among the models
 // whose opacity is corrected and that read the transfer function itself (no table), the one whose differences between successive steps match the
 // images' (a step-independent floor cancels in them, the discretisation does not), at the finest
 // step.  On the ranking pixels of the kDifferenceImages coarsest images (the cheapest casts, and
-// the largest differences).
+// the largest differences).  A shaded scene's models take `gradient`, the scheme the diagnosis
+// found nearest (a scheme's error does not cancel in the differences, so they cannot choose it).
 std::optional<DiscreteConfig> discretisation_model(const Scene& scene, const Camera& camera,
                                                    const std::vector<const ImageWithStep*>& sorted, int channel,
-                                                   const VerifyOptions& opt) {
+                                                   const VerifyOptions& opt,
+                                                   const std::optional<GradientChoice>& gradient) {
   std::vector<double> steps;
   for (const auto* im : sorted) steps.push_back(im->step);
   const std::vector<long> pixels = ranking_pixels(camera.width, camera.height);
@@ -338,7 +326,8 @@ std::optional<DiscreteConfig> discretisation_model(const Scene& scene, const Cam
   for (std::size_t k = 0; k < n; ++k) u.push_back(observed(*sorted[k], channel, scene, opt.alpha, pixels));
   std::optional<Model> best;
   double best_ss = std::numeric_limits<double>::infinity();
-  for (const Model& m : distinct_models(scene, steps, opt)) {
+  for (Model m : distinct_models(scene, steps, opt)) {
+    if (gradient) m = with_gradient(m, *gradient, scene);
     // A table is a detail of the value path, which the catalogue fits: the curves themselves here.
     if (!m.label.opacity_corrected || m.per_step.back().table_size > 0) continue;
     std::vector<std::vector<double>> v;
@@ -352,7 +341,7 @@ std::optional<DiscreteConfig> discretisation_model(const Scene& scene, const Cam
     if (ss < best_ss) best_ss = ss, best = m;
   }
   if (!best) return std::nullopt;
-  return nearest_gradient(*best, scene, camera, *sorted.back(), channel, opt.alpha, pixels);
+  return best->per_step.back();
 }
 
 }  // namespace
@@ -389,7 +378,9 @@ std::vector<FaultFit> fit_faults(const FitInput& in) {
 void decompose_floor(VerifyReport& rep, const Scene& scene, const std::vector<const ImageWithStep*>& sorted,
                      int channel, const VerifyOptions& opt) {
   if (!opt.diagnose || sorted.size() < 2 || !stalls(rep)) return;
-  const std::optional<DiscreteConfig> model = discretisation_model(scene, rep.camera, sorted, channel, opt);
+  const std::optional<GradientChoice> gradient =
+      rep.diagnosis.empty() ? std::nullopt : rep.diagnosis.front().gradient_choice;
+  const std::optional<DiscreteConfig> model = discretisation_model(scene, rep.camera, sorted, channel, opt, gradient);
   if (!model) return;
   rep.fault_fits = fit_faults({scene, rep.camera, *model, *sorted.back(), channel, opt.alpha});
   if (rep.fault_fits.empty() || !(rep.fault_fits.front().confirmed >= kNamedFraction)) return;

@@ -44,8 +44,8 @@ std::vector<std::string> fault_fit_ids();
 // When the images stall at a floor (the reference verdict stalls, or a constant floor is named):
 // fits the catalogue on top of vrv's model of the renderer's discretisation (of the models whose
 // opacity is corrected, the one whose differences between successive steps match the images':
-// the floor cancels in them), fills
-// report.fault_fits and names the best confirmed entry that explains at least kNamedFraction as a
+// the floor cancels in them; on a shaded scene with the gradient scheme of report.diagnosis's
+// nearest model), fills report.fault_fits and names the best confirmed entry that explains at least kNamedFraction as a
 // fault.  Nothing otherwise, or with options.diagnose off.
 void decompose_floor(VerifyReport& report, const Scene& scene, const std::vector<const ImageWithStep*>& sorted,
                      int channel, const VerifyOptions& options);

@@ -199,13 +199,15 @@ std::optional<Fault> missing_opacity_correction(const VerifyReport& rep) {
 // that model with the field's exact gradient (gradient_variants, model_catalogue.h): the images'
 // gradient scheme leaves an error of its own, which a finer step does not remove.
 std::optional<Fault> gradient_floor(const VerifyReport& rep) {
-  const std::string_view exact = gradient_scheme_name(GradientScheme::analytic);
-  if (rep.diagnosis.empty() || rep.diagnosis.front().gradient.empty() || rep.diagnosis.front().gradient == exact)
+  const auto exact = [](const Candidate& c) {
+    return c.gradient_choice && c.gradient_choice->scheme == GradientScheme::analytic;
+  };
+  if (rep.diagnosis.empty() || !rep.diagnosis.front().gradient_choice || exact(rep.diagnosis.front()))
     return std::nullopt;
   const Candidate& best = rep.diagnosis.front();
   // The same model with the exact gradient; else (another leader came first on the diagnosis
   // pixels) the nearest model with it on the same pixels.
-  const auto exact_on_same_pixels = [&](const Candidate& c) { return c.gradient == exact && c.pixels == best.pixels; };
+  const auto exact_on_same_pixels = [&](const Candidate& c) { return exact(c) && c.pixels == best.pixels; };
   auto twin = std::find_if(rep.diagnosis.begin(), rep.diagnosis.end(), [&](const Candidate& c) {
     return exact_on_same_pixels(c) && c.placement == best.placement && c.rule == best.rule &&
            c.opacity == best.opacity && c.color == best.color && c.table == best.table;

@@ -101,6 +101,7 @@ Candidate scene_label(const DiscreteConfig& base, const Scene& scene, const std:
   if (scene.shading) {
     auto [gradient, words] = gradient_words(base, scene);
     l.gradient = std::move(gradient);
+    l.gradient_choice = GradientChoice{base.gradient, base.gradient_offset};
     l.name += ", " + words;
   }
   return l;

@@ -35,10 +35,6 @@ std::vector<Model> model_catalogue(const Scene& scene, const std::vector<double>
 // A shaded scene's gradient schemes: central differences at the sample with the default offset
 // (one voxel; first, so that ties keep it), the field's exact gradient, central differences at half
 // and twice the default offset, and on a grid the node differences; none for an unshaded scene.
-struct GradientChoice {
-  GradientScheme scheme = GradientScheme::central;
-  std::optional<double> offset;  // central only; none: the default
-};
 std::vector<GradientChoice> gradient_choices(const Scene& scene);
 // `model` at every step with `gradient`, labelled for it.
 Model with_gradient(const Model& model, const GradientChoice& gradient, const Scene& scene);

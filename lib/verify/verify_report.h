@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "lib/camera.h"
+#include "lib/gradient_scheme.h"
 #include "lib/metrics.h"
 
 namespace vrv {
@@ -63,6 +64,7 @@ struct Candidate {
   // A shaded scene's gradient scheme (lib/gradient_scheme.h): "analytic", "central" (the default
   // offset), "central 0.0156" (another offset), "nodes"; empty for an unshaded scene.
   std::string gradient;
+  std::optional<GradientChoice> gradient_choice;  // the same, for logic; none when unshaded
   // false when the model takes an opacity per sample whatever the sample distance (no correction)
   bool opacity_corrected = true;
   double rms = 0, max = 0;  // RMS over all images of the per-pixel difference, and its max
