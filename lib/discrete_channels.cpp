@@ -18,14 +18,15 @@ std::vector<ChannelsDiscreteResult> discrete_channel_values(const Scene& scene, 
 }
 
 std::vector<std::vector<double>> discrete_channel_planes(const Scene& scene, const Camera& camera,
-                                                         const DiscreteConfig& config) {
+                                                         const DiscreteConfig& config, bool alpha) {
   validate(camera);
   validate(config, std::holds_alternative<GridField>(scene.field));
   const long pixels = pixel_count(camera);
-  std::vector<std::vector<double>> planes(scene.channel_count(), std::vector<double>(static_cast<std::size_t>(pixels)));
+  const int channels = scene.channel_count() + (alpha ? 1 : 0);
+  std::vector<std::vector<double>> planes(channels, std::vector<double>(static_cast<std::size_t>(pixels)));
   discrete_channel_pixels(scene, camera, config, [&](long i, const ChannelsDiscreteResult& r) {
     for (std::size_t c = 0; c < planes.size(); ++c) planes[c][i] = r.value[c];
-  });
+  }, {}, {}, alpha);
   return planes;
 }
 

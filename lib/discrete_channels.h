@@ -9,27 +9,29 @@
 
 #include "lib/discrete_raycast.h"
 #include "lib/image_loop.h"
+#include "lib/reference_channels.h"
 #include "lib/scene.h"
 
 namespace vrv {
 
-// A ray's value in each channel (the first scene.channel_count() entries) and the samples taken
-// over all of them.
+// A ray's value in each channel (the first ImageChannels::count() entries: the scene's channels,
+// then alpha when asked) and the samples taken over all of them.
 struct ChannelsDiscreteResult {
-  std::array<double, 3> value{};
+  std::array<double, 4> value{};
   long samples = 0;
 };
 
-// One DiscreteRaycaster per channel of the scene; the scene and field must outlive it.
+// One DiscreteRaycaster per channel of the scene's image (ImageChannels: grey or RGB, and alpha
+// when asked, cast as the transmittance through the same samples and reported as A = 1 - it); the
+// scene and field must outlive it.
 template <class F>
 class DiscreteChannelCaster {
  public:
-  DiscreteChannelCaster(const F& field, const Scene& scene, const DiscreteConfig& config) {
-    casters_.reserve(scene.channel_count());
-    for (int c = 0; c < scene.channel_count(); ++c)
-      casters_.emplace_back(field, scene.box, scene.color ? scene.color->transfer[c] : scene.transfer,
-                            scene.color ? scene.color->background[c] : scene.background, config,
-                            scene.shading_or_null(), scene.dims);
+  DiscreteChannelCaster(const F& field, const Scene& scene, const DiscreteConfig& config, bool alpha = false)
+      : channels_(scene, alpha) {
+    casters_.reserve(channels_.count());
+    for (const ReferenceChannel& c : channels_.channels())
+      casters_.emplace_back(field, scene.box, *c.transfer, c.background, config, scene.shading_or_null(), scene.dims);
   }
 
   ChannelsDiscreteResult cast(const Ray& ray) const {
@@ -39,20 +41,24 @@ class DiscreteChannelCaster {
       r.value[c] = v.value;
       r.samples += v.samples;
     }
+    if (channels_.alpha()) r.value[casters_.size() - 1] = 1 - r.value[casters_.size() - 1];
     return r;
   }
 
  private:
+  ImageChannels channels_;
   std::vector<DiscreteRaycaster<F>> casters_;
 };
 
 // put(position, ChannelsDiscreteResult) for each pixel of the camera (or of `subset`), through the
 // image loop (lib/image_loop.h).  `config` is taken as validated.
+// With `alpha`, each pixel's last channel is A (DiscreteChannelCaster).
 template <class Put>
 void discrete_channel_pixels(const Scene& scene, const Camera& camera, const DiscreteConfig& config, Put&& put,
-                             const ImageLoopHooks& hooks = {}, std::span<const long> subset = {}) {
+                             const ImageLoopHooks& hooks = {}, std::span<const long> subset = {},
+                             bool alpha = false) {
   visit_field(scene, [&](const auto& field) {
-    const DiscreteChannelCaster caster(field, scene, config);
+    const DiscreteChannelCaster caster(field, scene, config, alpha);
     image_loop_into(camera, subset, [&](const Ray& ray) { return caster.cast(ray); }, put, hooks);
   });
 }
@@ -62,9 +68,9 @@ void discrete_channel_pixels(const Scene& scene, const Camera& camera, const Dis
 std::vector<ChannelsDiscreteResult> discrete_channel_values(const Scene& scene, std::span<const Ray> rays,
                                                             const DiscreteConfig& config);
 
-// A camera's image, one plane per channel (row-major, row 0 at the top); validates the camera
-// and the configuration as discrete_channel_values does.
+// A camera's image, one plane per channel (row-major, row 0 at the top; with `alpha`, A last);
+// validates the camera and the configuration as discrete_channel_values does.
 std::vector<std::vector<double>> discrete_channel_planes(const Scene& scene, const Camera& camera,
-                                                         const DiscreteConfig& config);
+                                                         const DiscreteConfig& config, bool alpha = false);
 
 }  // namespace vrv

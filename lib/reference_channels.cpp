@@ -5,13 +5,30 @@
 #include <stdexcept>
 
 namespace vrv {
+
+ImageChannels::ImageChannels(const Scene& scene, bool alpha) {
+  // With alpha the image is over nothing: premultiplied colour, composited later as C + I0 (1 - A).
+  const auto background = [&](double b) { return alpha ? 0.0 : b; };
+  if (scene.color)
+    for (int c = 0; c < 3; ++c) channels_.push_back({&scene.color->transfer[c], background(scene.color->background[c])});
+  else
+    channels_.push_back({&scene.transfer, background(scene.background)});
+  if (!alpha) return;
+  alpha_ = std::make_unique<TransferFunction>(channels_.front().transfer->without_emission());
+  channels_.push_back({alpha_.get(), 1.0});
+}
+
+bool ChannelsReferenceResult::tolerance_met() const {
+  return std::all_of(channel.begin(), channel.end(), [](const ReferenceResult& r) { return r.tolerance_met; });
+}
+
 namespace detail {
 
-ChannelAccumulators::ChannelAccumulators(const ColorChannels& color, const ReferenceOptions& options, Interval iv,
-                                         double position_error, const EmissionWeight* weight) {
-  accumulators_.reserve(3);
-  for (int c = 0; c < 3; ++c)
-    accumulators_.emplace_back(color.transfer[c], color.background[c], options, iv, position_error, weight);
+ChannelAccumulators::ChannelAccumulators(std::span<const ReferenceChannel> channels, const ReferenceOptions& options,
+                                         Interval iv, double position_error, const EmissionWeight* weight) {
+  accumulators_.reserve(channels.size());
+  for (const ReferenceChannel& c : channels)
+    accumulators_.emplace_back(*c.transfer, c.background, options, iv, position_error, weight);
 }
 
 double ChannelAccumulators::field_tolerance() const {

@@ -1,12 +1,14 @@
 #pragma once
-// The reference of an RGB scene: the three channels' emission under the one optical depth they
-// share, from one set of panels of the field.
+// The reference of several channels under the one optical depth they share, from one set of
+// panels of the field: an RGB scene's three colours, and alpha (A = 1 - e^-Phi) where asked.
 //
 // Each channel keeps its own RayAccumulator (its own crossings, bands and error estimate, so each
 // channel's promise is the grey integrator's); the panels are fitted once and refined until every
-// channel still integrating accepts them, so a field is evaluated once for all three.  A channel
+// channel still integrating accepts them, so a field is evaluated once for all of them.  A channel
 // given the same transfer function as a grey scene gets the grey scene's value bit for bit.
 #include <array>
+#include <memory>
+#include <span>
 #include <vector>
 
 #include "lib/reference_integrator.h"
@@ -22,12 +24,43 @@ struct ColorReferenceResult {
   }
 };
 
+// One channel of a reference: its transfer function (not owned) and background.
+struct ReferenceChannel {
+  const TransferFunction* transfer = nullptr;
+  double background = 0;
+};
+
+// The channels of a scene's image: its colour channels (one grey, or red, green and blue) and, with
+// `alpha`, one more whose value is the transmittance e^-Phi: the same extinction without emission
+// over a background of 1 (so A = 1 - that value, with its estimate).  With alpha the colour is
+// rendered over nothing (background 0): premultiplied RGBA, as EXR and compositing expect, whose
+// colour over the scene's background I0 is C + I0 (1 - A).  Owns the alpha channel's transfer
+// function; the scene must outlive it.
+class ImageChannels {
+ public:
+  ImageChannels(const Scene& scene, bool alpha);
+  std::span<const ReferenceChannel> channels() const { return channels_; }
+  int count() const { return static_cast<int>(channels_.size()); }
+  bool alpha() const { return alpha_ != nullptr; }
+
+ private:
+  std::unique_ptr<TransferFunction> alpha_;  // a stable address for channels_
+  std::vector<ReferenceChannel> channels_;
+};
+
+// Any number of channels' results from one walk per ray.
+struct ChannelsReferenceResult {
+  std::vector<ReferenceResult> channel;  // each counts the shared evaluations
+  long evaluations = 0;                  // field evaluations for all of them
+  bool tolerance_met() const;
+};
+
 namespace detail {
 
-// The three channels' accumulators behind RayAccumulator's interface, as walk_ray drives it.
+// The channels' accumulators behind RayAccumulator's interface, as walk_ray drives it.
 class ChannelAccumulators {
  public:
-  ChannelAccumulators(const ColorChannels& color, const ReferenceOptions& options, Interval iv,
+  ChannelAccumulators(std::span<const ReferenceChannel> channels, const ReferenceOptions& options, Interval iv,
                       double position_error, const EmissionWeight* weight = nullptr);
 
   // The tightest of the channels still integrating: a panel good for it is good for all.
@@ -47,33 +80,35 @@ class ChannelAccumulators {
 
 // A stretch is empty only where every channel is transparent.
 struct AllChannelsTransparent {
-  const ColorChannels& color;
+  std::span<const ReferenceChannel> channels;
   bool transparent_on(double lo, double hi) const {
-    for (const TransferFunction& tf : color.transfer)
-      if (!tf.transparent_on(lo, hi)) return false;
+    for (const ReferenceChannel& c : channels)
+      if (!c.transfer->transparent_on(lo, hi)) return false;
     return true;
   }
   // Every channel transparent somewhere in [lo, hi] (not necessarily at one value: a gate may say
   // yes where no stretch is empty, never no where one is).
   bool transparent_somewhere(double lo, double hi) const {
-    for (const TransferFunction& tf : color.transfer)
-      if (!tf.transparent_somewhere(lo, hi)) return false;
+    for (const ReferenceChannel& c : channels)
+      if (!c.transfer->transparent_somewhere(lo, hi)) return false;
     return true;
   }
 };
 
 template <ScalarField F>
-ColorReferenceResult integrate_color_pass(const F& field, const RayFrame& frame, const ColorChannels& color,
-                                          const ReferenceOptions& options, const Shading* shading) {
+ChannelsReferenceResult integrate_channels_pass(const F& field, const RayFrame& frame,
+                                                std::span<const ReferenceChannel> channels,
+                                                const ReferenceOptions& options, const Shading* shading) {
   const auto weight = shading_on(field, frame, shading);
-  ChannelAccumulators acc(color, options, frame.iv, field_change_within(field, frame.position_error),
+  ChannelAccumulators acc(channels, options, frame.iv, field_change_within(field, frame.position_error),
                           weight.get());
-  const long evaluations = walk_ray(field, frame, AllChannelsTransparent{color}, options, acc);
-  ColorReferenceResult result;
+  const long evaluations = walk_ray(field, frame, AllChannelsTransparent{channels}, options, acc);
+  ChannelsReferenceResult result;
   result.evaluations = evaluations;
-  for (int c = 0; c < 3; ++c) {
+  result.channel.resize(channels.size());
+  for (std::size_t c = 0; c < channels.size(); ++c) {
     ReferenceResult& r = result.channel[c];
-    r = acc.finish(c);
+    r = acc.finish(static_cast<int>(c));
     r.t_entry = frame.t_entry();
     r.t_exit = frame.t_exit();
     r.evaluations = evaluations;
@@ -84,29 +119,45 @@ ColorReferenceResult integrate_color_pass(const F& field, const RayFrame& frame,
 }  // namespace detail
 
 // The grey integrate_reference's contract per channel, with the same retry: when any channel
-// missed its tolerance by a little, all three are integrated once more at the tighter tolerance
-// (the panels are shared) and each keeps its smaller estimate.
+// missed its tolerance by a little, all are integrated once more at the tighter tolerance (the
+// panels are shared) and each keeps its smaller estimate.
 // shading: a factor on every channel's emission (lib/shading.h), or none.
+template <ScalarField F>
+ChannelsReferenceResult integrate_channels_reference(const F& field, const Box& box,
+                                                     std::span<const ReferenceChannel> channels, const Ray& ray,
+                                                     const ReferenceOptions& options = {},
+                                                     const Shading* shading = nullptr) {
+  const auto frame = clip_in_frame(ray, box);
+  if (!frame) {
+    ChannelsReferenceResult miss;
+    for (const ReferenceChannel& c : channels) miss.channel.emplace_back().value = c.background;
+    return miss;
+  }
+  ChannelsReferenceResult first = detail::integrate_channels_pass(field, *frame, channels, options, shading);
+  bool retry = false;
+  for (const ReferenceResult& r : first.channel) retry = retry || detail::worth_retry(r, options.tol);
+  if (!retry) return first;
+  const ChannelsReferenceResult second =
+      detail::integrate_channels_pass(field, *frame, channels, detail::retry_options(options), shading);
+  ChannelsReferenceResult kept;
+  kept.evaluations = first.evaluations + second.evaluations;
+  for (std::size_t c = 0; c < channels.size(); ++c)
+    kept.channel.push_back(detail::better_pass(first.channel[c], second.channel[c], options.tol));
+  return kept;
+}
+
+// An RGB scene's three channels (integrate_channels_reference).
 template <ScalarField F>
 ColorReferenceResult integrate_color_reference(const F& field, const Box& box, const ColorChannels& color,
                                                const Ray& ray, const ReferenceOptions& options = {},
                                                const Shading* shading = nullptr) {
-  const auto frame = clip_in_frame(ray, box);
-  if (!frame) {
-    ColorReferenceResult miss;
-    for (int c = 0; c < 3; ++c) miss.channel[c].value = color.background[c];
-    return miss;
-  }
-  ColorReferenceResult first = detail::integrate_color_pass(field, *frame, color, options, shading);
-  bool retry = false;
-  for (const ReferenceResult& r : first.channel) retry = retry || detail::worth_retry(r, options.tol);
-  if (!retry) return first;
-  const ColorReferenceResult second =
-      detail::integrate_color_pass(field, *frame, color, detail::retry_options(options), shading);
-  ColorReferenceResult kept;
-  kept.evaluations = first.evaluations + second.evaluations;
-  for (int c = 0; c < 3; ++c) kept.channel[c] = detail::better_pass(first.channel[c], second.channel[c], options.tol);
-  return kept;
+  std::array<ReferenceChannel, 3> channels;
+  for (int c = 0; c < 3; ++c) channels[c] = {&color.transfer[c], color.background[c]};
+  const ChannelsReferenceResult r = integrate_channels_reference(field, box, channels, ray, options, shading);
+  ColorReferenceResult out;
+  out.evaluations = r.evaluations;
+  for (int c = 0; c < 3; ++c) out.channel[c] = r.channel[c];
+  return out;
 }
 
 // The scene's field, dispatched to its concrete type.  Throws std::invalid_argument for a grey scene.

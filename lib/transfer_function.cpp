@@ -78,6 +78,13 @@ TransferFunction TransferFunction::emission_extinction(PiecewiseLinear emission,
   return tf;
 }
 
+TransferFunction TransferFunction::without_emission() const {
+  // No emission at a value the extinction already breaks at: no cut of its own.
+  const auto& extinction = affine() ? second_ : first_;
+  const PiecewiseLinear none({{extinction.points().front().v, 0.0}});
+  return affine() ? emission_extinction(none, second_) : opacity_color(first_, none, unit_length_);
+}
+
 TransferFunction TransferFunction::opacity_color(PiecewiseLinear opacity, PiecewiseLinear color,
                                                  double unit_length) {
   if (!(unit_length > 0) || !std::isfinite(unit_length))

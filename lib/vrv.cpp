@@ -67,6 +67,20 @@ std::vector<ColorReferenceResult> color_reference_values(const Scene& scene, std
   return out;
 }
 
+std::vector<ChannelsReferenceResult> channel_reference_values(const Scene& scene, std::span<const Ray> rays,
+                                                              const ReferenceOptions& options, bool alpha) {
+  validate(options);
+  const ImageChannels channels(scene, alpha);
+  std::vector<ChannelsReferenceResult> out(rays.size());
+  visit_field(scene, [&](const auto& field) {
+    parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
+      out[i] = integrate_channels_reference(field, scene.box, channels.channels(), rays[i], options,
+                                            scene.shading_or_null());
+    });
+  });
+  return out;
+}
+
 std::vector<ProjectionResult> projection_values(const Scene& scene, std::span<const Ray> rays, ProjectionMode mode,
                                                 const ProjectionOptions& options) {
   require_grey(scene, "scene", "projection_values");

@@ -59,6 +59,11 @@ void reference_values(const Scene& scene, std::span<const Ray> rays,
 // cast alone, as vrv render does.
 std::vector<ColorReferenceResult> color_reference_values(const Scene& scene, std::span<const Ray> rays,
                                                          const ReferenceOptions& options = {});
+// Every channel of the scene's image along each ray, one set of panels for all of them: grey or
+// RGB, and with `alpha` one more, last, whose value is the transmittance e^-Phi (A = 1 - value,
+// within its estimate; lib/reference_channels.h ImageChannels).  Any scene.
+std::vector<ChannelsReferenceResult> channel_reference_values(const Scene& scene, std::span<const Ray> rays,
+                                                              const ReferenceOptions& options, bool alpha);
 
 // The discrete raycast `config` describes along each ray.  Throws std::invalid_argument
 // (naming the option) when validate(config, grid field) refuses it.  As on the command line,

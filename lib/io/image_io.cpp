@@ -25,14 +25,10 @@ constexpr std::int64_t kMaxReadPixels = std::int64_t{1} << 28;
 
 template <class AnyImage>
 void check_image(const AnyImage& image, const fs::path& path) {
-  if (image.width < 1 || image.height < 1 || (image.channels != 1 && image.channels != 3) ||
+  if (image.width < 1 || image.height < 1 || image.channels < 1 || image.channels > 4 ||
       image.pixels.size() != static_cast<std::size_t>(image.width) * image.height * image.channels)
     throw_file_error(path, fmt::format("bad image size {} x {} x {} channels with {} values", image.width,
                                        image.height, image.channels, image.pixels.size()));
-}
-
-std::vector<std::string> channel_names(int channels) {
-  return channels == 3 ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"Y"};
 }
 
 // Writes the request with the image module to path + ".tmp", then renames it onto path.
@@ -109,9 +105,18 @@ unsigned char mix(unsigned char a, unsigned char b, double t) {  // a + t (b - a
 
 }  // namespace
 
+std::vector<std::string> channel_names(int channels) {
+  switch (channels) {
+    case 2: return {"Y", "A"};
+    case 3: return {"R", "G", "B"};
+    case 4: return {"R", "G", "B", "A"};
+    default: return {"Y"};
+  }
+}
+
 Image::Image(int w, int h, float fill, int c) : width(w), height(h), channels(c) {
   if (w < 0 || h < 0) throw std::invalid_argument(fmt::format("image size {} x {}", w, h));
-  if (c != 1 && c != 3) throw std::invalid_argument(fmt::format("image of {} channels (1 or 3)", c));
+  if (c < 1 || c > 4) throw std::invalid_argument(fmt::format("image of {} channels (1 to 4)", c));
   pixels.assign(static_cast<std::size_t>(w) * h * c, fill);
 }
 

@@ -1,5 +1,6 @@
 #pragma once
-// Float images of one channel (grey, "Y") or three (RGB, "R", "G", "B", interleaved) and their
+// Float images of one channel (grey, "Y") or three (RGB, "R", "G", "B", interleaved), each with
+// alpha ("A") after them or not, and their
 // files, all through OpenImageIO: float OpenEXR for the numbers, 8-bit PNG for looking at them.
 //
 // Every writer is atomic: it writes `<path>.tmp` in the same directory and renames it onto
@@ -14,13 +15,16 @@
 
 namespace vrv {
 
+// The channels' names for a count: "Y"; "Y", "A"; "R", "G", "B"; "R", "G", "B", "A".
+std::vector<std::string> channel_names(int channels);
+
 struct Image {
   int width = 0, height = 0;
   std::vector<float> pixels;  // row-major, row 0 = top, `channels` values a pixel
-  int channels = 1;           // 1 (grey) or 3 (RGB)
+  int channels = 1;           // 1 (grey), 3 (RGB), 2 or 4 (the same and alpha)
 
   Image() = default;
-  // Throws std::invalid_argument for a negative side or a channel count other than 1 or 3.
+  // Throws std::invalid_argument for a negative side or a channel count other than 1 to 4.
   Image(int w, int h, float fill = 0, int channels = 1);
   // A one-channel image's pixel.
   float& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
@@ -46,7 +50,7 @@ struct ImageProvenance {
 // std::runtime_error naming the file when it cannot be read.
 std::optional<ImageProvenance> read_provenance(const std::filesystem::path& path);
 
-// 32-bit float, channels named "Y" or "R", "G", "B", lossless (zip) compression: bit-exact round trip.
+// 32-bit float, channels named by channel_names, lossless (zip) compression: bit-exact round trip.
 void write_exr(const Image& image, const std::filesystem::path& path,
                const ImageProvenance* provenance = nullptr);
 

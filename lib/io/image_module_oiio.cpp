@@ -33,6 +33,9 @@ std::string write(const std::string& path, const WriteRequest& request) try {
   const OIIO::TypeDesc type = type_of(request.type);
   OIIO::ImageSpec spec(request.width, request.height, request.channels, type);
   if (!request.channel_names.empty()) spec.channelnames = request.channel_names;
+  // Named alpha is declared alpha, so a TIFF of Y, A is grey with an extra alpha sample (not "R, G").
+  const auto alpha = std::find(spec.channelnames.begin(), spec.channelnames.end(), "A");
+  spec.alpha_channel = alpha == spec.channelnames.end() ? -1 : static_cast<int>(alpha - spec.channelnames.begin());
   for (const auto& [key, value] : request.attributes) spec.attribute(key, value);
   auto out = OIIO::ImageOutput::create(request.format);
   if (!out) return one_line(fmt::format("no {} writer in OpenImageIO: {}", request.format, OIIO::geterror()));

@@ -2,6 +2,7 @@
 // discrete raycast, written as a float EXR plus an 8-bit PNG preview; optionally the signed
 // error against another EXR.
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <chrono>
 #include <cmath>
@@ -57,6 +58,7 @@ struct RenderOptions {
   std::optional<int> width, height;
   int threads = 0;
   bool quiet = false;
+  bool alpha = false;  // --alpha: A = 1 - e^-Phi after the colour channels
   double max_memory_gib = 0;  // 0: default_memory_limit(), as vrv study
   CLI::Option* tol_option = nullptr;
 };
@@ -150,7 +152,7 @@ struct Rendered {
 };
 
 struct PixelResult {
-  std::array<double, 3> value;  // the first `channels` of the render
+  std::array<double, 4> value;  // the first `channels` of the render
   long work;
   double estimate;  // the largest of the channels'
   bool tolerance_met;  // by every channel
@@ -160,8 +162,7 @@ void check_render_memory(const RenderOptions& opt, const Camera& camera, int cha
   const double pixels = double(camera.width) * camera.height;
   // Under MPI each rank also holds every pixel's value as the image loop exchanges it.
   const std::size_t exchanged = !opt.reference ? std::max(sizeof(ChannelsDiscreteResult), sizeof(PixelResult))
-                                : channels == 3 ? sizeof(ColorReferenceResult)
-                                                : std::max(sizeof(ReferenceResult), sizeof(PixelResult));
+                                               : std::max(sizeof(ReferenceResult), sizeof(PixelResult));
   const double per_pixel = 17 + channels * (12 + (opt.error_against.empty() ? 0 : 12)) +
                            (rank_count() > 1 ? double(exchanged) : 0.0);
   const std::string who = opt.width || opt.height ? std::string("--width/--height")
@@ -218,15 +219,31 @@ ImageLoopHooks progress_hooks(Progress& bar) {
   return hooks;
 }
 
-Rendered render_reference(const Scene& scene, const Camera& camera, double tol, bool quiet) {
-  PixelPlanes planes(camera, scene.channel_count());
+// A pixel of several channels (ImageChannels): the alpha channel's transmittance T becomes A = 1 - T,
+// with T's estimate.
+PixelResult channels_pixel(const ChannelsReferenceResult& v, bool alpha) {
+  PixelResult p{{}, v.evaluations, 0.0, v.tolerance_met()};
+  for (std::size_t c = 0; c < v.channel.size(); ++c) {
+    p.value[c] = v.channel[c].value;
+    p.estimate = std::max(p.estimate, v.channel[c].error_estimate);
+  }
+  if (alpha) p.value[v.channel.size() - 1] = 1 - p.value[v.channel.size() - 1];
+  return p;
+}
+
+Rendered render_reference(const Scene& scene, const Camera& camera, double tol, bool quiet, bool alpha) {
+  const ImageChannels channels(scene, alpha);
+  PixelPlanes planes(camera, channels.count());
   Progress bar("render", pixel_count(camera), !quiet);
-  if (scene.color) {
-    color_reference_pixels(scene, camera, {tol}, [&](long i, const ColorReferenceResult& v) {
-      const auto& ch = v.channel;
-      planes.put(i, {{ch[0].value, ch[1].value, ch[2].value}, v.evaluations,
-                     std::max({ch[0].error_estimate, ch[1].error_estimate, ch[2].error_estimate}), v.tolerance_met()});
-    }, progress_hooks(bar));
+  if (channels.count() > 1) {
+    // One walk per ray for every channel; each pixel's channels are reduced to a PixelResult on the
+    // rank that casts it (a fixed-width record for the ranks to exchange).
+    visit_field(scene, [&](const auto& field) {
+      image_loop_into(camera, {}, [&](const Ray& ray) {
+        return channels_pixel(integrate_channels_reference(field, scene.box, channels.channels(), ray, {tol},
+                                                           scene.shading_or_null()), alpha);
+      }, [&](long i, const PixelResult& p) { planes.put(i, p); }, progress_hooks(bar));
+    });
   } else {
     reference_pixels(scene, camera, {tol}, [&](long i, const ReferenceResult& v) {
       planes.put(i, {{v.value}, v.evaluations, v.error_estimate, v.tolerance_met});
@@ -238,12 +255,12 @@ Rendered render_reference(const Scene& scene, const Camera& camera, double tol, 
 
 // Each channel cast alone (lib/discrete_channels.h).
 Rendered render_discrete(const Scene& scene, const Camera& camera, const DiscreteConfig& config,
-                         bool quiet) {
-  PixelPlanes planes(camera, scene.channel_count());
+                         bool quiet, bool alpha) {
+  PixelPlanes planes(camera, scene.channel_count() + (alpha ? 1 : 0));
   Progress bar("render", pixel_count(camera), !quiet);
   discrete_channel_pixels(scene, camera, config, [&](long i, const ChannelsDiscreteResult& r) {
     planes.put(i, {r.value, r.samples, 0.0, true});
-  }, progress_hooks(bar));
+  }, progress_hooks(bar), {}, alpha);
   bar.finish();
   return planes.finish();
 }
@@ -290,7 +307,7 @@ ImageF64 read_reference_image(const std::string& path, const Camera& camera, con
       const auto p64 = read_provenance(f64);
       if (p64 && provenance && p64->scene_hash == provenance->scene_hash) source = f64;
     }
-    ref = read_image_f64(source, 3);
+    ref = read_image_f64(source, 4);
   } catch (const std::invalid_argument&) {
     throw;
   } catch (const std::exception& e) {
@@ -301,7 +318,7 @@ ImageF64 read_reference_image(const std::string& path, const Camera& camera, con
                           camera.width, camera.height));
   if (ref.channels != channels)
     throw bad(fmt::format("{} channel{} where the render has {} ({})", ref.channels, ref.channels == 1 ? "" : "s",
-                          channels, channels == 3 ? "RGB" : "grey"));
+                          channels, std::array{"grey", "grey and alpha", "RGB", "RGBA"}[channels - 1]));
   if (!provenance)
     throw bad("carries no vrv provenance (scene hash, camera), so it cannot be checked against this "
               "scene and camera; render the reference with this version of vrv render");
@@ -317,7 +334,7 @@ ImageF64 read_reference_image(const std::string& path, const Camera& camera, con
     const std::size_t pixel = i / channels;
     if (!std::isfinite(v))
       throw bad(fmt::format("pixel ({}, {}){} is {}", pixel % ref.width, pixel / ref.width,
-                            channels == 3 ? fmt::format(" channel {}", "RGB"[i % 3]) : std::string(), v));
+                            channels > 1 ? fmt::format(" channel {}", channel_names(channels)[i % channels]) : std::string(), v));
   }
   return ref;
 }
@@ -355,6 +372,15 @@ std::vector<ErrorStats> error_image(const ImageF64& image, const ImageF64& ref, 
   return stats;
 }
 
+// The colour channels of an image whose last channel is alpha (the PNG preview: PNG's alpha is
+// straight, vrv's colour is premultiplied, so the preview shows the colour over black).
+Image without_alpha(const Image& image) {
+  Image out(image.width, image.height, 0, image.channels - 1);
+  for (std::size_t p = 0; p < out.pixels.size() / out.channels; ++p)
+    for (int c = 0; c < out.channels; ++c) out.pixels[p * out.channels + c] = image.pixels[p * image.channels + c];
+  return out;
+}
+
 // The error map's one value a pixel: the channel error of largest magnitude, sign kept.
 Image largest_channel_error(const Image& error) {
   if (error.channels == 1) return error;
@@ -380,13 +406,16 @@ void run_render(const RenderOptions& opt) {
   check_threads(opt.threads);
   const Scene scene = load_scene_or_default(opt.scene, memory_limit_bytes(opt.max_memory_gib));
   const auto projection = projection_setup(chosen_mode(opt.mode, scene_text_or_default(opt.scene)), opt.discrete, scene);
+  if (projection && opt.alpha)
+    throw std::invalid_argument(fmt::format("--alpha: {}: a projection's image has one channel",
+                                            projection_mode_name(projection->mode)));
   if (projection && scene.color)
     throw std::invalid_argument(fmt::format("--mode: {}: the scene is RGB, and projections take one channel so far",
                                             projection_mode_name(projection->mode)));
   // A projection's work is estimated as the emission-absorption cast's of the same sampling.
   const auto discrete = projection ? projection->work : discrete_config(opt.discrete, scene);
   const Camera camera = scene_camera(scene, opt.width, opt.height);  // --width/--height errors named
-  check_render_memory(opt, camera, scene.channel_count());
+  check_render_memory(opt, camera, scene.channel_count() + (opt.alpha ? 1 : 0));
   ImageProvenance provenance = render_provenance(scene, camera, discrete, opt.tol);
   if (projection) {
     // The mode is part of what the image is: --error-against refuses an image of another mode.
@@ -406,7 +435,8 @@ void run_render(const RenderOptions& opt) {
   if (is_output_rank()) image_io.emplace();
   std::optional<ImageF64> ref;
   if (!opt.error_against.empty() && is_output_rank())
-    ref = read_reference_image(opt.error_against, camera, provenance.scene_hash, scene.channel_count());
+    ref = read_reference_image(opt.error_against, camera, provenance.scene_hash,
+                               scene.channel_count() + (opt.alpha ? 1 : 0));
   check_work(opt.discrete, discrete, opt.tol, scene, pixel_count(camera),
              [&](long i) { return pixel_ray(camera, i); });
 
@@ -421,8 +451,8 @@ void run_render(const RenderOptions& opt) {
   const Rendered r = [&] {
     const PixelSharing sharing;  // the pixel loop alone is dealt to MPI ranks
     return projection ? render_projection(scene, camera, *projection, opt.tol, opt.quiet)
-           : discrete ? render_discrete(scene, camera, *discrete, opt.quiet)
-                      : render_reference(scene, camera, opt.tol, opt.quiet);
+           : discrete ? render_discrete(scene, camera, *discrete, opt.quiet, opt.alpha)
+                      : render_reference(scene, camera, opt.tol, opt.quiet, opt.alpha);
   }();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -441,8 +471,9 @@ void run_render(const RenderOptions& opt) {
   image_io->wait();
   write_exr(r.image, out.exr, &provenance);
   write_tiff_f64(r.values, out.f64, &provenance);
-  const float max_value = *std::max_element(r.image.pixels.begin(), r.image.pixels.end());
-  write_png_preview(r.image, out.png, 0, max_value > 0 ? max_value : 1, &provenance);
+  const Image colour = opt.alpha ? without_alpha(r.image) : r.image;
+  const float max_value = *std::max_element(colour.pixels.begin(), colour.pixels.end());
+  write_png_preview(colour, out.png, 0, max_value > 0 ? max_value : 1, &provenance);
 
   nlohmann::ordered_json j;
   j["output"] = out.exr.string();
@@ -477,7 +508,7 @@ void run_render(const RenderOptions& opt) {
     j["mean_abs_error"] = s.mean;
     j["rms_error"] = s.rms;
     for (std::size_t c = 1; c < stats.size(); ++c) {
-      const std::string name(1, "RGB"[c - 1]);
+      const std::string name = channel_names(r.values.channels)[c - 1];
       std::cerr << fmt::format("vrv render:   channel {}: max |e| {:.6g}, mean |e| {:.6g}, RMS {:.6g}\n", name,
                                stats[c].max, stats[c].mean, stats[c].rms);
       j["channels"][name] = {{"max_abs_error", stats[c].max}, {"mean_abs_error", stats[c].mean}, {"rms_error", stats[c].rms}};
@@ -501,7 +532,8 @@ void add_render_command(CLI::App& app) {
       "Camera: the scene's [camera] table; without one, a perspective camera (vertical fov 40 "
       "degrees, 256 x 256, up +y) looking along +z at the box centre from 2.5 box diagonals "
       "away.\n"
-      "Writes OUT.exr (float: one channel Y, or R, G, B for an RGB scene), OUT.f64.tiff (the same in "
+      "Writes OUT.exr (float: one channel Y, or R, G, B for an RGB scene; with --alpha also A = 1 - e^-Phi, the colour then "
+      "rendered over nothing: premultiplied, as EXR expects), OUT.f64.tiff (the same in "
       "double, bit for bit) and OUT.png (8-bit, 0 to the image maximum), each carrying its provenance (scene hash, camera, "
       "method, step) in its metadata; with "
       "--error-against REF.exr also OUT_error.exr (this - REF, signed float, per channel) and OUT_error.png "
@@ -527,6 +559,11 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--height", opt->height, "Override the camera's height (pixels; 1 for a fan)");
   cmd->add_option("--threads", opt->threads, "Threads (default: all cores); results do not depend on it");
   cmd->add_flag("--quiet", opt->quiet, "No progress bar on stderr");
+  cmd->add_flag("--alpha", opt->alpha,
+                "Add an alpha channel A = 1 - e^-Phi (the opacity the ray accumulates; the discrete raycast's "
+                "1 - its transmittance through the same samples) after Y or R, G, B, and render the colour over "
+                "nothing (premultiplied: over the scene's background it is C + I0 (1 - A)); the PNG preview "
+                "shows the colour");
   cmd->add_option("--max-memory", opt->max_memory_gib,
                   "GiB the render may take, estimated from the camera before anything is allocated "
                   "(default: 3/4 of physical memory)");

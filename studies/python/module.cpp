@@ -407,31 +407,35 @@ py::array_t<double> render_projection(const Scene& scene, ProjectionMode mode, c
   return a;
 }
 
-// An RGB scene's image, (height, width, 3): the reference (one set of panels for the channels), or
-// each channel's discrete image.
-py::array_t<double> render_color(const Scene& scene, const Camera& camera, const std::optional<DiscreteConfig>& config,
-                                 const ReferenceOptions& options) {
+// An RGB scene's image, or any scene's with alpha: (height, width, channels), A last: the reference
+// (one set of panels for the channels), or each channel's discrete image.
+py::array_t<double> render_channels(const Scene& scene, const Camera& camera, const std::optional<DiscreteConfig>& config,
+                                    const ReferenceOptions& options, bool alpha) {
   const std::vector<Ray> rays = camera_rays(camera);
-  py::array_t<double> a({camera.height, camera.width, 3});
+  const int n = scene.channel_count() + (alpha ? 1 : 0);
+  py::array_t<double> a({camera.height, camera.width, n});
   double* p = a.mutable_data();
   if (!config) {
-    const auto r = interruptible([&] { return color_reference_values(scene, rays, options); });
+    const auto r = interruptible([&] { return channel_reference_values(scene, rays, options, alpha); });
     for (std::size_t i = 0; i < r.size(); ++i)
-      for (int c = 0; c < 3; ++c) p[3 * i + c] = r[i].channel[c].value;
+      for (int c = 0; c < n; ++c) p[n * i + c] = r[i].channel[c].value;
+    if (alpha)
+      for (std::size_t i = 0; i < r.size(); ++i) p[n * i + n - 1] = 1 - p[n * i + n - 1];
     return a;
   }
-  const auto planes = interruptible([&] { return discrete_channel_planes(scene, camera, *config); });
-  for (int c = 0; c < 3; ++c)
-    for (std::size_t i = 0; i < planes[c].size(); ++i) p[3 * i + c] = planes[c][i];
+  const auto planes = interruptible([&] { return discrete_channel_planes(scene, camera, *config, alpha); });
+  for (int c = 0; c < n; ++c)
+    for (std::size_t i = 0; i < planes[c].size(); ++i) p[n * i + c] = planes[c][i];
   return a;
 }
 
 // (height, width) values of the scene's camera: the reference without `method`, else the
 // discrete raycast the keywords describe; with mode=, the projection's reference or discrete version.
 py::array_t<double> render(const Scene& scene, double tol, std::optional<int> width,
-                           std::optional<int> height, const py::kwargs& given) {
+                           std::optional<int> height, bool alpha, const py::kwargs& given) {
   py::dict kw;
   const std::optional<ProjectionMode> mode = mode_keyword(take_mode(given, kw));
+  if (mode && alpha) throw std::invalid_argument("alpha=: a projection's image has one channel");
   if (mode && kw.contains("method") && !kw["method"].is_none())
     return render_projection(scene, *mode, scene_camera(scene, width, height), kw);
   const auto keywords = discrete_keywords(scene, kw);
@@ -447,7 +451,7 @@ py::array_t<double> render(const Scene& scene, double tol, std::optional<int> wi
     std::copy(ref.value.begin(), ref.value.end(), a.mutable_data());
     return a;
   }
-  if (scene.color) return render_color(scene, camera, config, options);
+  if (scene.color || alpha) return render_channels(scene, camera, config, options, alpha);
   const ValueImage image = interruptible([&] {
     return config ? render_discrete_image(scene, camera, *config) : render_reference_image(scene, camera, options);
   });
@@ -711,11 +715,12 @@ PYBIND11_MODULE(vrv, m) {
            "step), MIP adding position; an RGB scene's value has a trailing axis of 3, each channel "
            "cast alone, samples summed")
       .def("render", &render, py::arg("tol") = 1e-12, py::arg("width") = py::none(),
-           py::arg("height") = py::none(),
+           py::arg("height") = py::none(), py::arg("alpha") = false,
            "The scene camera's image as a (height, width) float64 array: the reference, or with "
            "method=... the discrete raycast (options as for `discrete`); max_work=1e9 as --max-work; "
            "mode=... (as `reference`) the projection's reference image, with method=... its discrete "
-           "version (as `discrete`); (height, width, 3) for an RGB scene")
+           "version (as `discrete`); (height, width, 3) for an RGB scene; alpha=True adds A = 1 - e^-Phi "
+           "as a last channel ((height, width, 2) grey, (height, width, 4) RGB), as `vrv render --alpha`")
       .def("rays", &rays, py::arg("width") = py::none(), py::arg("height") = py::none(),
            "The scene camera's rays: (origins, directions), each (height, width, 3)");
   m.def("plan", &plan_py, py::arg("scene"), py::arg("target"), py::kw_only(), py::arg("metric") = "max",

@@ -18,63 +18,17 @@
     color_render_test.py VRV OUT_DIR
 """
 import json
-import shutil
-import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import OpenImageIO as oiio
 
-vrv, out = sys.argv[1], Path(sys.argv[2])
-shutil.rmtree(out, ignore_errors=True)
-out.mkdir(parents=True)
+from render_session import RenderSession, points, read
 
-HEAD = """[volume]
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 1.0, 1.0]
-[field]
-kind = "grid"
-resolution = [9, 8, 7]
-source = { kind = "marschner_lobb" }
-[camera]
-eye = [0.4, 0.7, -3.5]
-target = [0.0, 0.1, 0.0]
-width = 20
-height = 16
-"""
+session = RenderSession(sys.argv[1], sys.argv[2])
+vrv, out = session.vrv, session.out
+scene, run, render = session.scene, session.run, session.render
 GREY_EMISSION = [[0.0, 0.0], [0.4, 0.3], [0.4, 0.9], [1.0, 0.5]]
-
-
-def points(pts):
-    return "[" + ", ".join("[" + ", ".join(repr(float(x)) for x in p) + "]" for p in pts) + "]"
-
-
-def scene(name, transfer, background=""):
-    path = out / name
-    path.write_text(HEAD + "[transfer]\n" + transfer + background)
-    return path
-
-
-def run(*args, expect=0):
-    r = subprocess.run([vrv, *map(str, args)], capture_output=True, text=True)
-    assert r.returncode == expect, f"{args}: exit {r.returncode} (expected {expect}): {r.stderr}"
-    return r
-
-
-def render(scene_path, name, *how):
-    r = run("render", "--scene", scene_path, *how, "--quiet", "-o", out / (name + ".exr"))
-    return json.loads(r.stdout.splitlines()[-1])
-
-
-def read(path):
-    im = oiio.ImageInput.open(str(path))
-    assert im, oiio.geterror()
-    spec = im.spec()
-    data = np.asarray(im.read_image(oiio.DOUBLE))
-    names = tuple(spec.channelnames)
-    im.close()
-    return data, names
 
 
 EXTINCTION = "extinction = [[0.0, 0.1], [1.0, 2.0]]\n"

@@ -100,3 +100,22 @@ def test_projections_refuse_an_rgb_scene():
         s.reference(origins, directions, mode="mip")
     with pytest.raises(ValueError, match="the scene is RGB"):
         s.render(mode="xray")
+
+
+def test_render_with_alpha():
+    """render(alpha=True): A = 1 - e^-Phi last, the colour over nothing (C + I0 (1 - A) is the plain
+    render); the discrete A is the same bit for bit in an RGB scene and its grey channel's."""
+    s = rgb_scene()
+    plain = s.render(method="alpha", step=0.05)
+    over = s.render(method="alpha", step=0.05, alpha=True)
+    assert over.shape == (7, 9, 4)
+    a = over[:, :, 3]
+    assert 0 <= a.min() and a.max() <= 1 and a.max() > 0.2
+    for c in range(3):
+        assert np.abs(over[:, :, c] + BACKGROUND[c] * (1 - a) - plain[:, :, c]).max() <= 1e-15
+    grey = grey_scene(1).render(method="alpha", step=0.05, alpha=True)
+    assert grey.shape == (7, 9, 2) and np.array_equal(grey[:, :, 1], a)
+    ref = s.render(tol=1e-10, alpha=True)
+    assert ref.shape == (7, 9, 4) and np.abs(ref[:, :, 3] - a).max() < 0.05
+    with pytest.raises(ValueError, match="alpha="):
+        grey_scene(0).render(mode="xray", alpha=True)
