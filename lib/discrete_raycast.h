@@ -3,6 +3,7 @@
 // a segment rule, oversampling with an opacity correction, early termination, skipping,
 // pre- or post-classification, front-to-back or back-to-front, in double or float.
 #include <cmath>
+#include <array>
 #include <limits>
 #include <optional>
 #include <span>
@@ -156,6 +157,28 @@ class Classifier {
   mutable double lo_ = 1, hi_ = 0;   // empty until the first lookup
 };
 
+// S of the nodes a ray's samples read (config.shade_at = nodes), kept per ray: neighbouring samples
+// share a cell's 8 corners, so each node's normal and powers are made once, not once a sample.
+// Direct-mapped by a multiplicative hash of the node's index (its low bits alone would map the
+// corners of a 64-wide grid's rows onto one slot).
+class NodeShadeCache {
+ public:
+  template <class Shade>
+  double operator()(std::size_t node, Shade&& shade) {
+    Slot& slot = slots_[(node * 0x9E3779B97F4A7C15ull) >> (64 - kBits)];
+    if (slot.node != node) slot = {node, shade(node)};
+    return slot.s;
+  }
+
+ private:
+  static constexpr int kBits = 6;
+  struct Slot {
+    std::size_t node = static_cast<std::size_t>(-1);
+    double s = 0;
+  };
+  std::array<Slot, std::size_t{1} << kBits> slots_{};
+};
+
 }  // namespace detail
 
 // Casts rays through one field with one configuration; builds what the configuration needs
@@ -179,7 +202,7 @@ class DiscreteRaycaster {
   // node's gradient for this ray's `factor`).
   template <class Real>
   detail::Classified<Real> classify_shaded_nodes(const Ray& ray, Real t, const detail::Classifier& classes,
-                                                 const ShadingFactor& factor) const;
+                                                 const ShadingFactor& factor, detail::NodeShadeCache& cache) const;
 
   const F& field_;
   Box box_;

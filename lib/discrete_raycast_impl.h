@@ -181,10 +181,12 @@ template <ScalarField F>
 template <class Real>
 detail::Classified<Real> DiscreteRaycaster<F>::classify_shaded_nodes(const Ray& ray, Real t,
                                                                      const detail::Classifier& classes,
-                                                                     const ShadingFactor& factor) const {
+                                                                     const ShadingFactor& factor,
+                                                                     detail::NodeShadeCache& cache) const {
   const Vec3 p = detail::sample_position(ray, t);
   const NodeGradients& g = *node_gradients_;
-  const auto s = [&](std::size_t n) { return factor(Vec3(g.x.nodes()[n], g.y.nodes()[n], g.z.nodes()[n])); };
+  const auto shade = [&](std::size_t n) { return factor(Vec3(g.x.nodes()[n], g.y.nodes()[n], g.z.nodes()[n])); };
+  const auto s = [&](std::size_t n) { return cache(n, shade); };
   const GridNodes &first = pre_first_->nodes(), &second = pre_second_->nodes();
   if (tf_.convention() != Convention::opacity_color)  // the emission is shaded, the extinction not
     return classes.from_emission_extinction<Real>(pre_first_->interpolate(p, [&](std::size_t n) { return first[n] * s(n); }),
@@ -242,9 +244,11 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
   std::optional<ShadingFactor> factor;
   if (shading_) factor.emplace(*shading_, ray.direction);
   const bool shade_nodes = factor && config_.shade_at == ShadeAt::nodes;
+  std::optional<detail::NodeShadeCache> node_shades;
+  if (shade_nodes) node_shades.emplace();
   // A sample's classes, shaded at the sample or from the shaded nodes.
   auto shaded = [&](Real t, const detail::Classifier& cl) VRV_FORCE_INLINE_LAMBDA {
-    if (shade_nodes) return classify_shaded_nodes<Real>(ray, t, cl, *factor);
+    if (shade_nodes) return classify_shaded_nodes<Real>(ray, t, cl, *factor, *node_shades);
     auto c = classify<Real>(ray, t, cl);
     if (factor) shade(c, detail::sample_position(ray, t), *factor);
     return c;

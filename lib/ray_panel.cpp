@@ -110,7 +110,10 @@ ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
   double dc[129];
   bool have_derivative = false;
   const std::size_t start = out.size();
-  for (double v : levels) {
+  // A level outside the range is crossed nowhere: only those inside are looked up.
+  const auto first = std::lower_bound(levels.begin(), levels.end(), range.min);
+  const auto last = std::upper_bound(first, levels.end(), range.max);
+  for (const double v : std::span(first, last)) {
     const auto searched = std::lower_bound(found.levels.begin(), found.levels.end(), v);
     if (searched == found.levels.end() || *searched != v) {
       if (!have_derivative) chebyshev_derivative(panel.coefficients, {dc, panel.coefficients.size()});

@@ -72,7 +72,7 @@ struct ValueRange {
 // skipping it saves the derivative's evaluation at 2n + 1 points.
 // With `margin`, whether p comes within margin of a level.
 bool may_cross(const RayPanel& panel, std::span<const double> levels, double margin = 0);
-// Parameters t in (panel.a, panel.b) where p(t) crosses one of the sorted `levels`
+// Parameters t in (panel.a, panel.b) where p(t) crosses one of the sorted, distinct `levels`
 // (transfer-function control values), sorted, appended to `out`.  The panel is first cut
 // where p' changes sign; on each monotone part every level between the end values is
 // crossed once and found with TOMS 748 on the proxy, so close pairs of crossings are kept.

@@ -146,6 +146,17 @@ ChannelsReferenceResult integrate_channels_reference(const F& field, const Box& 
   return kept;
 }
 
+// The channels of an image (ImageChannels), alpha as A = 1 - e^-Phi: its channel's transmittance
+// turned over, with the same estimate (and optical depth).
+template <ScalarField F>
+ChannelsReferenceResult integrate_image_channels(const F& field, const Box& box, const ImageChannels& channels,
+                                                 const Ray& ray, const ReferenceOptions& options = {},
+                                                 const Shading* shading = nullptr) {
+  ChannelsReferenceResult r = integrate_channels_reference(field, box, channels.channels(), ray, options, shading);
+  if (channels.alpha()) r.channel.back().value = 1 - r.channel.back().value;
+  return r;
+}
+
 // An RGB scene's three channels (integrate_channels_reference).
 template <ScalarField F>
 ColorReferenceResult integrate_color_reference(const F& field, const Box& box, const ColorChannels& color,

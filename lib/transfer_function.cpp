@@ -79,9 +79,10 @@ TransferFunction TransferFunction::emission_extinction(PiecewiseLinear emission,
 }
 
 TransferFunction TransferFunction::without_emission() const {
-  // No emission at a value the extinction already breaks at: no cut of its own.
-  const auto& extinction = affine() ? second_ : first_;
-  const PiecewiseLinear none({{extinction.points().front().v, 0.0}});
+  // No emission between the whole function's first and last breakpoints (cuts it has already):
+  // a table over its breakpoints' range then covers the same values as this function's.
+  const double lo = breakpoints_.front(), hi = breakpoints_.back();
+  const PiecewiseLinear none = lo < hi ? PiecewiseLinear({{lo, 0.0}, {hi, 0.0}}) : PiecewiseLinear({{lo, 0.0}});
   return affine() ? emission_extinction(none, second_) : opacity_color(first_, none, unit_length_);
 }
 

@@ -94,8 +94,9 @@ class TransferFunction {
   static TransferFunction opacity_color(PiecewiseLinear opacity, PiecewiseLinear color,
                                         double unit_length);
 
-  // The same extinction (opacity and unit length) without emission: its reference over a
-  // background of 1 is the transmittance e^-Phi, the alpha channel's complement.
+  // The same extinction (opacity and unit length) without emission, over the same range of
+  // breakpoints: its reference over a background of 1 is the transmittance e^-Phi, the alpha
+  // channel's complement.
   TransferFunction without_emission() const;
 
   Convention convention() const { return convention_; }

@@ -74,8 +74,7 @@ std::vector<ChannelsReferenceResult> channel_reference_values(const Scene& scene
   std::vector<ChannelsReferenceResult> out(rays.size());
   visit_field(scene, [&](const auto& field) {
     parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
-      out[i] = integrate_channels_reference(field, scene.box, channels.channels(), rays[i], options,
-                                            scene.shading_or_null());
+      out[i] = integrate_image_channels(field, scene.box, channels, rays[i], options, scene.shading_or_null());
     });
   });
   return out;

@@ -60,8 +60,8 @@ void reference_values(const Scene& scene, std::span<const Ray> rays,
 std::vector<ColorReferenceResult> color_reference_values(const Scene& scene, std::span<const Ray> rays,
                                                          const ReferenceOptions& options = {});
 // Every channel of the scene's image along each ray, one set of panels for all of them: grey or
-// RGB, and with `alpha` one more, last, whose value is the transmittance e^-Phi (A = 1 - value,
-// within its estimate; lib/reference_channels.h ImageChannels).  Any scene.
+// RGB, and with `alpha` one more, last, A = 1 - e^-Phi within its estimate, the colour then over
+// nothing (lib/reference_channels.h ImageChannels, integrate_image_channels).  Any scene.
 std::vector<ChannelsReferenceResult> channel_reference_values(const Scene& scene, std::span<const Ray> rays,
                                                               const ReferenceOptions& options, bool alpha);
 

@@ -33,9 +33,13 @@ std::string write(const std::string& path, const WriteRequest& request) try {
   const OIIO::TypeDesc type = type_of(request.type);
   OIIO::ImageSpec spec(request.width, request.height, request.channels, type);
   if (!request.channel_names.empty()) spec.channelnames = request.channel_names;
-  // Named alpha is declared alpha, so a TIFF of Y, A is grey with an extra alpha sample (not "R, G").
-  const auto alpha = std::find(spec.channelnames.begin(), spec.channelnames.end(), "A");
-  spec.alpha_channel = alpha == spec.channelnames.end() ? -1 : static_cast<int>(alpha - spec.channelnames.begin());
+  // A TIFF keeps no channel names, only what the samples are: named alpha is declared alpha, so
+  // Y, A reads back as grey and alpha (not "R, G").  EXR keeps the names (an error image's A is
+  // an error, not alpha).
+  if (request.format == "tiff") {
+    const auto alpha = std::find(spec.channelnames.begin(), spec.channelnames.end(), "A");
+    spec.alpha_channel = alpha == spec.channelnames.end() ? -1 : static_cast<int>(alpha - spec.channelnames.begin());
+  }
   for (const auto& [key, value] : request.attributes) spec.attribute(key, value);
   auto out = OIIO::ImageOutput::create(request.format);
   if (!out) return one_line(fmt::format("no {} writer in OpenImageIO: {}", request.format, OIIO::geterror()));

@@ -219,15 +219,13 @@ ImageLoopHooks progress_hooks(Progress& bar) {
   return hooks;
 }
 
-// A pixel of several channels (ImageChannels): the alpha channel's transmittance T becomes A = 1 - T,
-// with T's estimate.
-PixelResult channels_pixel(const ChannelsReferenceResult& v, bool alpha) {
+// A pixel of several channels (ImageChannels, alpha already A).
+PixelResult channels_pixel(const ChannelsReferenceResult& v) {
   PixelResult p{{}, v.evaluations, 0.0, v.tolerance_met()};
   for (std::size_t c = 0; c < v.channel.size(); ++c) {
     p.value[c] = v.channel[c].value;
     p.estimate = std::max(p.estimate, v.channel[c].error_estimate);
   }
-  if (alpha) p.value[v.channel.size() - 1] = 1 - p.value[v.channel.size() - 1];
   return p;
 }
 
@@ -240,8 +238,7 @@ Rendered render_reference(const Scene& scene, const Camera& camera, double tol, 
     // rank that casts it (a fixed-width record for the ranks to exchange).
     visit_field(scene, [&](const auto& field) {
       image_loop_into(camera, {}, [&](const Ray& ray) {
-        return channels_pixel(integrate_channels_reference(field, scene.box, channels.channels(), ray, {tol},
-                                                           scene.shading_or_null()), alpha);
+        return channels_pixel(integrate_image_channels(field, scene.box, channels, ray, {tol}, scene.shading_or_null()));
       }, [&](long i, const PixelResult& p) { planes.put(i, p); }, progress_hooks(bar));
     });
   } else {
@@ -417,6 +414,7 @@ void run_render(const RenderOptions& opt) {
   const Camera camera = scene_camera(scene, opt.width, opt.height);  // --width/--height errors named
   check_render_memory(opt, camera, scene.channel_count() + (opt.alpha ? 1 : 0));
   ImageProvenance provenance = render_provenance(scene, camera, discrete, opt.tol);
+  if (opt.alpha) provenance.method += " alpha";  // the colour over nothing, A last
   if (projection) {
     // The mode is part of what the image is: --error-against refuses an image of another mode.
     const std::string_view mode = projection_mode_name(projection->mode);
@@ -438,7 +436,7 @@ void run_render(const RenderOptions& opt) {
     ref = read_reference_image(opt.error_against, camera, provenance.scene_hash,
                                scene.channel_count() + (opt.alpha ? 1 : 0));
   check_work(opt.discrete, discrete, opt.tol, scene, pixel_count(camera),
-             [&](long i) { return pixel_ray(camera, i); });
+             [&](long i) { return pixel_ray(camera, i); }, opt.alpha ? 1 : 0);
 
   if (!scene.camera)
     std::cerr << fmt::format(
@@ -471,7 +469,9 @@ void run_render(const RenderOptions& opt) {
   image_io->wait();
   write_exr(r.image, out.exr, &provenance);
   write_tiff_f64(r.values, out.f64, &provenance);
-  const Image colour = opt.alpha ? without_alpha(r.image) : r.image;
+  std::optional<Image> stripped;
+  if (opt.alpha) stripped = without_alpha(r.image);
+  const Image& colour = stripped ? *stripped : r.image;
   const float max_value = *std::max_element(colour.pixels.begin(), colour.pixels.end());
   write_png_preview(colour, out.png, 0, max_value > 0 ? max_value : 1, &provenance);
 
@@ -486,6 +486,7 @@ void run_render(const RenderOptions& opt) {
   j["height"] = camera.height;
   if (projection) j["mode"] = projection_mode_name(projection->mode);
   j["method"] = discrete ? opt.discrete.method : "reference";
+  if (opt.alpha) j["alpha"] = true;  // the colour over nothing, A last
   j["max_value"] = max_value;
   if (discrete) j["samples"] = r.work;
   else {

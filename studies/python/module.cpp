@@ -419,8 +419,6 @@ py::array_t<double> render_channels(const Scene& scene, const Camera& camera, co
     const auto r = interruptible([&] { return channel_reference_values(scene, rays, options, alpha); });
     for (std::size_t i = 0; i < r.size(); ++i)
       for (int c = 0; c < n; ++c) p[n * i + c] = r[i].channel[c].value;
-    if (alpha)
-      for (std::size_t i = 0; i < r.size(); ++i) p[n * i + n - 1] = 1 - p[n * i + n - 1];
     return a;
   }
   const auto planes = interruptible([&] { return discrete_channel_planes(scene, camera, *config, alpha); });

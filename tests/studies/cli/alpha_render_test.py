@@ -7,7 +7,8 @@
   C + I0 (1 - A) is the render without --alpha (discrete: to rounding; reference: within tol).
 - A white emission (opacity-colour, colour 1) makes I = A: the reference's Y and A agree within
   the tolerance, the discrete alpha rule's to rounding (1 - prod(1 - a_i) = sum a_i T_i).
-- A discrete A is the same, bit for bit, in a grey scene and an RGB scene of the same opacity.
+- A discrete A is the same, bit for bit, in a grey scene and an RGB scene of the same opacity, and
+  is the colour's transmittance with transfer-function tables too.
 - --error-against with alpha reports the A channel; a reference without alpha is refused, and so
   is --alpha with --mode; one line, exit 2, nothing written.
 - vrv verify judges vrv's own RGBA renders (premultiplied, as EXR declares) and passes them.
@@ -55,6 +56,20 @@ for path, label, background in ((grey, "grey", [0.3]), (rgb, "rgb", [0.3, 0.1, 0
         for c, i0 in enumerate(background):
             composited = over[:, :, c] + i0 * (1 - a)
             assert np.abs(composited - plain[:, :, c]).max() <= close, (label, tag, c, np.abs(composited - plain[:, :, c]).max())
+
+# Tables over the transfer function's breakpoints: the colour's reach past the opacity's, and the
+# alpha channel's table covers the same values (else A is not the colour's transmittance).
+wide = scene("wide.toml", "opacity = [[0.1, 0.02], [0.9, 0.3]]\nunit_length = 0.05\n"
+             "color = [[-0.2, 0.1, 0.9, 0.3], [1.2, 0.8, 0.2, 0.6]]\n[background]\ncolor = [0.3, 0.1, 0.2]\n")
+for size in ("64", "1024"):
+    table = (*DISCRETE, "--table-size", size)
+    render(wide, f"wide_{size}", *table)
+    render(wide, f"wide_{size}_a", *table, "--alpha")
+    plain, _ = read(out / f"wide_{size}.f64.tiff")
+    over, _ = read(out / f"wide_{size}_a.f64.tiff")
+    for c, i0 in enumerate([0.3, 0.1, 0.2]):
+        gap = np.abs(over[:, :, c] + i0 * (1 - over[:, :, 3]) - plain[:, :, c]).max()
+        assert gap <= 1e-15, (size, c, gap)
 
 # White emission: I = A.
 render(white, "white_ref", "--reference", "--alpha", "--tol", "1e-12")
