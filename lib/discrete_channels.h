@@ -21,27 +21,31 @@ struct ChannelsDiscreteResult {
   long samples = 0;
 };
 
-// One DiscreteRaycaster per channel of the scene's image (ImageChannels: grey or RGB, and alpha
-// when asked, cast as the transmittance through the same samples and reported as A = 1 - it); the
-// scene and field must outlive it.
+// One DiscreteRaycaster per colour channel of the scene's image (ImageChannels: grey or RGB); with
+// alpha, A = 1 - the first channel's transmittance (the channels composite the same opacities, so
+// it is the same in each, and bitwise what a cast of no emission over a background of 1 gives).
+// The scene and field must outlive it.
 template <class F>
 class DiscreteChannelCaster {
  public:
   DiscreteChannelCaster(const F& field, const Scene& scene, const DiscreteConfig& config, bool alpha = false)
       : channels_(scene, alpha) {
-    casters_.reserve(channels_.count());
-    for (const ReferenceChannel& c : channels_.channels())
+    const auto colour = channels_.channels().first(channels_.count() - (alpha ? 1 : 0));
+    casters_.reserve(colour.size());
+    for (const ReferenceChannel& c : colour)
       casters_.emplace_back(field, scene.box, *c.transfer, c.background, config, scene.shading_or_null(), scene.dims);
   }
 
   ChannelsDiscreteResult cast(const Ray& ray) const {
     ChannelsDiscreteResult r;
+    double transmittance = 1;
     for (std::size_t c = 0; c < casters_.size(); ++c) {
       const DiscreteResult v = casters_[c].cast(ray);
       r.value[c] = v.value;
       r.samples += v.samples;
+      if (c == 0) transmittance = v.transmittance;
     }
-    if (channels_.alpha()) r.value[casters_.size() - 1] = 1 - r.value[casters_.size() - 1];
+    if (channels_.alpha()) r.value[casters_.size()] = 1 - transmittance;
     return r;
   }
 

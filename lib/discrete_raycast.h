@@ -2,8 +2,8 @@
 // Discrete raycasts configured the way renderers and papers do them: a sample placement,
 // a segment rule, oversampling with an opacity correction, early termination, skipping,
 // pre- or post-classification, front-to-back or back-to-front, in double or float.
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <span>
@@ -79,7 +79,8 @@ struct DiscreteConfig {
 
 struct DiscreteResult {
   double value = 0;
-  long samples = 0;  // field samples taken
+  long samples = 0;          // field samples taken
+  double transmittance = 1;  // the product of the samples' transparencies (alpha is 1 - it)
 };
 
 // Throws std::invalid_argument (naming the option) for a combination that means nothing.

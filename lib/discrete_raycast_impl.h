@@ -45,6 +45,14 @@ class Compositor {
     for (auto it = stack_.rbegin(); it != stack_.rend(); ++it) value = it->emission + it->transparency * value;
     return value;
   }
+  // The transparencies' product, in the order finish() composites them, so it is bitwise the value
+  // of the same samples with no emission over a background of 1.
+  Real transmittance() const {
+    if (!back_to_front_) return transmittance_;
+    Real t = 1;
+    for (auto it = stack_.rbegin(); it != stack_.rend(); ++it) t = it->transparency * t;
+    return t;
+  }
 
  private:
   bool skip_, terminate_, back_to_front_;
@@ -254,6 +262,10 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
     return c;
   };
   long samples = 0;
+  auto result = [&] {
+    return DiscreteResult{static_cast<double>(out.finish(Real(background_))), samples,
+                          static_cast<double>(out.transmittance())};
+  };
   auto sample = [&](Real t) VRV_FORCE_INLINE_LAMBDA {
     ++samples;
     return shaded(t, classes);
@@ -326,11 +338,11 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
       for (long m = 0; m < fine.count && !out.done(); ++m) node(t_of(m));
       if (partial_last && !out.done()) node(Real(plan.t_partial));
       if (!out.done()) node(Real(iv.t1));
-      return {static_cast<double>(out.finish(Real(background_))), samples};
+      return result();
     }
   }
   if (partial_last && per_sample_rule) add_partial();
-  return {static_cast<double>(out.finish(Real(background_))), samples};
+  return result();
 }
 
 }  // namespace vrv

@@ -27,12 +27,9 @@ double bracketed_root(F&& f, double lo, double hi, double f_lo, double f_hi) {
 
 // Splits [a, b] where p' changes sign, so p is monotone on every part.  A double root of p'
 // that the sampling misses leaves p monotone across it, so no crossing is ever lost.
-void monotone_breaks(const RayPanel& panel, std::vector<double>& out) {
+const std::vector<double>& monotone_parts_of(const RayPanel& panel) {
   std::vector<double>& breaks = panel.monotone_parts;
-  if (!breaks.empty()) {
-    out.insert(out.end(), breaks.begin(), breaks.end());
-    return;
-  }
+  if (!breaks.empty()) return breaks;
   const int n = panel.size();
   breaks.push_back(panel.a);
   if (n > 2) {
@@ -59,6 +56,11 @@ void monotone_breaks(const RayPanel& panel, std::vector<double>& out) {
     }
   }
   breaks.push_back(panel.b);
+  return breaks;
+}
+
+void monotone_breaks(const RayPanel& panel, std::vector<double>& out) {
+  const std::vector<double>& breaks = monotone_parts_of(panel);
   out.insert(out.end(), breaks.begin(), breaks.end());
 }
 
@@ -99,12 +101,8 @@ void search_level(const RayPanel& panel, double v, std::span<const double> deriv
 ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
                           std::vector<Crossing>& out) {
   RayPanel::Found& found = panel.found;
-  if (panel.monotone_parts.empty()) {
-    std::vector<double> ignored;
-    monotone_breaks(panel, ignored);
-  }
   if (found.part_values.empty())
-    for (double t : panel.monotone_parts) found.part_values.push_back(panel(t));
+    for (double t : monotone_parts_of(panel)) found.part_values.push_back(panel(t));
   ValueRange range{INFINITY, -INFINITY};
   for (double p : found.part_values) range.min = std::min(range.min, p), range.max = std::max(range.max, p);
   double dc[129];
@@ -150,7 +148,8 @@ std::optional<LevelBand> level_band(const RayPanel& panel, double lo, double hi,
 std::optional<LevelBand> part_level_band(const RayPanel& panel, std::size_t part, double level, double margin) {
   for (const RayPanel::Found::Band& b : panel.found.bands)
     if (b.part == part && b.level == level && b.margin == margin) return b.band;
-  const auto band = level_band(panel, panel.monotone_parts[part], panel.monotone_parts[part + 1], level, margin);
+  const std::vector<double>& parts = monotone_parts_of(panel);
+  const auto band = level_band(panel, parts[part], parts[part + 1], level, margin);
   panel.found.bands.push_back({part, level, margin, band});
   return band;
 }

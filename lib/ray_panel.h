@@ -82,7 +82,9 @@ ValueRange find_crossings(const RayPanel& panel, std::span<const double> levels,
                           std::vector<Crossing>& out);
 
 // The panel's ends and the parameters where p' changes sign between them, in order: p is
-// monotone between consecutive entries.  Appended to `breaks`; computed once per panel.
+// monotone between consecutive entries.  Computed once per panel and kept in it (monotone_parts).
+const std::vector<double>& monotone_parts_of(const RayPanel& panel);
+// The same, appended to `breaks`.
 void monotone_breaks(const RayPanel& panel, std::vector<double>& breaks);
 
 // Where p comes within `margin` of `level` on one monotone part [lo, hi] of the panel: the

@@ -4,6 +4,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 namespace vrv {
 
 ImageChannels::ImageChannels(const Scene& scene, bool alpha) {
@@ -19,10 +21,17 @@ ImageChannels::ImageChannels(const Scene& scene, bool alpha) {
 }
 
 bool ChannelsReferenceResult::tolerance_met() const {
-  return std::all_of(channel.begin(), channel.end(), [](const ReferenceResult& r) { return r.tolerance_met; });
+  const auto all = channels();
+  return std::all_of(all.begin(), all.end(), [](const ReferenceResult& r) { return r.tolerance_met; });
 }
 
 namespace detail {
+
+void require_channel_count(std::size_t channels) {
+  if (channels > kMaxChannels)
+    throw std::invalid_argument(fmt::format("integrate_channels_reference: {} channels, at most {} (R, G, B and alpha)",
+                                            channels, kMaxChannels));
+}
 
 ChannelAccumulators::ChannelAccumulators(std::span<const ReferenceChannel> channels, const ReferenceOptions& options,
                                          Interval iv, double position_error, const EmissionWeight* weight) {
@@ -64,7 +73,7 @@ void ChannelAccumulators::note_cap() {
 
 }  // namespace detail
 
-ColorReferenceResult integrate_color_reference(const Scene& scene, const Ray& ray, const ReferenceOptions& options) {
+ChannelsReferenceResult integrate_color_reference(const Scene& scene, const Ray& ray, const ReferenceOptions& options) {
   if (!scene.color) throw std::invalid_argument("integrate_color_reference: the scene is grey (one channel)");
   return visit_field(scene, [&](const auto& field) {
     return integrate_color_reference(field, scene.box, *scene.color, ray, options,

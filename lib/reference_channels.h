@@ -16,14 +16,6 @@
 
 namespace vrv {
 
-struct ColorReferenceResult {
-  std::array<ReferenceResult, 3> channel;  // red, green, blue; each counts the shared evaluations
-  long evaluations = 0;                    // field evaluations for all three
-  bool tolerance_met() const {
-    return channel[0].tolerance_met && channel[1].tolerance_met && channel[2].tolerance_met;
-  }
-};
-
 // One channel of a reference: its transfer function (not owned) and background.
 struct ReferenceChannel {
   const TransferFunction* transfer = nullptr;
@@ -48,14 +40,23 @@ class ImageChannels {
   std::vector<ReferenceChannel> channels_;
 };
 
-// Any number of channels' results from one walk per ray.
+// The most channels an image has: R, G, B and alpha.
+inline constexpr int kMaxChannels = 4;
+
+// The channels' results from one walk per ray (grey or red, green, blue, then alpha where asked).
+// Of fixed size, so a pixel of them is a record MPI ranks exchange as bytes (lib/image_loop.h).
 struct ChannelsReferenceResult {
-  std::vector<ReferenceResult> channel;  // each counts the shared evaluations
-  long evaluations = 0;                  // field evaluations for all of them
+  std::array<ReferenceResult, kMaxChannels> channel{};  // the first `count`; each counts the shared evaluations
+  int count = 0;
+  long evaluations = 0;  // field evaluations for all of them
+  std::span<const ReferenceResult> channels() const { return std::span(channel).first(count); }
   bool tolerance_met() const;
 };
 
 namespace detail {
+
+// Throws std::invalid_argument for more channels than a ChannelsReferenceResult holds.
+void require_channel_count(std::size_t channels);
 
 // The channels' accumulators behind RayAccumulator's interface, as walk_ray drives it.
 class ChannelAccumulators {
@@ -105,7 +106,7 @@ ChannelsReferenceResult integrate_channels_pass(const F& field, const RayFrame& 
   const long evaluations = walk_ray(field, frame, AllChannelsTransparent{channels}, options, acc);
   ChannelsReferenceResult result;
   result.evaluations = evaluations;
-  result.channel.resize(channels.size());
+  result.count = static_cast<int>(channels.size());
   for (std::size_t c = 0; c < channels.size(); ++c) {
     ReferenceResult& r = result.channel[c];
     r = acc.finish(static_cast<int>(c));
@@ -122,27 +123,29 @@ ChannelsReferenceResult integrate_channels_pass(const F& field, const RayFrame& 
 // missed its tolerance by a little, all are integrated once more at the tighter tolerance (the
 // panels are shared) and each keeps its smaller estimate.
 // shading: a factor on every channel's emission (lib/shading.h), or none.
+// Throws std::invalid_argument for more than kMaxChannels channels.
 template <ScalarField F>
 ChannelsReferenceResult integrate_channels_reference(const F& field, const Box& box,
                                                      std::span<const ReferenceChannel> channels, const Ray& ray,
                                                      const ReferenceOptions& options = {},
                                                      const Shading* shading = nullptr) {
+  detail::require_channel_count(channels.size());
   const auto frame = clip_in_frame(ray, box);
   if (!frame) {
     ChannelsReferenceResult miss;
-    for (const ReferenceChannel& c : channels) miss.channel.emplace_back().value = c.background;
+    miss.count = static_cast<int>(channels.size());
+    for (int c = 0; c < miss.count; ++c) miss.channel[c].value = channels[c].background;
     return miss;
   }
   ChannelsReferenceResult first = detail::integrate_channels_pass(field, *frame, channels, options, shading);
   bool retry = false;
-  for (const ReferenceResult& r : first.channel) retry = retry || detail::worth_retry(r, options.tol);
+  for (const ReferenceResult& r : first.channels()) retry = retry || detail::worth_retry(r, options.tol);
   if (!retry) return first;
   const ChannelsReferenceResult second =
       detail::integrate_channels_pass(field, *frame, channels, detail::retry_options(options), shading);
-  ChannelsReferenceResult kept;
+  ChannelsReferenceResult kept = first;
   kept.evaluations = first.evaluations + second.evaluations;
-  for (std::size_t c = 0; c < channels.size(); ++c)
-    kept.channel.push_back(detail::better_pass(first.channel[c], second.channel[c], options.tol));
+  for (int c = 0; c < kept.count; ++c) kept.channel[c] = detail::better_pass(first.channel[c], second.channel[c], options.tol);
   return kept;
 }
 
@@ -153,26 +156,22 @@ ChannelsReferenceResult integrate_image_channels(const F& field, const Box& box,
                                                  const Ray& ray, const ReferenceOptions& options = {},
                                                  const Shading* shading = nullptr) {
   ChannelsReferenceResult r = integrate_channels_reference(field, box, channels.channels(), ray, options, shading);
-  if (channels.alpha()) r.channel.back().value = 1 - r.channel.back().value;
+  if (channels.alpha()) r.channel[r.count - 1].value = 1 - r.channel[r.count - 1].value;
   return r;
 }
 
-// An RGB scene's three channels (integrate_channels_reference).
+// An RGB scene's three channels (integrate_channels_reference): red, green, blue.
 template <ScalarField F>
-ColorReferenceResult integrate_color_reference(const F& field, const Box& box, const ColorChannels& color,
-                                               const Ray& ray, const ReferenceOptions& options = {},
-                                               const Shading* shading = nullptr) {
+ChannelsReferenceResult integrate_color_reference(const F& field, const Box& box, const ColorChannels& color,
+                                                  const Ray& ray, const ReferenceOptions& options = {},
+                                                  const Shading* shading = nullptr) {
   std::array<ReferenceChannel, 3> channels;
   for (int c = 0; c < 3; ++c) channels[c] = {&color.transfer[c], color.background[c]};
-  const ChannelsReferenceResult r = integrate_channels_reference(field, box, channels, ray, options, shading);
-  ColorReferenceResult out;
-  out.evaluations = r.evaluations;
-  for (int c = 0; c < 3; ++c) out.channel[c] = r.channel[c];
-  return out;
+  return integrate_channels_reference(field, box, channels, ray, options, shading);
 }
 
 // The scene's field, dispatched to its concrete type.  Throws std::invalid_argument for a grey scene.
-ColorReferenceResult integrate_color_reference(const Scene& scene, const Ray& ray,
-                                               const ReferenceOptions& options = {});
+ChannelsReferenceResult integrate_color_reference(const Scene& scene, const Ray& ray,
+                                                  const ReferenceOptions& options = {});
 
 }  // namespace vrv

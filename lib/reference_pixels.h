@@ -31,14 +31,19 @@ void reference_pixels(const Scene& scene, const Camera& camera, const ReferenceO
   });
 }
 
-// The same for an RGB scene: put(position, ColorReferenceResult).
-template <class Put>
-void color_reference_pixels(const Scene& scene, const Camera& camera, const ReferenceOptions& options, Put&& put,
-                            const ImageLoopHooks& hooks = {}, std::span<const long> subset = {}) {
+// The channels of an image (ImageChannels: grey or RGB, and alpha where asked) from one walk per
+// ray: put(position, keep(ChannelsReferenceResult)).  `keep` reduces a pixel to what the caller
+// holds, which under MPI is the record the ranks exchange (std::identity keeps it whole).
+template <class Keep, class Put>
+void image_channel_pixels(const Scene& scene, const Camera& camera, const ImageChannels& channels,
+                          const ReferenceOptions& options, Keep&& keep, Put&& put, const ImageLoopHooks& hooks = {},
+                          std::span<const long> subset = {}) {
   visit_field(scene, [&](const auto& field) {
     image_loop_into(
         camera, subset,
-        [&](const Ray& ray) { return integrate_color_reference(field, scene.box, *scene.color, ray, options, scene.shading_or_null()); },
+        [&](const Ray& ray) {
+          return keep(integrate_image_channels(field, scene.box, channels, ray, options, scene.shading_or_null()));
+        },
         put, hooks);
   });
 }

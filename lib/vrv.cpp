@@ -54,17 +54,10 @@ std::vector<ReferenceResult> reference_values(const Scene& scene, std::span<cons
   return out;
 }
 
-std::vector<ColorReferenceResult> color_reference_values(const Scene& scene, std::span<const Ray> rays,
-                                                         const ReferenceOptions& options) {
+std::vector<ChannelsReferenceResult> color_reference_values(const Scene& scene, std::span<const Ray> rays,
+                                                            const ReferenceOptions& options) {
   if (!scene.color) throw std::invalid_argument("color_reference_values: the scene is grey (use reference_values)");
-  validate(options);
-  std::vector<ColorReferenceResult> out(rays.size());
-  visit_field(scene, [&](const auto& field) {
-    parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
-      out[i] = integrate_color_reference(field, scene.box, *scene.color, rays[i], options, scene.shading_or_null());
-    });
-  });
-  return out;
+  return channel_reference_values(scene, rays, options, false);
 }
 
 std::vector<ChannelsReferenceResult> channel_reference_values(const Scene& scene, std::span<const Ray> rays,

@@ -57,8 +57,8 @@ void reference_values(const Scene& scene, std::span<const Ray> rays,
 // all three.  Throws std::invalid_argument for a grey scene.  A discrete cast of an RGB scene is
 // discrete_channel_values() or discrete_channel_planes() (lib/discrete_channels.h): each channel
 // cast alone, as vrv render does.
-std::vector<ColorReferenceResult> color_reference_values(const Scene& scene, std::span<const Ray> rays,
-                                                         const ReferenceOptions& options = {});
+std::vector<ChannelsReferenceResult> color_reference_values(const Scene& scene, std::span<const Ray> rays,
+                                                            const ReferenceOptions& options = {});
 // Every channel of the scene's image along each ray, one set of panels for all of them: grey or
 // RGB, and with `alpha` one more, last, A = 1 - e^-Phi within its estimate, the colour then over
 // nothing (lib/reference_channels.h ImageChannels, integrate_image_channels).  Any scene.

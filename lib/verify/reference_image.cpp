@@ -1,6 +1,7 @@
 #include "lib/verify/reference_image.h"
 
 #include <algorithm>
+#include <functional>
 #include <iostream>
 #include <optional>
 
@@ -46,9 +47,10 @@ std::vector<ReferenceImage> render_color_reference(const Scene& scene, const Cam
   Progress bar("reference", n, progress);
   ImageLoopHooks hooks;
   hooks.progress = [&](long done) { bar.advance(done); };
-  color_reference_pixels(scene, camera, {tol}, [&](long i, const ColorReferenceResult& v) {
+  const ImageChannels channels(scene, false);
+  image_channel_pixels(scene, camera, channels, {tol}, std::identity(), [&](long i, const ChannelsReferenceResult& v) {
     double depth = 0;
-    for (const ReferenceResult& c : v.channel) depth = std::max(depth, c.optical_depth);
+    for (const ReferenceResult& c : v.channels()) depth = std::max(depth, c.optical_depth);
     for (int c = 0; c < 3; ++c) {
       r[c].value[i] = v.channel[c].value, r[c].error_estimate[i] = v.channel[c].error_estimate;
       r[c].optical_depth[i] = depth;

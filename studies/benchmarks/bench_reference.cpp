@@ -98,7 +98,7 @@ void run_color(benchmark::State& state, const F& field) {
         benchmark::DoNotOptimize(r.value);
         evaluations += r.evaluations;
       } else {
-        const ColorReferenceResult r = integrate_color_reference(field, box, color, ray, {1e-12});
+        const ChannelsReferenceResult r = integrate_color_reference(field, box, color, ray, {1e-12});
         benchmark::DoNotOptimize(r.channel[2].value);
         evaluations += r.evaluations;
       }

@@ -59,14 +59,14 @@ SamplingConfig sampling_config(const DiscreteOptions& opt, const Scene& scene);
 [[noreturn]] void refuse_work(const DiscreteOptions& opt, bool discrete, double work, long rays);
 
 // The work of casting these rays, without a limit (check_work below compares it with one).  An RGB
-// scene's discrete cast samples every channel, and `extra_channels` more (alpha); its reference
-// evaluates the field once for all.
+// scene's discrete cast samples every channel (alpha costs none: it is the casts' transmittance);
+// its reference evaluates the field once for all.
 template <class RayAt>
 double estimate_work(const std::optional<DiscreteConfig>& config, double tol, const Scene& scene, long rays,
-                     RayAt&& ray_at, int extra_channels = 0) {
+                     RayAt&& ray_at) {
   double work = 0;
   for (long i = 0; i < rays; ++i)
-    work += config ? discrete_samples(*config, scene, ray_at(i)) * (scene.channel_count() + extra_channels)
+    work += config ? discrete_samples(*config, scene, ray_at(i)) * scene.channel_count()
                    : reference_evaluations(scene, ray_at(i), tol);
   return work;
 }
@@ -81,8 +81,8 @@ double diagonal_work(const std::optional<DiscreteConfig>& config, double tol, co
 // with the estimate, the options that ask for it and the option that allows it (--max-work).
 template <class RayAt>
 double check_work(const DiscreteOptions& opt, const std::optional<DiscreteConfig>& config, double tol,
-                  const Scene& scene, long rays, RayAt&& ray_at, int extra_channels = 0) {
-  const double work = estimate_work(config, tol, scene, rays, ray_at, extra_channels);
+                  const Scene& scene, long rays, RayAt&& ray_at) {
+  const double work = estimate_work(config, tol, scene, rays, ray_at);
   if (work > opt.max_work) refuse_work(opt, config.has_value(), work, rays);
   return work;
 }

@@ -67,11 +67,11 @@ Answer discrete_answer(const DiscreteResult& r) {
 
 // An RGB scene's ray: the grey answer's keys, with value, error_estimate and optical_depth (each
 // channel's own: a channel stops early where its remaining emission cannot matter) one per channel.
-Answer color_reference_answer(const ColorReferenceResult& r) {
+Answer color_reference_answer(const ChannelsReferenceResult& r) {
   nlohmann::ordered_json j = to_json(r.channel[0]);
   Answer a{{}, true, r.tolerance_met()};
   for (const char* key : {"value", "error_estimate", "optical_depth"}) j[key] = nlohmann::ordered_json::array();
-  for (const ReferenceResult& c : r.channel) {
+  for (const ReferenceResult& c : r.channels()) {
     j["value"].push_back(finite_or_null(c.value));
     j["error_estimate"].push_back(finite_or_null(c.error_estimate));
     j["optical_depth"].push_back(finite_or_null(c.optical_depth));

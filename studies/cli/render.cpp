@@ -222,7 +222,7 @@ ImageLoopHooks progress_hooks(Progress& bar) {
 // A pixel of several channels (ImageChannels, alpha already A).
 PixelResult channels_pixel(const ChannelsReferenceResult& v) {
   PixelResult p{{}, v.evaluations, 0.0, v.tolerance_met()};
-  for (std::size_t c = 0; c < v.channel.size(); ++c) {
+  for (int c = 0; c < v.count; ++c) {
     p.value[c] = v.channel[c].value;
     p.estimate = std::max(p.estimate, v.channel[c].error_estimate);
   }
@@ -233,17 +233,13 @@ Rendered render_reference(const Scene& scene, const Camera& camera, double tol, 
   const ImageChannels channels(scene, alpha);
   PixelPlanes planes(camera, channels.count());
   Progress bar("render", pixel_count(camera), !quiet);
+  const auto put = [&](long i, const PixelResult& p) { planes.put(i, p); };
   if (channels.count() > 1) {
-    // One walk per ray for every channel; each pixel's channels are reduced to a PixelResult on the
-    // rank that casts it (a fixed-width record for the ranks to exchange).
-    visit_field(scene, [&](const auto& field) {
-      image_loop_into(camera, {}, [&](const Ray& ray) {
-        return channels_pixel(integrate_image_channels(field, scene.box, channels, ray, {tol}, scene.shading_or_null()));
-      }, [&](long i, const PixelResult& p) { planes.put(i, p); }, progress_hooks(bar));
-    });
+    // Each pixel's channels are reduced to a PixelResult on the rank that casts it.
+    image_channel_pixels(scene, camera, channels, {tol}, channels_pixel, put, progress_hooks(bar));
   } else {
     reference_pixels(scene, camera, {tol}, [&](long i, const ReferenceResult& v) {
-      planes.put(i, {{v.value}, v.evaluations, v.error_estimate, v.tolerance_met});
+      put(i, {{v.value}, v.evaluations, v.error_estimate, v.tolerance_met});
     }, progress_hooks(bar));
   }
   bar.finish();
@@ -436,7 +432,7 @@ void run_render(const RenderOptions& opt) {
     ref = read_reference_image(opt.error_against, camera, provenance.scene_hash,
                                scene.channel_count() + (opt.alpha ? 1 : 0));
   check_work(opt.discrete, discrete, opt.tol, scene, pixel_count(camera),
-             [&](long i) { return pixel_ray(camera, i); }, opt.alpha ? 1 : 0);
+             [&](long i) { return pixel_ray(camera, i); });
 
   if (!scene.camera)
     std::cerr << fmt::format(

@@ -264,7 +264,7 @@ py::dict projection_values(const Scene& scene, const Points& origins, const std:
 
 // An RGB scene's references: value, error_estimate, optical_depth and tolerance_met with a trailing
 // axis of the channels; evaluations (shared by the channels), hit, t_entry and t_exit without.
-py::dict color_reference(const std::vector<py::ssize_t>& shape, const std::vector<ColorReferenceResult>& r) {
+py::dict color_reference(const std::vector<py::ssize_t>& shape, const std::vector<ChannelsReferenceResult>& r) {
   const std::size_t n = r.size();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const auto ray = [&](std::size_t i) -> const ReferenceResult& { return r[i].channel[0]; };

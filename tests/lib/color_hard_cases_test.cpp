@@ -53,7 +53,7 @@ double closed_form(int c) {
 TEST(ColorHardCases, JumpAtASampleReferenceHoldsTheClosedFormPerChannel) {
   const Scene scene = parse_scene(kScene, "jump_at_sample.toml");
   for (double tol : {1e-12, 1e-9}) {
-    const ColorReferenceResult r = integrate_color_reference(scene, along_x(), {tol});
+    const ChannelsReferenceResult r = integrate_color_reference(scene, along_x(), {tol});
     for (int c = 0; c < 3; ++c) {
       const ReferenceResult& ch = r.channel[c];
       EXPECT_TRUE(ch.tolerance_met) << c;

@@ -1,29 +1,27 @@
 // The one discrete cast of a scene's channels (lib/discrete_channels.h): an RGB scene's channel c is
 // the grey cast of channel_scene(scene, c) bit for bit, the samples are summed over the channels, a
 // grey scene is its one grey cast, and the image form is the per-ray form through the camera.
+#include <functional>
 #include <span>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "lib/discrete_channels.h"
 #include "lib/vrv.h"
+#include "tests/lib/scene_text.h"
 
 namespace vrv::discrete_channels_test {
 
 // Three different channels (each its own emission and background) over one extinction.
-constexpr const char* kRgb = R"([volume]
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 1.0, 1.0]
-[field]
-kind = "marschner_lobb"
-[transfer]
+const std::string kRgb = test::unit_box_scene("kind = \"marschner_lobb\"", R"([transfer]
 emission = [[0.0, 0.1, 0.8, 0.3], [0.5, 0.9, 0.2, 0.3], [1.0, 0.4, 0.6, 0.0]]
 extinction = [[0.0, 0.2], [1.0, 3.0]]
 [background]
 color = [0.3, 0.05, 0.6]
-)";
+)");
 
 DiscreteConfig trapezoid(double step) {
   DiscreteConfig config;
@@ -89,6 +87,63 @@ TEST(DiscreteChannels, BadConfigurationAndCameraAreRefused) {
   EXPECT_THROW(discrete_channel_planes(rgb, camera, bad), std::invalid_argument);
   camera.width = 0;
   EXPECT_THROW(discrete_channel_planes(rgb, camera, trapezoid(0.05)), std::invalid_argument);
+}
+
+// A shaded RGB grid whose colour reaches past its opacity's breakpoints (tables span the colour's).
+const std::string kShadedGridRgb = test::unit_box_scene(
+    "kind = \"grid\"\nresolution = [9, 9, 9]\n[field.source]\nkind = \"marschner_lobb\"",
+    std::string(R"([transfer]
+opacity = [[0.0, 0.0], [0.5, 0.3], [0.5, 0.7], [1.0, 0.2]]
+color = [[-0.2, 1.0, 0.0, 0.2], [0.5, 0.1, 1.0, 0.3], [1.2, 0.8, 0.2, 0.9]]
+unit_length = 0.1
+[background]
+color = [0.3, 0.05, 0.6]
+)") + std::string(test::kPhong));
+
+// The discrete A is 1 - the colour casts' transmittance; it must equal, bit for bit, 1 - a cast of
+// the same extinction with no emission over a background of 1, under every option that changes
+// which samples composite or how (the reference integrator's alpha channel is that cast).
+TEST(DiscreteChannels, AlphaIsTheZeroEmissionCastBitwise) {
+  const Scene scene = parse_scene(kShadedGridRgb, "shaded.toml");
+  const std::vector<Ray> rays = camera_rays(scene_camera(scene, 6, 5));
+  const std::vector<std::pair<std::string, std::function<void(DiscreteConfig&)>>> variants = {
+      {"riemann", [](DiscreteConfig& c) { c.rule = SegmentRule::riemann; }},
+      {"alpha distance", [](DiscreteConfig& c) { c.rule = SegmentRule::alpha, c.opacity_unit = OpacityUnit::per_unit_distance; }},
+      {"alpha premultiplied, lee-newman 4 centred", [](DiscreteConfig& c) {
+         c.rule = SegmentRule::alpha, c.color = ColorConvention::premultiplied, c.oversample = 4;
+         c.correction = Correction::lee_newman, c.centred_oversamples = true;
+         c.sampling.strategy = Strategy::step;
+       }},
+      {"exact_linear", [](DiscreteConfig& c) { c.rule = SegmentRule::exact_linear; }},
+      {"moreland", [](DiscreteConfig& c) { c.rule = SegmentRule::moreland; }},
+      {"back to front", [](DiscreteConfig& c) { c.compositing = Compositing::back_to_front; }},
+      {"termination and skip", [](DiscreteConfig& c) { c.termination = 0.6, c.skip_below = 0.02; }},
+      {"tables 64", [](DiscreteConfig& c) { c.table_size = 64; }},
+      {"tables 1024, alpha", [](DiscreteConfig& c) { c.table_size = 1024, c.rule = SegmentRule::alpha; }},
+      {"pre-classified", [](DiscreteConfig& c) { c.classification = Classification::pre; }},
+      {"float", [](DiscreteConfig& c) { c.precision = Precision::single_precision; }},
+      {"shaded at nodes", [](DiscreteConfig& c) {
+         c.classification = Classification::pre, c.gradient = GradientScheme::nodes, c.shade_at = ShadeAt::nodes;
+       }},
+  };
+  const TransferFunction no_emission = scene.color->transfer[0].without_emission();
+  for (const auto& [name, set] : variants) {
+    DiscreteConfig config = trapezoid(0.07);
+    set(config);
+    validate(config, true);
+    visit_field(scene, [&](const auto& field) {
+      const DiscreteChannelCaster with_alpha(field, scene, config, true);
+      const DiscreteRaycaster transmittance(field, scene.box, no_emission, 1.0, config, scene.shading_or_null(),
+                                            scene.dims);
+      int opaque = 0;
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        const double t = transmittance.cast(rays[i]).value;
+        EXPECT_EQ(with_alpha.cast(rays[i]).value[3], 1 - t) << name << ", ray " << i;
+        opaque += t < 0.5;
+      }
+      EXPECT_GT(opaque, 0) << name << ": no ray accumulates much opacity, so the check is weak";
+    });
+  }
 }
 
 }  // namespace vrv::discrete_channels_test

@@ -13,6 +13,7 @@
 #include "lib/scene_file.h"
 #include "lib/scene_hash.h"
 #include "lib/shading.h"
+#include "tests/lib/scene_text.h"
 
 namespace vrv::shading_test {
 namespace {
@@ -122,25 +123,10 @@ TEST(FieldGradient, AGridFaceTakesTheSideOfItsPiece) {
   EXPECT_GT(std::abs(left.x() - right.x()), 1e-3);
 }
 
-constexpr std::string_view kShaded = R"(
-[volume]
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 1.0, 1.0]
-[field]
-kind = "marschner_lobb"
-[transfer]
+const std::string kShaded = test::unit_box_scene("kind = \"marschner_lobb\"", R"([transfer]
 emission = [[0.0, 0.0], [1.0, 1.0]]
 extinction = [[0.0, 0.0], [1.0, 0.5]]
-[shading]
-model = "phong"
-ambient = 0.1
-diffuse = 0.6
-specular = 0.3
-shininess = 12.0
-light = [0.0, 0.0, 2.0]
-normal = "gradient"
-two_sided = false
-)";
+)") + std::string(test::kPhong) + "normal = \"gradient\"\ntwo_sided = false\n";
 
 TEST(ShadingSceneFile, ReadsEveryKey) {
   const Scene scene = parse_scene(kShaded, "s.toml");

@@ -76,7 +76,7 @@ color = [0.3, 0.3, 0.3]
   EXPECT_THROW(render_reference_image(rgb, camera), std::invalid_argument);
   EXPECT_THROW(discrete_values(rgb, rays, DiscreteConfig{}), std::invalid_argument);
   EXPECT_THROW(color_reference_values(default_scene(), rays), std::invalid_argument);
-  const std::vector<ColorReferenceResult> three = color_reference_values(rgb, rays, {1e-11});
+  const std::vector<ChannelsReferenceResult> three = color_reference_values(rgb, rays, {1e-11});
   const std::vector<ReferenceResult> one = reference_values(channel_scene(rgb, 1), rays, {1e-11});
   ASSERT_EQ(three.size(), one.size());
   for (std::size_t i = 0; i < one.size(); ++i)

@@ -88,7 +88,7 @@ void check_against_truth(double tol) {
     const Scene scene = parse_scene(r.scene_toml, r.tag);
     ASSERT_TRUE(scene.color) << r.tag;
     const Ray ray = make_ray(r.origin, r.direction);
-    const ColorReferenceResult rgb = integrate_color_reference(scene, ray, {tol});
+    const ChannelsReferenceResult rgb = integrate_color_reference(scene, ray, {tol});
     long alone = 0;
     for (int c = 0; c < 3; ++c) {
       const ReferenceResult& res = rgb.channel[c];
@@ -125,7 +125,7 @@ TEST(ColorReference, EqualChannelsAreTheGreyRayBitwise) {
     const Ray ray = make_ray(r.origin, r.direction);
     for (double tol : {1e-12, 1e-10}) {
       const ReferenceResult one = integrate_reference(grey, ray, {tol});
-      const ColorReferenceResult three = integrate_color_reference(rgb, ray, {tol});
+      const ChannelsReferenceResult three = integrate_color_reference(rgb, ray, {tol});
       EXPECT_EQ(three.evaluations, one.evaluations) << r.tag;
       for (int c = 0; c < 3; ++c) {
         EXPECT_EQ(three.channel[c].value, one.value) << r.tag << " channel " << c;

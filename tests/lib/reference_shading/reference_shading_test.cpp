@@ -161,7 +161,7 @@ TEST(ShadedReference, EqualChannelsAreTheGreyShadedRayBitwise) {
   for (const Vec3& d : {Vec3(0.1, 0.2, 1), Vec3(1, -0.3, 0.2)}) {
     const Ray ray = make_ray(-3 * d.normalized(), d);
     const ReferenceResult one = integrate_reference(grey, ray, {1e-11});
-    const ColorReferenceResult three = integrate_color_reference(rgb, ray, {1e-11});
+    const ChannelsReferenceResult three = integrate_color_reference(rgb, ray, {1e-11});
     for (int c = 0; c < 3; ++c) {
       EXPECT_EQ(three.channel[c].value, one.value) << c;
       EXPECT_EQ(three.channel[c].error_estimate, one.error_estimate) << c;
