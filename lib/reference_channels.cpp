@@ -38,6 +38,9 @@ ChannelAccumulators::ChannelAccumulators(std::span<const ReferenceChannel> chann
   accumulators_.reserve(channels.size());
   for (const ReferenceChannel& c : channels)
     accumulators_.emplace_back(*c.transfer, c.background, options, iv, position_error, weight);
+  if (accumulators_.size() < 2) return;
+  depths_.reserve(4);
+  for (RayAccumulator& a : accumulators_) a.share_depth(&depths_);
 }
 
 double ChannelAccumulators::field_tolerance() const {
@@ -55,6 +58,7 @@ bool ChannelAccumulators::jumps_located(const RayPanel& panel) {
 }
 
 void ChannelAccumulators::consume(const RayPanel& panel) {
+  depths_.clear();  // keyed by piece: another panel's would be read as this one's
   for (RayAccumulator& a : accumulators_) a.consume(panel);
 }
 

@@ -58,11 +58,14 @@ namespace detail {
 // Throws std::invalid_argument for more channels than a ChannelsReferenceResult holds.
 void require_channel_count(std::size_t channels);
 
-// The channels' accumulators behind RayAccumulator's interface, as walk_ray drives it.
+// The channels' accumulators behind RayAccumulator's interface, as walk_ray drives it.  Not
+// copyable or movable: the accumulators hold the address of the depths they share.
 class ChannelAccumulators {
  public:
   ChannelAccumulators(std::span<const ReferenceChannel> channels, const ReferenceOptions& options, Interval iv,
                       double position_error, const EmissionWeight* weight = nullptr);
+  ChannelAccumulators(const ChannelAccumulators&) = delete;
+  ChannelAccumulators& operator=(const ChannelAccumulators&) = delete;
 
   // The tightest of the channels still integrating: a panel good for it is good for all.
   double field_tolerance() const;
@@ -77,6 +80,7 @@ class ChannelAccumulators {
 
  private:
   std::vector<RayAccumulator> accumulators_;
+  SpectralDepthShare depths_;  // the pieces' optical depth, done once for the channels
 };
 
 // A stretch is empty only where every channel is transparent.

@@ -419,25 +419,90 @@ bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, dou
   return true;
 }
 
-RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, double c, double d,
-                                                         const TransferSegment& seg, bool depth_only,
-                                                         int n) const {
-  const ChebyshevRule& rule = ChebyshevRule::get(n);
+SpectralDepth& RayAccumulator::spectral_depth(const RayPanel& panel, double c, double d,
+                                              const TransferSegment& seg, bool with_phi,
+                                              const ChebyshevRule& rule, SpectralDepth& out) const {
+  const TransferFunction::Slopes& slopes = branch_slopes_;
+  SpectralDepth* slot = &out;
+  if (depth_share_) {
+    const SpectralDepthKey key{c, d, rule.size(), seg.convention, seg.extinction_line(), seg.unit_length,
+                               slopes.extinction};
+    if (SpectralDepth* shared = depth_share_->find(key, with_phi)) return *shared;
+    slot = &depth_share_->slot(key);
+  }
+  SpectralDepth& depth = *slot;
+  const int n = rule.size();
   const auto count = static_cast<std::size_t>(n);
-  double tau[129], g[129], tau_c[129], phi[129], h[129], h_c[129];
+  double* values = depth.values.data();
+  double* tau = depth.tau.data();
   const double half = 0.5 * (d - c), mid = 0.5 * (c + d);
   // The whole panel at its own nodes: the sampled values themselves, no interpolation.
-  const bool own_nodes = c == panel.a && d == panel.b && n == panel.size();
-  double values[129];
-  if (own_nodes) {
+  if (c == panel.a && d == panel.b && n == panel.size()) {
     std::copy_n(panel.values.begin(), n, values);
   } else {
     double xs[129];
     for (int j = 0; j < n; ++j) xs[j] = panel.x_of(mid + half * rule.node(j));
     chebyshev_evaluate_many(panel.coefficients, {xs, count}, {values, count});
   }
+  double v_max = 1, tau_max = 0;
+  for (int j = 0; j < n; ++j) {
+    v_max = std::max(v_max, std::abs(values[j]));
+    tau[j] = seg.tau(values[j]);
+    tau_max = std::max(tau_max, tau[j]);
+  }
+  // Rounding in v (size v_max) reaches tau and g through the branch's slopes: that, not the
+  // size of tau, is the noise floor when a steep branch is evaluated near its zero.  Only this
+  // branch's (seg's lines extend past its ends): the value range of a piece that ends at a
+  // crossing also touches the next branch, whose slope of 1e10 made an estimate of 5.6e-5 for
+  // an actual error of 1.4e-15.
+  double tau_c[129];
+  rule.coefficients({tau, count}, {tau_c, count});
+  const double tau_rounding = 8 * eps * (slopes.extinction * v_max + tau_max);
+  ChebyshevAccuracy tau_acc = chebyshev_accuracy({tau_c, count}, tau_rounding);
+  // Only where a piece is short against its position (below): v moves by the nodes' rounding.
+  const double position_noise = node_position_noise(c, d, {values, count}, rule);
+  if (!tau_acc.resolved && position_noise > 0)
+    tau_acc = chebyshev_accuracy({tau_c, count}, tau_rounding + slopes.extinction * position_noise);
+  depth.v_max = v_max, depth.tau_max = tau_max, depth.position_noise = position_noise;
+  depth.dphi = half * chebyshev_integral({tau_c, count});
+  // The accuracy check bounds the values' noise in the max norm (Lebesgue constant x the
+  // largest node's noise); the integral sees sum_j w_j noise_j, each node's own.
+  const double tau_floor = 2 * eps * max_abs({tau_c, count});
+  const auto tau_noise = [&](int j) { return std::max(8 * eps * (slopes.extinction * v_max + tau[j]), tau_floor); };
+  depth.depth_error = 2 * half * without_noise(tau_acc) + half * weighted_sum(rule, tau_noise);
+  depth.converged = tau_acc.resolved;
+  depth.at_rounding = tau_acc.at_rounding;
+  depth.has_phi = with_phi;
+  depth.has_attenuation = false;
+  if (with_phi) {
+    double* phi = depth.phi.data();
+    rule.cumulative_integral({tau, count}, {phi, count});
+    // tau >= 0, so Phi rises from 0 at x = -1 (the last node): rounding in the spectral
+    // integral (~eps sum |tau|, thousands when tau ~ 1e21) must not make it negative, or
+    // e^-Phi overflows.  The running maximum is the stable form; its change is within that
+    // rounding, which h_noise below charges through (1 + phi_ + dphi).
+    phi[n - 1] = std::max(phi[n - 1], 0.0);
+    for (int j = n - 1; j-- > 0;) phi[j] = std::max(phi[j], phi[j + 1]);
+  }
+  return depth;
+}
+
+RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, double c, double d,
+                                                         const TransferSegment& seg, bool depth_only,
+                                                         int n) const {
+  const ChebyshevRule& rule = ChebyshevRule::get(n);
+  const auto count = static_cast<std::size_t>(n);
+  SpectralDepth own;
+  SpectralDepth& depth = spectral_depth(panel, c, d, seg, !depth_only, rule, own);
+  SpectralTry out;
+  out.dphi = depth.dphi;
+  out.depth_error = depth.depth_error;
+  out.converged = depth.converged;
+  out.at_rounding = depth.at_rounding;
+  if (depth_only) return out;
+  const double half = 0.5 * (d - c), mid = 0.5 * (c + d);
   // The weight at the nodes, and its rounding (only where there is one: grey rays pay nothing).
-  const bool weighted = weight_ && !depth_only;
+  const bool weighted = weight_ != nullptr;
   double shade[129], shade_noise[129];
   if (weighted) {
     double ts[129];
@@ -446,75 +511,43 @@ RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, 
     ts[0] = d, ts[n - 1] = c;
     weight_->values(c, d, {ts, count}, {shade, count}, {shade_noise, count});
   }
-  double v_max = 1, tau_max = 0;
-  for (int j = 0; j < n; ++j) {
-    const double v = values[j];
-    v_max = std::max(v_max, std::abs(v));
-    if (depth_only) {
-      tau[j] = seg.tau(v);
-    } else {
-      const auto optical = seg.optical(v);
-      tau[j] = optical.tau, g[j] = optical.g;
-    }
-    tau_max = std::max(tau_max, tau[j]);
-  }
-  // Rounding in v (size v_max) reaches tau and g through the branch's slopes: that, not the
-  // size of tau, is the noise floor when a steep branch is evaluated near its zero.  Only this
-  // branch's (seg's lines extend past its ends): the value range of a piece that ends at a
-  // crossing also touches the next branch, whose slope of 1e10 made an estimate of 5.6e-5 for
-  // an actual error of 1.4e-15.
   const TransferFunction::Slopes& slopes = branch_slopes_;
-  rule.coefficients({tau, count}, {tau_c, count});
-  const double tau_rounding = 8 * eps * (slopes.extinction * v_max + tau_max);
-  ChebyshevAccuracy tau_acc = chebyshev_accuracy({tau_c, count}, tau_rounding);
-  // Only where a piece is short against its position (below): v moves by the nodes' rounding.
-  const double position_noise = node_position_noise(c, d, {values, count}, rule);
-  if (!tau_acc.resolved && position_noise > 0)
-    tau_acc = chebyshev_accuracy({tau_c, count}, tau_rounding + slopes.extinction * position_noise);
-  SpectralTry out;
-  out.dphi = half * chebyshev_integral({tau_c, count});
-  // The accuracy check bounds the values' noise in the max norm (Lebesgue constant x the
-  // largest node's noise); the integral sees sum_j w_j noise_j, each node's own.
-  const double tau_floor = 2 * eps * max_abs({tau_c, count});
-  const auto tau_noise = [&](int j) { return std::max(8 * eps * (slopes.extinction * v_max + tau[j]), tau_floor); };
-  out.depth_error = 2 * half * without_noise(tau_acc) + half * weighted_sum(rule, tau_noise);
-  out.converged = tau_acc.resolved;
-  out.at_rounding = tau_acc.at_rounding;
-  if (!depth_only) {
-    rule.cumulative_integral({tau, count}, {phi, count});
-    // tau >= 0, so Phi rises from 0 at x = -1 (the last node): rounding in the spectral
-    // integral (~eps sum |tau|, thousands when tau ~ 1e21) must not make it negative, or
-    // e^-Phi overflows.  The running maximum is the stable form; its change is within that
-    // rounding, which h_noise below charges through (1 + phi_ + dphi).
-    phi[n - 1] = std::max(phi[n - 1], 0.0);
-    for (int j = n - 1; j-- > 0;) phi[j] = std::max(phi[j], phi[j + 1]);
-    double at[129];  // e^-Phi at the nodes
-    for (int j = 0; j < n; ++j) at[j] = std::exp(-(phi_ + half * phi[j])), h[j] = g[j] * at[j];
-    if (weighted)
-      for (int j = 0; j < n; ++j) h[j] = g[j] * shade[j] * at[j];
-    rule.coefficients({h, count}, {h_c, count});
-    // Each node's own noise: the rounding of g and of v through the slope, attenuated there,
-    // and of Phi there (the running depth, and the cumulative product's sum of |Q_jk| tau_k),
-    // which scales h_j.  The largest decides when the tail is noise (splitting stops helping);
-    // one bound for the whole piece, max g x e^-Phi at its start x (1 + its end's depth), was
-    // 1e3 x too high where the piece absorbs much and accepted unresolved pieces as noise.
-    double noise[129], h_noise = 0;
-    for (int j = 0; j < n; ++j) {
-      const double depth_rounding = phi_ + half * (phi[j] + tau_max * rule.cumulative_row_abs(j));
-      noise[j] = 8 * eps * (slopes.emission * v_max + g[j]) * at[j] * (1 + depth_rounding);
-      if (weighted) noise[j] = noise[j] * shade_max_ + g[j] * shade_noise[j] * at[j];
-      h_noise = std::max(h_noise, noise[j]);
-    }
-    ChebyshevAccuracy h_acc = chebyshev_accuracy({h_c, count}, h_noise);
-    if (!h_acc.resolved && position_noise > 0)
-      h_acc = chebyshev_accuracy({h_c, count}, h_noise + slopes.emission * shade_max_ * position_noise * std::exp(-phi_));
-    const double h_floor = 2 * eps * max_abs({h_c, count});
-    const auto node_noise = [&](int j) { return std::max(noise[j], h_floor); };
-    out.error = 2 * half * without_noise(h_acc) + half * weighted_sum(rule, node_noise);
-    out.emission = half * chebyshev_integral({h_c, count});
-    out.converged = out.converged && h_acc.resolved;
-    out.at_rounding = out.at_rounding && h_acc.at_rounding;
+  const double* phi = depth.phi.data();
+  const double* at = depth.attenuation.data();  // e^-Phi at the nodes
+  if (!depth.has_attenuation || depth.at_depth != phi_) {
+    for (int j = 0; j < n; ++j) depth.attenuation[j] = std::exp(-(phi_ + half * phi[j]));
+    depth.has_attenuation = true, depth.at_depth = phi_;
   }
+  double g[129], h[129], h_c[129];
+  for (int j = 0; j < n; ++j) {
+    g[j] = seg.g_given_tau(depth.values[j], depth.tau[j]);
+    h[j] = g[j] * at[j];
+  }
+  if (weighted)
+    for (int j = 0; j < n; ++j) h[j] = g[j] * shade[j] * at[j];
+  rule.coefficients({h, count}, {h_c, count});
+  // Each node's own noise: the rounding of g and of v through the slope, attenuated there,
+  // and of Phi there (the running depth, and the cumulative product's sum of |Q_jk| tau_k),
+  // which scales h_j.  The largest decides when the tail is noise (splitting stops helping);
+  // one bound for the whole piece, max g x e^-Phi at its start x (1 + its end's depth), was
+  // 1e3 x too high where the piece absorbs much and accepted unresolved pieces as noise.
+  double noise[129], h_noise = 0;
+  for (int j = 0; j < n; ++j) {
+    const double depth_rounding = phi_ + half * (phi[j] + depth.tau_max * rule.cumulative_row_abs(j));
+    noise[j] = 8 * eps * (slopes.emission * depth.v_max + g[j]) * at[j] * (1 + depth_rounding);
+    if (weighted) noise[j] = noise[j] * shade_max_ + g[j] * shade_noise[j] * at[j];
+    h_noise = std::max(h_noise, noise[j]);
+  }
+  ChebyshevAccuracy h_acc = chebyshev_accuracy({h_c, count}, h_noise);
+  if (!h_acc.resolved && depth.position_noise > 0)
+    h_acc = chebyshev_accuracy({h_c, count},
+                               h_noise + slopes.emission * shade_max_ * depth.position_noise * std::exp(-phi_));
+  const double h_floor = 2 * eps * max_abs({h_c, count});
+  const auto node_noise = [&](int j) { return std::max(noise[j], h_floor); };
+  out.error = 2 * half * without_noise(h_acc) + half * weighted_sum(rule, node_noise);
+  out.emission = half * chebyshev_integral({h_c, count});
+  out.converged = out.converged && h_acc.resolved;
+  out.at_rounding = out.at_rounding && h_acc.at_rounding;
   return out;
 }
 

@@ -25,6 +25,7 @@
 #include "lib/ray_panel.h"
 #include "lib/scene.h"
 #include "lib/shading_weight.h"
+#include "lib/spectral_depth.h"
 #include "lib/transfer_function.h"
 
 namespace vrv {
@@ -87,6 +88,9 @@ class RayAccumulator {
   void note_cap() { capped_ = true; }
   // The field error every panel carries (a far ray's rounded entry point).
   double position_error() const { return position_error_; }
+  // Depth halves of pieces shared with the other channels of a walk (lib/spectral_depth.h); it
+  // must outlive the accumulator and be cleared before each panel.
+  void share_depth(SpectralDepthShare* share) { depth_share_ = share; }
 
  private:
   void integrate_piece(const RayPanel& panel, double c, double d, const TransferSegment& seg);
@@ -109,6 +113,9 @@ class RayAccumulator {
   };
   SpectralTry spectral_try(const RayPanel& panel, double c, double d, const TransferSegment& seg,
                            bool depth_only, int n) const;
+  // spectral_try's depth half, computed (into `out`) or read from the share.
+  SpectralDepth& spectral_depth(const RayPanel& panel, double c, double d, const TransferSegment& seg,
+                                bool with_phi, const ChebyshevRule& rule, SpectralDepth& out) const;
   void add(const PieceIntegral& piece);
   // Where a field error of the panel's size could put a jump's crossings (JumpBand), from
   // crossings_ (found first); returns whether each band holds exactly one located crossing.
@@ -131,6 +138,7 @@ class RayAccumulator {
 
   const TransferFunction& tf_;
   const EmissionWeight* weight_;
+  SpectralDepthShare* depth_share_ = nullptr;
   double shade_max_ = 1, shade_min_ = 1;  // the weight's range (1 without one)
   std::vector<WeightSwitch> switches_;    // scratch: a panel's switches
   std::vector<double> cuts_;              // scratch: a panel's cuts

@@ -74,16 +74,13 @@ struct TransferSegment {
     if (convention == Convention::emission_extinction) return std::max(0.0, first(v));
     return std::max(0.0, second(v)) * tau(v);
   }
-  // Both at once: the opacity convention's -log1p(-a) once, not once for tau and again for g.
-  struct Optical {
-    double g = 0;
-    double tau = 0;
-  };
-  Optical optical(double v) const {
-    if (convention == Convention::emission_extinction) return {std::max(0.0, first(v)), std::max(0.0, second(v))};
-    const double t = tau(v);
-    return {std::max(0.0, second(v)) * t, t};
+  // g at v given t = tau(v): the opacity convention's -log1p(-a) computed once for both.
+  VRV_FORCE_INLINE double g_given_tau(double v, double t) const {
+    if (convention == Convention::emission_extinction) return std::max(0.0, first(v));
+    return std::max(0.0, second(v)) * t;
   }
+  // The line tau is made of (the extinction, or the opacity with unit_length).
+  const Line& extinction_line() const { return convention == Convention::emission_extinction ? second : first; }
 };
 
 class TransferFunction {

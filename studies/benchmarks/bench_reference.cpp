@@ -83,11 +83,22 @@ ColorChannels color_channels() {
           {0, 0, 0}};
 }
 
+// A colour map as scene files give it (color = [[v, r, g, b], ...]): the three emissions share the
+// red one's breakpoints, with their own values, over the same extinction.
+ColorChannels shared_knot_channels() {
+  const TransferFunction red = nonproportional_tf();
+  const PiecewiseLinear& extinction = red.second();
+  const auto knots = [&](double e0, double e1, double e2, double e3, double e4) {
+    return TransferFunction::emission_extinction(
+        PiecewiseLinear({{0, e0}, {0.3, e1}, {0.5, e2}, {0.7, e3}, {1, e4}}), extinction);
+  };
+  return {{red, knots(0.5, 0.2, 0.1, 0.9, 0.3), knots(0.1, 0.8, 0.4, 0.0, 1.0)}, {0, 0, 0}};
+}
+
 // state.range(0): 0..2 one channel alone (grey), 3 all three (RGB).
 template <class F>
-void run_color(benchmark::State& state, const F& field) {
+void run_color(benchmark::State& state, const F& field, const ColorChannels& color = color_channels()) {
   const Box box;
-  const ColorChannels color = color_channels();
   const int channel = static_cast<int>(state.range(0));
   const std::vector<Ray> rays = random_rays(256);
   long evaluations = 0, count = 0;
@@ -118,6 +129,18 @@ void BM_Color_MarschnerLobbGrid64(benchmark::State& state) {
   run_color(state, grid);
 }
 BENCHMARK(BM_Color_MarschnerLobbGrid64)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+
+void BM_Color_MarschnerLobbSharedKnots(benchmark::State& state) {
+  run_color(state, MarschnerLobb{}, shared_knot_channels());
+}
+BENCHMARK(BM_Color_MarschnerLobbSharedKnots)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+
+void BM_Color_MarschnerLobbGrid64SharedKnots(benchmark::State& state) {
+  static const GridField grid =
+      make_grid(Box{}, MarschnerLobb{}, {64, 64, 64}, GridLayout::node, Interpolation::trilinear);
+  run_color(state, grid, shared_knot_channels());
+}
+BENCHMARK(BM_Color_MarschnerLobbGrid64SharedKnots)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 
 Shading bench_shading() {
   Shading s;
