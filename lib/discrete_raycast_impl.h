@@ -39,19 +39,19 @@ class Compositor {
     transmittance_ *= c.transparency;
   }
   bool done() const { return done_; }
-  Real finish(Real background) const {
-    if (!back_to_front_) return value_ + transmittance_ * background;
-    Real value = background;
-    for (auto it = stack_.rbegin(); it != stack_.rend(); ++it) value = it->emission + it->transparency * value;
-    return value;
-  }
-  // The transparencies' product, in the order finish() composites them, so it is bitwise the value
-  // of the same samples with no emission over a background of 1.
-  Real transmittance() const {
-    if (!back_to_front_) return transmittance_;
-    Real t = 1;
-    for (auto it = stack_.rbegin(); it != stack_.rend(); ++it) t = it->transparency * t;
-    return t;
+  // The value over `background`, and the transparencies' product in the order it composites
+  // them: bitwise the value of the same samples with no emission over a background of 1.
+  struct Finished {
+    Real value, transmittance;
+  };
+  Finished finish(Real background) const {
+    if (!back_to_front_) return {value_ + transmittance_ * background, transmittance_};
+    Real value = background, t = 1;
+    for (auto it = stack_.rbegin(); it != stack_.rend(); ++it) {
+      value = it->emission + it->transparency * value;
+      t = it->transparency * t;
+    }
+    return {value, t};
   }
 
  private:
@@ -229,7 +229,7 @@ void DiscreteRaycaster<F>::shade(detail::Classified<Real>& c, const Vec3& p, con
 template <ScalarField F>
 DiscreteResult DiscreteRaycaster<F>::cast(const Ray& ray) const {
   const auto iv = clip(ray, box_);
-  if (!iv) return {background_, 0};
+  if (!iv) return {background_, 0, 1.0};
   return config_.precision == Precision::single_precision ? cast_in<float>(ray, *iv)
                                                           : cast_in<double>(ray, *iv);
 }
@@ -263,8 +263,8 @@ DiscreteResult DiscreteRaycaster<F>::cast_in(const Ray& ray, Interval iv) const 
   };
   long samples = 0;
   auto result = [&] {
-    return DiscreteResult{static_cast<double>(out.finish(Real(background_))), samples,
-                          static_cast<double>(out.transmittance())};
+    const auto finished = out.finish(Real(background_));
+    return DiscreteResult{static_cast<double>(finished.value), samples, static_cast<double>(finished.transmittance)};
   };
   auto sample = [&](Real t) VRV_FORCE_INLINE_LAMBDA {
     ++samples;

@@ -428,7 +428,7 @@ SpectralDepth& RayAccumulator::spectral_depth(const RayPanel& panel, double c, d
     const SpectralDepthKey key{c, d, rule.size(), seg.convention, seg.extinction_line(), seg.unit_length,
                                slopes.extinction};
     if (SpectralDepth* shared = depth_share_->find(key, with_phi)) return *shared;
-    slot = &depth_share_->slot(key);
+    if (SpectralDepth* kept = depth_share_->slot(key)) slot = kept;
   }
   SpectralDepth& depth = *slot;
   const int n = rule.size();

@@ -113,7 +113,8 @@ class RayAccumulator {
   };
   SpectralTry spectral_try(const RayPanel& panel, double c, double d, const TransferSegment& seg,
                            bool depth_only, int n) const;
-  // spectral_try's depth half, computed (into `out`) or read from the share.
+  // spectral_try's depth half, computed (into `out`, or a slot of the share) or read from the
+  // share; the reference is valid until the share's next slot().
   SpectralDepth& spectral_depth(const RayPanel& panel, double c, double d, const TransferSegment& seg,
                                 bool with_phi, const ChebyshevRule& rule, SpectralDepth& out) const;
   void add(const PieceIntegral& piece);

@@ -32,7 +32,7 @@ struct SpectralDepth {
   static constexpr int kMaxNodes = 129;
   std::array<double, kMaxNodes> values;  // the proxy at the nodes (from +1 to -1)
   std::array<double, kMaxNodes> tau;
-  std::array<double, kMaxNodes> phi;     // Phi(t_j) - Phi(c) / half, non-decreasing (has_phi only)
+  std::array<double, kMaxNodes> phi;     // (Phi(t_j) - Phi(c)) / half, non-increasing in j (has_phi only)
   bool has_phi = false;
   double v_max = 1, tau_max = 0;
   double position_noise = 0;             // node_position_noise of the piece
@@ -45,29 +45,40 @@ struct SpectralDepth {
   std::array<double, kMaxNodes> attenuation;
 };
 
-// A panel's depth halves, asked for by the channels in turn; cleared for every panel.
+// A panel's depth halves, asked for by the channels in turn; cleared for every panel.  At most
+// kMaxPieces are kept (a panel split to the work cap has thousands of tries; past the cap each
+// channel computes its own), and the channels ask in the same order, so a lookup starts where
+// the last one ended.
 class SpectralDepthShare {
  public:
+  static constexpr std::size_t kMaxPieces = 64;
   // The piece's depth half, or nullptr; `with_phi` asks for one that has Phi at the nodes.
   SpectralDepth* find(const SpectralDepthKey& key, bool with_phi) {
-    for (std::size_t i = 0; i < used_; ++i)
-      if (keys_[i] == key && (entries_[i].has_phi || !with_phi)) return &entries_[i];
+    for (std::size_t k = 0; k < used_; ++k) {
+      const std::size_t i = (next_ + k) % used_;
+      if (keys_[i] == key && (entries_[i].has_phi || !with_phi)) {
+        next_ = i + 1;
+        return &entries_[i];
+      }
+    }
     return nullptr;
   }
-  // Room for the piece's depth half (storage kept across panels: no allocation per piece).
-  SpectralDepth& slot(const SpectralDepthKey& key) {
+  // Room for the piece's depth half (storage kept across panels: no allocation per piece), or
+  // nullptr when kMaxPieces are kept.  Valid until the next slot().
+  SpectralDepth* slot(const SpectralDepthKey& key) {
+    if (used_ == kMaxPieces) return nullptr;
     if (used_ == entries_.size()) keys_.emplace_back(), entries_.emplace_back();
     keys_[used_] = key;
-    entries_[used_].has_attenuation = false;
-    return entries_[used_++];
+    return &entries_[used_++];
   }
-  void clear() { used_ = 0; }
+  void clear() { used_ = 0, next_ = 0; }
   void reserve(std::size_t pieces) { keys_.reserve(pieces), entries_.reserve(pieces); }
 
  private:
   std::vector<SpectralDepthKey> keys_;
   std::vector<SpectralDepth> entries_;
   std::size_t used_ = 0;
+  std::size_t next_ = 0;  // where the next lookup starts
 };
 
 }  // namespace vrv::detail

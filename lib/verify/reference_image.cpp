@@ -1,7 +1,7 @@
 #include "lib/verify/reference_image.h"
 
 #include <algorithm>
-#include <functional>
+#include <array>
 #include <iostream>
 #include <optional>
 
@@ -33,9 +33,24 @@ ReferenceImage render_reference(const Scene& scene, const Camera& camera, double
   return r;
 }
 
-// The three channels of an RGB scene from one walk per ray.  Each channel's optical depth is a
-// lower bound where that channel stopped early (its remaining emission negligible): the largest
-// of the three is kept in every channel, as the alpha channel's truth.
+// What verify keeps of an RGB pixel's reference (the record MPI ranks exchange): each channel's
+// value and estimate, and the deepest channel's optical depth.  Each channel's depth is a lower
+// bound where that channel stopped early (its remaining emission negligible): the largest of the
+// three is the alpha channel's truth.
+struct ColorPixel {
+  std::array<double, 3> value, estimate;
+  double optical_depth;
+};
+ColorPixel color_pixel(const ChannelsReferenceResult& v) {
+  ColorPixel p{};
+  for (int c = 0; c < 3; ++c) {
+    p.value[c] = v.channel[c].value, p.estimate[c] = v.channel[c].error_estimate;
+    p.optical_depth = std::max(p.optical_depth, v.channel[c].optical_depth);
+  }
+  return p;
+}
+
+// The three channels of an RGB scene from one walk per ray.
 std::vector<ReferenceImage> render_color_reference(const Scene& scene, const Camera& camera, double tol,
                                                    bool progress) {
   std::vector<ReferenceImage> r(3);
@@ -48,13 +63,9 @@ std::vector<ReferenceImage> render_color_reference(const Scene& scene, const Cam
   ImageLoopHooks hooks;
   hooks.progress = [&](long done) { bar.advance(done); };
   const ImageChannels channels(scene, false);
-  image_channel_pixels(scene, camera, channels, {tol}, std::identity(), [&](long i, const ChannelsReferenceResult& v) {
-    double depth = 0;
-    for (const ReferenceResult& c : v.channels()) depth = std::max(depth, c.optical_depth);
-    for (int c = 0; c < 3; ++c) {
-      r[c].value[i] = v.channel[c].value, r[c].error_estimate[i] = v.channel[c].error_estimate;
-      r[c].optical_depth[i] = depth;
-    }
+  image_channel_pixels(scene, camera, channels, {tol}, color_pixel, [&](long i, const ColorPixel& p) {
+    for (int c = 0; c < 3; ++c)
+      r[c].value[i] = p.value[c], r[c].error_estimate[i] = p.estimate[c], r[c].optical_depth[i] = p.optical_depth;
   }, hooks);
   bar.finish();
   return r;

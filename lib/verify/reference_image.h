@@ -24,7 +24,7 @@ struct ReferenceImage {
 ReferenceImage reference_image(const Scene& scene, const Camera& camera, const VerifyOptions& options);
 
 // One reference image per scene channel: reference_image's for a grey scene; for an RGB scene the
-// three channels from one walk per ray (integrate_color_reference), each cached as its own entry.
+// three channels from one walk per ray (image_channel_pixels), each cached as its own entry.
 // An RGB scene with options.mode throws std::invalid_argument (a projection draws one channel).
 std::vector<ReferenceImage> reference_images(const Scene& scene, const Camera& camera, const VerifyOptions& options);
 

@@ -102,7 +102,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!std::isfinite(ref.value) || !std::isfinite(ref.error_estimate) || !(ref.error_estimate >= 0))
     std::abort();
   if (scene.color)  // an RGB scene: every channel from the shared panels, finite likewise
-    for (const vrv::ReferenceResult& c : vrv::integrate_color_reference(scene, ray, {1e-10}).channel)
+    for (const vrv::ReferenceResult& c : vrv::integrate_color_reference(scene, ray, {1e-10}).channels())
       if (!std::isfinite(c.value) || !std::isfinite(c.error_estimate) || !(c.error_estimate >= 0)) std::abort();
   vrv::DiscreteConfig config;
   if (!config_for(scene, directive(text, "#method"), config)) return 0;

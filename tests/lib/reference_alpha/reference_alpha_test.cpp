@@ -28,9 +28,9 @@
 #include <nlohmann/json.hpp>
 
 #include "lib/reference_channels.h"
-#include "tests/lib/scene_text.h"
 #include "lib/scene.h"
 #include "lib/scene_file.h"
+#include "tests/lib/scene_text.h"
 #include "tests/lib/truth_lines.h"
 
 namespace vrv::reference_alpha_test {
