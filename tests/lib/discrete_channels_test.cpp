@@ -127,9 +127,10 @@ TEST(DiscreteChannels, AlphaIsTheZeroEmissionCastBitwise) {
        }},
   };
   const TransferFunction no_emission = scene.color->transfer[0].without_emission();
-  for (const auto& [name, set] : variants) {
+  for (const auto& variant : variants) {
+    const std::string& name = variant.first;  // a lambda cannot capture a structured binding in clang 14
     DiscreteConfig config = trapezoid(0.07);
-    set(config);
+    variant.second(config);
     validate(config, true);
     visit_field(scene, [&](const auto& field) {
       const DiscreteChannelCaster with_alpha(field, scene, config, true);
