@@ -101,9 +101,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const vrv::ReferenceResult ref = vrv::integrate_reference(scene, ray, {1e-10});
   if (!std::isfinite(ref.value) || !std::isfinite(ref.error_estimate) || !(ref.error_estimate >= 0))
     std::abort();
-  if (scene.color)  // an RGB scene: every channel from the shared panels, finite likewise
-    for (const vrv::ReferenceResult& c : vrv::integrate_color_reference(scene, ray, {1e-10}).channels())
+  if (scene.color) {  // an RGB scene: every channel from the shared panels, finite likewise
+    const vrv::ChannelsReferenceResult rgb = vrv::integrate_color_reference(scene, ray, {1e-10});
+    for (const vrv::ReferenceResult& c : rgb.channels())
       if (!std::isfinite(c.value) || !std::isfinite(c.error_estimate) || !(c.error_estimate >= 0)) std::abort();
+  }
   vrv::DiscreteConfig config;
   if (!config_for(scene, directive(text, "#method"), config)) return 0;
   const vrv::DiscreteResult d = vrv::discrete_raycast(scene, ray, config);
