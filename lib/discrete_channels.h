@@ -21,7 +21,7 @@ struct ChannelsDiscreteResult {
   long samples = 0;
 };
 
-// One DiscreteRaycaster per colour channel of the scene's image (ImageChannels: grey or RGB); with
+// One DiscreteRaycaster per colour channel of the scene (colour_channels: grey or RGB); with
 // alpha, A = 1 - the first channel's transmittance (the channels composite the same opacities, so
 // it is the same in each, and bitwise what a cast of no emission over a background of 1 gives).
 // The scene and field must outlive it.
@@ -29,8 +29,8 @@ template <class F>
 class DiscreteChannelCaster {
  public:
   DiscreteChannelCaster(const F& field, const Scene& scene, const DiscreteConfig& config, bool alpha = false)
-      : channels_(scene, alpha) {
-    const auto colour = channels_.channels().first(channels_.count() - (alpha ? 1 : 0));
+      : alpha_(alpha) {
+    const std::vector<ReferenceChannel> colour = colour_channels(scene, alpha);
     casters_.reserve(colour.size());
     for (const ReferenceChannel& c : colour)
       casters_.emplace_back(field, scene.box, *c.transfer, c.background, config, scene.shading_or_null(), scene.dims);
@@ -45,12 +45,12 @@ class DiscreteChannelCaster {
       r.samples += v.samples;
       if (c == 0) transmittance = v.transmittance;
     }
-    if (channels_.alpha()) r.value[casters_.size()] = 1 - transmittance;
+    if (alpha_) r.value[casters_.size()] = 1 - transmittance;
     return r;
   }
 
  private:
-  ImageChannels channels_;
+  bool alpha_;
   std::vector<DiscreteRaycaster<F>> casters_;
 };
 

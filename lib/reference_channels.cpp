@@ -8,13 +8,18 @@
 
 namespace vrv {
 
-ImageChannels::ImageChannels(const Scene& scene, bool alpha) {
-  // With alpha the image is over nothing: premultiplied colour, composited later as C + I0 (1 - A).
-  const auto background = [&](double b) { return alpha ? 0.0 : b; };
+std::vector<ReferenceChannel> colour_channels(const Scene& scene, bool over_nothing) {
+  const auto background = [&](double b) { return over_nothing ? 0.0 : b; };
+  std::vector<ReferenceChannel> channels;
   if (scene.color)
-    for (int c = 0; c < 3; ++c) channels_.push_back({&scene.color->transfer[c], background(scene.color->background[c])});
+    for (int c = 0; c < 3; ++c) channels.push_back({&scene.color->transfer[c], background(scene.color->background[c])});
   else
-    channels_.push_back({&scene.transfer, background(scene.background)});
+    channels.push_back({&scene.transfer, background(scene.background)});
+  return channels;
+}
+
+ImageChannels::ImageChannels(const Scene& scene, bool alpha) : channels_(colour_channels(scene, alpha)) {
+  // With alpha the image is over nothing: premultiplied colour, composited later as C + I0 (1 - A).
   if (!alpha) return;
   alpha_ = std::make_unique<TransferFunction>(channels_.front().transfer->without_emission());
   channels_.push_back({alpha_.get(), 1.0});

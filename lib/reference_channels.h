@@ -22,6 +22,10 @@ struct ReferenceChannel {
   double background = 0;
 };
 
+// A scene's colour channels: one grey, or red, green and blue.  `over_nothing` gives each a
+// background of 0 (premultiplied colour, as an image with alpha has: see ImageChannels).
+std::vector<ReferenceChannel> colour_channels(const Scene& scene, bool over_nothing);
+
 // The channels of a scene's image: its colour channels (one grey, or red, green and blue) and, with
 // `alpha`, one more whose value is the transmittance e^-Phi: the same extinction without emission
 // over a background of 1 (so A = 1 - that value, with its estimate).  With alpha the colour is
@@ -49,7 +53,9 @@ struct ChannelsReferenceResult {
   std::array<ReferenceResult, kMaxChannels> channel{};  // the first `count`; each counts the shared evaluations
   int count = 0;
   long evaluations = 0;  // field evaluations for all of them
-  std::span<const ReferenceResult> channels() const { return std::span(channel).first(count); }
+  std::span<const ReferenceResult> channels() const& { return std::span(channel).first(count); }
+  // A span into a temporary would outlive it (a range-for over f().channels() reads freed stack).
+  std::span<const ReferenceResult> channels() const&& = delete;
   bool tolerance_met() const;
 };
 

@@ -160,7 +160,6 @@ SpeedErrorPoint named_point(const Level& level) {
   SpeedErrorPoint p;
   p.method = level.series;
   p.reference = level.spec.reference;
-  p.level_name = level.spec.reference ? "tol" : "step";
   p.level = level.spec.reference ? level.spec.tol : level.spec.config.sampling.step;
   return p;
 }
@@ -271,7 +270,7 @@ Table points_table(const std::vector<SpeedErrorPoint>& pts, const std::vector<bo
   t.set_format("work_per_ray", "{:.1f}");
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const SpeedErrorPoint& p = pts[i];
-    t.add_row({p.method, p.level_name, p.level, p.max_error, p.mean_error, p.max_estimate,
+    t.add_row({p.method, p.level_name(), p.level, p.max_error, p.mean_error, p.max_estimate,
                p.seconds_per_ray, p.work_per_ray, std::string(front_time[i] ? "true" : "false"),
                std::string(front_work[i] ? "true" : "false")});
   }
@@ -369,7 +368,7 @@ std::vector<StudyCheck> checks_of(const Definition& d, const std::vector<SpeedEr
     const bool finite = std::isfinite(p.max_error) && std::isfinite(p.mean_error) &&
                         std::isfinite(p.seconds_per_ray) && p.seconds_per_ray > 0;
     if (!finite)
-      checks.push_back({fmt::format("{} {}={:g}: finite", p.method, p.level_name, p.level), p.max_error, 0,
+      checks.push_back({fmt::format("{} {}={:g}: finite", p.method, p.level_name(), p.level), p.max_error, 0,
                         false, "error and time finite, time > 0", CheckKind::derived});
   }
   // Convergence, loosely (the convergence study checks orders): the least-squares slope of

@@ -14,13 +14,14 @@ namespace vrv {
 // One configuration's row.
 struct SpeedErrorPoint {
   std::string method;             // the series: the method's label, else its name ("reference", "riemann", ...)
-  std::string level_name;         // "tol" or "step"
   double level = 0;               // the tolerance or the step
   double max_error = 0, mean_error = 0;  // over the rays, |value - truth|
   double max_estimate = 0;        // reference rows: largest own error estimate; else 0
   double seconds_per_ray = 0;     // single thread, best of the repeats
   double work_per_ray = 0;        // field evaluations (reference) or samples (discrete)
   bool reference = false;         // the reference integrator's row (whatever its label)
+  // What `level` is: the reference's tolerance or a discrete method's step.
+  const char* level_name() const { return reference ? "tol" : "step"; }
 };
 
 // Which points are on the Pareto front of (cost, error), both minimised: no other point is at

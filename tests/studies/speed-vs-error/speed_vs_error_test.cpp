@@ -22,10 +22,10 @@ TEST(SpeedVsError, ParetoFrontOfOnePointAndOfNone) {
 
 TEST(SpeedVsError, CheapestReachingPicksLeastTimeUnderTarget) {
   std::vector<SpeedErrorPoint> pts(4);
-  pts[0] = {"alpha", "step", 0.1, 5e-3, 1e-3, 0, 1e-6, 20};
-  pts[1] = {"alpha", "step", 0.01, 5e-5, 1e-5, 0, 1e-5, 200};
-  pts[2] = {"alpha", "step", 0.001, 5e-7, 1e-7, 0, 1e-4, 2000};
-  pts[3] = {"riemann", "step", 0.001, 2e-3, 1e-3, 0, 5e-5, 2000};
+  pts[0] = {"alpha", 0.1, 5e-3, 1e-3, 0, 1e-6, 20};
+  pts[1] = {"alpha", 0.01, 5e-5, 1e-5, 0, 1e-5, 200};
+  pts[2] = {"alpha", 0.001, 5e-7, 1e-7, 0, 1e-4, 2000};
+  pts[3] = {"riemann", 0.001, 2e-3, 1e-3, 0, 5e-5, 2000};
   EXPECT_EQ(cheapest_reaching(pts, "alpha", 1e-3), std::optional<std::size_t>(1));
   EXPECT_EQ(cheapest_reaching(pts, "alpha", 1e-6), std::optional<std::size_t>(2));
   EXPECT_EQ(cheapest_reaching(pts, "alpha", 1e-9), std::nullopt);
