@@ -110,7 +110,7 @@ template <ScalarField F>
 ChannelsReferenceResult integrate_channels_pass(const F& field, const RayFrame& frame,
                                                 std::span<const ReferenceChannel> channels,
                                                 const ReferenceOptions& options, const Shading* shading) {
-  const auto weight = shading_on(field, frame, shading);
+  const auto weight = shading_on(field, frame, shading, static_cast<int>(channels.size()));
   ChannelAccumulators acc(channels, options, frame.iv, field_change_within(field, frame.position_error),
                           weight.get());
   const long evaluations = walk_ray(field, frame, AllChannelsTransparent{channels}, options, acc);

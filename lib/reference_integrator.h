@@ -430,11 +430,12 @@ long walk_ray(const F& field, const RayFrame& frame, const Transparency& tf, con
 }
 
 // The emission's weight for `shading` on this ray, or none when the scene does not shade (one
-// allocation per shaded ray; a field without a gradient cannot shade).
+// allocation per shaded ray; a field without a gradient cannot shade); `channels` weigh with it.
 template <ScalarField F>
-std::unique_ptr<EmissionWeight> shading_on(const F& field, const RayFrame& frame, const Shading* shading) {
+std::unique_ptr<EmissionWeight> shading_on(const F& field, const RayFrame& frame, const Shading* shading,
+                                           int channels = 1) {
   if (!shading) return nullptr;
-  if constexpr (GradientField<F>) return std::make_unique<FieldShading<F>>(field, frame.local, *shading);
+  if constexpr (GradientField<F>) return std::make_unique<FieldShading<F>>(field, frame.local, *shading, channels);
   else throw std::invalid_argument("shading: this field has no gradient to shade with");
 }
 

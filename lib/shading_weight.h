@@ -15,20 +15,10 @@
 #include "lib/field.h"
 #include "lib/ray_panel.h"
 #include "lib/shading.h"
+#include "lib/shading_memo.h"
+#include "lib/weight_switch.h"
 
 namespace vrv {
-
-// A switch of the weight at t: known to within dt (where the field's proxy of the switch function
-// crosses 0); `jump` where S is discontinuous there (a two-sided normal's flip), so that a
-// misplaced switch costs the jump over dt, not a kink's second-order change.
-struct WeightSwitch {
-  double t = 0;
-  double dt = 0;
-  bool jump = false;
-  // False for a stretch [t, t + dt] where a jump's function comes within its proxy's error of 0
-  // without a located crossing: the function may cross there (twice) or not; charged, not cut.
-  bool cut = true;
-};
 
 class EmissionWeight {
  public:
@@ -60,11 +50,31 @@ template <GradientField F>
 class FieldShading final : public EmissionWeight {
  public:
   // `local`: the ray in its own frame (lib/geometry.h, RayFrame::local), as the panels are fitted.
-  FieldShading(const F& field, const Ray& local, const Shading& shading)
-      : field_(field), ray_(local), factor_(shading, local.direction) {}
+  // `channels`: how many channels weigh their emission with it (more than one keeps S for the
+  // others: detail::ShadingMemo).
+  FieldShading(const F& field, const Ray& local, const Shading& shading, int channels = 1)
+      : field_(field), ray_(local), factor_(shading, local.direction), memo_(channels > 1) {}
 
   void values(double c, double d, std::span<const double> ts, std::span<double> s,
               std::span<double> noise) const override {
+    if (memo_.read(c, d, ts, s, noise)) return;
+    compute_values(c, d, ts, s, noise);
+    memo_.keep(c, d, ts, s, noise);
+  }
+
+  void append_switches(double a, double b, std::vector<WeightSwitch>& out) const override {
+    if (memo_.read_switches(a, b, out)) return;
+    const std::size_t first = out.size();
+    compute_switches(a, b, out);
+    memo_.keep_switches(a, b, std::span(out).subspan(first));
+  }
+
+  double max() const override { return factor_.max(); }
+  double min() const override { return factor_.min(); }
+
+ private:
+  void compute_values(double c, double d, std::span<const double> ts, std::span<double> s,
+                      std::span<double> noise) const {
     const Vec3 inside = ray_.at(0.5 * (c + d));
     const ShadingFactor::Branch branch = factor_.branch(field_.piece_gradient(inside, inside));
     for (std::size_t j = 0; j < ts.size(); ++j) {
@@ -82,7 +92,7 @@ class FieldShading final : public EmissionWeight {
     }
   }
 
-  void append_switches(double a, double b, std::vector<WeightSwitch>& out) const override {
+  void compute_switches(double a, double b, std::vector<WeightSwitch>& out) const {
     if (!(b > a)) return;
     const int degree = field_.degree_along_ray();
     // A known-degree field's gradient is a polynomial of degree - 1 along a piece, so the switch
@@ -145,10 +155,6 @@ class FieldShading final : public EmissionWeight {
     }
   }
 
-  double max() const override { return factor_.max(); }
-  double min() const override { return factor_.min(); }
-
- private:
   // Where a two-sided normal's flips (switch 0) may lie: on each monotone part of the proxy, the
   // stretch where it is within its error of 0 (level_band) holds every zero the function has
   // there, however many (the proxy may touch 0, or cross it once where the function crosses
@@ -198,6 +204,7 @@ class FieldShading final : public EmissionWeight {
   mutable RayPanel panel_;               // scratch for append_switches
   mutable std::vector<Crossing> crossings_;
   mutable std::vector<double> breaks_;     // scratch: the proxy's monotone parts
+  mutable detail::ShadingMemo memo_;       // S for the other channels of an RGB walk
 };
 
 }  // namespace vrv

@@ -4,7 +4,8 @@
 // BM_Color_*: an RGB ray (lib/reference_channels.h) beside the same rays in grey with each of its
 // channels alone, in one run (the README's RGB cost ratio: rgb over the costliest grey channel).
 // BM_Shading_*: the same rays unshaded (0) and shaded (1: Blinn-Phong, a directional light,
-// two-sided; lib/shading.h) in one run (docs/shading.md's cost ratio).
+// two-sided; lib/shading.h) in one run (docs/shading.md's cost ratio); BM_Color_Shaded*: shaded
+// RGB rays beside each channel shaded alone.
 #include <random>
 #include <vector>
 
@@ -97,7 +98,8 @@ ColorChannels shared_knot_channels() {
 
 // state.range(0): 0..2 one channel alone (grey), 3 all three (RGB).
 template <class F>
-void run_color(benchmark::State& state, const F& field, const ColorChannels& color = color_channels()) {
+void run_color(benchmark::State& state, const F& field, const ColorChannels& color = color_channels(),
+               const Shading* shading = nullptr) {
   const Box box;
   const int channel = static_cast<int>(state.range(0));
   const std::vector<Ray> rays = random_rays(256);
@@ -105,11 +107,11 @@ void run_color(benchmark::State& state, const F& field, const ColorChannels& col
   for (auto _ : state) {
     for (const Ray& ray : rays) {
       if (channel < 3) {
-        const ReferenceResult r = integrate_reference(field, box, color.transfer[channel], 0.0, ray, {1e-12});
+        const ReferenceResult r = integrate_reference(field, box, color.transfer[channel], 0.0, ray, {1e-12}, shading);
         benchmark::DoNotOptimize(r.value);
         evaluations += r.evaluations;
       } else {
-        const ChannelsReferenceResult r = integrate_color_reference(field, box, color, ray, {1e-12});
+        const ChannelsReferenceResult r = integrate_color_reference(field, box, color, ray, {1e-12}, shading);
         benchmark::DoNotOptimize(r.channel[2].value);
         evaluations += r.evaluations;
       }
@@ -163,6 +165,21 @@ void BM_Shading_MarschnerLobbGrid64(benchmark::State& state) {
   state.SetLabel(state.range(0) ? "shaded" : "unshaded");
 }
 BENCHMARK(BM_Shading_MarschnerLobbGrid64)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
+
+// Shaded RGB rays (a scene file's colour map) against the same rays shaded in grey, channel by channel.
+void BM_Color_ShadedMarschnerLobbSharedKnots(benchmark::State& state) {
+  const Shading s = bench_shading();
+  run_color(state, MarschnerLobb{}, shared_knot_channels(), &s);
+}
+BENCHMARK(BM_Color_ShadedMarschnerLobbSharedKnots)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+
+void BM_Color_ShadedMarschnerLobbGrid64SharedKnots(benchmark::State& state) {
+  static const GridField grid =
+      make_grid(Box{}, MarschnerLobb{}, {64, 64, 64}, GridLayout::node, Interpolation::trilinear);
+  const Shading s = bench_shading();
+  run_color(state, grid, shared_knot_channels(), &s);
+}
+BENCHMARK(BM_Color_ShadedMarschnerLobbGrid64SharedKnots)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -169,6 +169,37 @@ TEST(ShadedReference, EqualChannelsAreTheGreyShadedRayBitwise) {
   }
 }
 
+// Channels of different emission, breakpoints and jumps under one extinction, on a grid (whose
+// panels are its cells for any channel): each RGB channel is its own transfer function's grey
+// shaded ray, bit for bit.  S and its switches are computed by the first channel to reach a piece
+// and read by the others (detail::ShadingMemo): this holds only if what they read is what each
+// would compute, piece by piece, including where the channels cut differently.
+TEST(ShadedReference, DistinctChannelsAreEachChannelsGreyShadedRayBitwise) {
+  Shading s;
+  s.light = Vec3(0.3, -0.5, 0.8);
+  s.specular = 0.3, s.shininess = 12;
+  Scene grey = default_with(s);
+  grey.field = make_grid(grey.box, MarschnerLobb{}, {17, 17, 17}, GridLayout::node, Interpolation::trilinear);
+  const PiecewiseLinear extinction({{0, 0.2}, {0.5, 1.5}, {1, 0.6}});
+  const auto channel = [&](std::vector<ControlPoint> emission) {
+    return TransferFunction::emission_extinction(PiecewiseLinear(std::move(emission)), extinction);
+  };
+  Scene rgb = grey;
+  rgb.color = ColorChannels{{channel({{0, 0}, {1, 1}}), channel({{0, 0.8}, {0.3, 0.1}, {1, 0.4}}),
+                             channel({{0, 0.1}, {0.6, 0.1}, {0.6, 0.9}, {1, 0.2}})},
+                            {0.0, 0.0, 0.0}};
+  for (const Vec3& d : {Vec3(0.1, 0.2, 1), Vec3(1, -0.3, 0.2), Vec3(-0.4, 1, 0.7)}) {
+    const Ray ray = make_ray(-3 * d.normalized() + Vec3(0.05, -0.1, 0.02), d);
+    const ChannelsReferenceResult three = integrate_color_reference(rgb, ray, {1e-11});
+    for (int c = 0; c < 3; ++c) {
+      grey.transfer = rgb.color->transfer[c];
+      const ReferenceResult one = integrate_reference(grey, ray, {1e-11});
+      EXPECT_EQ(three.channel[c].value, one.value) << c << " " << d.transpose();
+      EXPECT_EQ(three.channel[c].error_estimate, one.error_estimate) << c << " " << d.transpose();
+    }
+  }
+}
+
 // Shading changes the value (the tests above would pass if it were ignored by a scaled route).
 TEST(ShadedReference, ALightChangesTheValue) {
   Shading left, right;
