@@ -90,6 +90,9 @@ RayAccumulator::RayAccumulator(const TransferFunction& tf, double background,
       stop_when_opaque_(options.stop_when_opaque),
       iv_(iv),
       position_error_(position_error) {
+  double largest_level = 0;
+  for (double v : tf.breakpoints()) largest_level = std::max(largest_level, std::abs(v));
+  value_floor_ = std::min(1.0, largest_level);
   for (double v : tf.breakpoints()) {
     const auto jump = tf.jump_at(v);
     max_extinction_ = std::max(max_extinction_, tf.extinction(v) + jump.extinction);
@@ -426,7 +429,7 @@ SpectralDepth& RayAccumulator::spectral_depth(const RayPanel& panel, double c, d
   SpectralDepth* slot = &out;
   if (depth_share_) {
     const SpectralDepthKey key{c, d, rule.size(), seg.convention, seg.extinction_line(), seg.unit_length,
-                               slopes.extinction};
+                               slopes.extinction, value_floor_};
     if (SpectralDepth* shared = depth_share_->find(key, with_phi)) return *shared;
     if (SpectralDepth* kept = depth_share_->slot(key)) slot = kept;
   }
@@ -444,7 +447,9 @@ SpectralDepth& RayAccumulator::spectral_depth(const RayPanel& panel, double c, d
     for (int j = 0; j < n; ++j) xs[j] = panel.x_of(mid + half * rule.node(j));
     chebyshev_evaluate_many(panel.coefficients, {xs, count}, {values, count});
   }
-  double v_max = 1, tau_max = 0;
+  // Below a unit floor, never below the field's own rounding (its noise, which the panel's error
+  // does not carry).
+  double v_max = value_floor_ < 1 ? std::max(value_floor_, panel.noise / (8 * eps)) : 1.0, tau_max = 0;
   for (int j = 0; j < n; ++j) {
     v_max = std::max(v_max, std::abs(values[j]));
     tau[j] = seg.tau(values[j]);
@@ -603,9 +608,11 @@ double RayAccumulator::joint_error(double value, double other_error) const {
     for (double s : {j.s_lo, j.s_hi})
       for (double t : {j.t_lo, j.t_hi})
         for (double r : {r_lo, r_hi}) worst = std::max(worst, std::abs(j.dg * s * t - j.dtau * r));
-    // Second order: e^-x against 1 - x (x = |dtau| size), and the product of both changes.
-    const double second =
-        0.5 * j.size * j.size * std::abs(j.dtau) * (std::abs(j.dtau) * r_hi + std::abs(j.dg) * j.s_hi * j.t_hi);
+    // Second order: e^-x against 1 - x (x = |dtau| size), and the product of both changes, from
+    // the first-order sizes x and |dg| size (size^2 alone overflowed for field values near 1e180,
+    // where the size is the field's rounding, and the estimate was infinite).
+    const double x = j.size * std::abs(j.dtau), y = j.size * std::abs(j.dg);
+    const double second = 0.5 * x * (x * r_hi + y * j.s_hi * j.t_hi);
     sum += charge(j.size, worst, 1) + (second > 0 ? second : 0.0);
   }
   return sum;

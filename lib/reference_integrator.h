@@ -158,6 +158,11 @@ class RayAccumulator {
   double termination_booked_ = 0;  // error booked by early termination so far
   long spectral_pieces_ = 0;
   double max_extinction_ = 0;        // max tau over all values
+  // The least size of v whose rounding the spectral rule charges through the slopes: 1, or the
+  // transfer function's largest level where that is below 1 (and then at least the field's
+  // noise).  v's rounding is a few ulps of the values it was computed at; a field of 1e-181 with
+  // its levels in the same units was charged ulps of 1 times slopes of 1e180 (an estimate of 1e165).
+  double value_floor_ = 1;
   // A stretch [u, u + ...] of the current panel where a jump at `level` may be crossed: dt is
   // how far the field's crossing can lie from the one integrated (the stretch's length where
   // none was located).

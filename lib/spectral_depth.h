@@ -21,10 +21,11 @@ struct SpectralDepthKey {
   Line extinction;  // TransferSegment::extinction_line()
   double unit_length = 1;
   double extinction_slope = 0;  // the branch's max |dtau/dv|
+  double value_floor = 1;       // the least size of v its rounding is taken at (RayAccumulator)
   bool operator==(const SpectralDepthKey& o) const {
     return c == o.c && d == o.d && n == o.n && convention == o.convention && extinction.v0 == o.extinction.v0 &&
            extinction.y0 == o.extinction.y0 && extinction.slope == o.extinction.slope &&
-           unit_length == o.unit_length && extinction_slope == o.extinction_slope;
+           unit_length == o.unit_length && extinction_slope == o.extinction_slope && value_floor == o.value_floor;
   }
 };
 

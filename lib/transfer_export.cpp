@@ -4,6 +4,7 @@
 #include <array>
 #include <utility>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -62,15 +63,18 @@ void check_table_options(double L, int per_segment) {
 std::vector<TransferRow> rows_at(const TransferFunction& tf, const std::vector<double>& b, double L, int per_segment) {
   std::vector<TransferRow> rows;
   if (b.empty()) return rows;
-  rows.push_back(tail_row(tf, b.front() - 1, b.front(), b.size() > 1 ? 0.5 * (b[0] + b[1]) : b.front(), L));
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const double first_inside = b.size() > 1 ? value_inside(b[0], b[1]) : b.front();
+  rows.push_back(tail_row(tf, value_inside(-inf, b.front()), b.front(), first_inside, L));
   for (std::size_t s = 0; s + 1 < b.size(); ++s) {
-    const TransferSegment seg = tf.segment(0.5 * (b[s] + b[s + 1]));
+    const TransferSegment seg = tf.segment(value_inside(b[s], b[s + 1]));
     for (int k = 0; k <= per_segment; ++k) {
       const double v = k == per_segment ? b[s + 1] : b[s] + (b[s + 1] - b[s]) * k / per_segment;
       rows.push_back(row(seg, v, L));
     }
   }
-  rows.push_back(tail_row(tf, b.back() + 1, b.back(), b.size() > 1 ? 0.5 * (b[b.size() - 2] + b.back()) : b.back(), L));
+  const double last_inside = b.size() > 1 ? value_inside(b[b.size() - 2], b.back()) : b.back();
+  rows.push_back(tail_row(tf, value_inside(b.back(), inf), b.back(), last_inside, L));
   return rows;
 }
 

@@ -23,6 +23,13 @@ PiecewiseLinear::PiecewiseLinear(std::vector<ControlPoint> points) : points_(std
   }
 }
 
+double value_inside(double lo, double hi) {
+  if (std::isinf(lo)) return std::isinf(hi) ? 0.0 : hi - std::max(1.0, std::abs(hi));  // below hi, whatever its size
+  if (std::isinf(hi)) return lo;
+  const double mid = 0.5 * lo + 0.5 * hi;  // no overflow
+  return lo < mid && mid < hi ? mid : lo;
+}
+
 Line PiecewiseLinear::line_at(double v_inside) const {
   const auto after = std::upper_bound(points_.begin(), points_.end(), v_inside,
                                       [](double v, const ControlPoint& p) { return v < p.v; });
@@ -206,14 +213,17 @@ void TransferFunction::finish() {
     segment_slopes_.push_back(slopes);
   };
   const auto& b = breakpoints_;
-  add_branch(b.front() - 1, b.front(), b.front());
-  for (std::size_t i = 1; i < b.size(); ++i) add_branch(0.5 * (b[i - 1] + b[i]), b[i - 1], b[i]);
-  add_branch(b.back() + 1, b.back(), b.back());
+  // The stretch below b[i] and the one above it: [lo(i), b[i]) and [b[i], lo(i + 1)).
+  const auto lo = [&](std::size_t i) { return i == 0 ? -inf : b[i - 1]; };
+  const auto hi = [&](std::size_t i) { return i == b.size() ? inf : b[i]; };
+  add_branch(value_inside(-inf, b.front()), b.front(), b.front());
+  for (std::size_t i = 1; i < b.size(); ++i) add_branch(value_inside(b[i - 1], b[i]), b[i - 1], b[i]);
+  add_branch(value_inside(b.back(), inf), b.back(), b.back());
 
   jumps_.clear();
   for (std::size_t i = 0; i < b.size(); ++i) {
-    const double below = i == 0 ? b[0] - 1 : 0.5 * (b[i - 1] + b[i]);
-    const double above = i + 1 == b.size() ? b[i] + 1 : 0.5 * (b[i] + b[i + 1]);
+    const double below = value_inside(lo(i), hi(i));
+    const double above = value_inside(hi(i), hi(i + 1));
     const TransferSegment l = segment(below), r = segment(above);
     jumps_.push_back({r.g(b[i]) - l.g(b[i]), r.tau(b[i]) - l.tau(b[i])});
   }

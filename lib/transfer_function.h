@@ -83,6 +83,13 @@ struct TransferSegment {
   const Line& extinction_line() const { return convention == Convention::emission_extinction ? second : first; }
 };
 
+// A value on the stretch [lo, hi) between consecutive breakpoints (lo < hi; lo = -inf for the
+// stretch below the first, hi = +inf above the last), so that segment() of it is that stretch's
+// branch: the midpoint where it rounds strictly inside, else lo itself (segment() gives a
+// breakpoint the branch above it).  hi - 1 and the midpoint of neighbouring doubles are not
+// inside past 2^53 (a jump at 2^54 took the branch above it for the one below).
+double value_inside(double lo, double hi);
+
 class TransferFunction {
  public:
   TransferFunction() = default;

@@ -24,6 +24,11 @@ void extremum_breaks(const RayPanel& panel, std::vector<double>& out) {
     // p'(x) = d0 + d1 x + d2 T2(x) = (d0 - d2) + d1 x + 2 d2 x^2 on [-1, 1].
     double d[4] = {0, 0, 0, 0};
     chebyshev_derivative(panel.coefficients, {d, static_cast<std::size_t>(n)});
+    // Scaled by a power of two (exactly; the roots stay), so that B^2 - 4AC neither underflows nor
+    // overflows: a cell of values near 1e-200 lost its maximum to an underflowed discriminant.
+    int exponent = 0;
+    std::frexp(std::max({std::abs(d[0]), std::abs(d[1]), std::abs(d[2])}), &exponent);
+    for (double& x : d) x = std::ldexp(x, -exponent);
     const double A = 2 * d[2], B = d[1], C = d[0] - d[2];
     double roots[2];
     int count = 0;

@@ -16,7 +16,9 @@
 
 #include "analytic/linear_ramp.h"
 #include "analytic/marschner_lobb.h"
+#include "lib/grid_field.h"
 #include "lib/reference_integrator.h"
+#include "lib/scene.h"
 #include "tests/lib/independent_reference.h"
 
 namespace vrv {
@@ -214,6 +216,53 @@ TEST(ReferenceHonesty, AnAbsorbingClosedFormPieceIsChargedItsJointPartByPart) {
   const double floor = eta * worst;
   expect_promise(r, truth, {100 * floor, 2});
   EXPECT_LE(r.error_estimate, 10 * floor);
+}
+
+// Field values past 2^53 (a ramp from 0 to 2^56 across the box, as a linear field and as a grid of
+// one trilinear cell) through a jump at 0.3 x 2^56: (g, tau) = (0.3, 0.8) for the first 0.6 of the
+// ray, (4, 1.5) for the last 1.4.  The branch below the jump was taken for the one above it, and
+// the transfer function for proportional: 2.4646 with an estimate of 2.5e-14 against 1.5910 (a
+// helper's honesty hunt).  Closed form here: I = 0.3/0.8 (1 - e^-0.48) + e^-0.48 4/1.5 (1 - e^-2.1).
+TEST(ReferenceHonesty, FieldValuesPast2To53KeepBothBranchesOfAJump) {
+  const Box box{};
+  const double top = 0x1p56;
+  const TransferFunction tf = one_jump(0.3 * top, 0.3, 0.8, 4.0, 1.5, 0, top);
+  const LinearRamp ramp{Vec3(0.5 * top, 0, 0), 0.5 * top};
+  const GridField cell = make_grid(box, ramp, {2, 2, 2}, GridLayout::node, Interpolation::trilinear);
+  const LD truth = 0.3L / 0.8L * -std::expm1(-0.48L) + std::exp(-0.48L) * 4.0L / 1.5L * -std::expm1(-2.1L);
+  const Ray ray = make_ray(Vec3(-2, 0.1, 0.2), Vec3(1, 0, 0));
+  // What double resolves here: the crossing is placed to an ulp of the field (16) over its slope
+  // (2^55), and the pieces' closed forms to their ulps.
+  const double floor = kClosedFormFloor * 1.6 + 4.0 * 16 / (0.5 * top);
+  expect_promise(integrate_reference(ramp, box, tf, 0, ray, {1e-12}), truth, {floor, 2});
+  expect_promise(integrate_reference(cell, box, tf, 0, ray, {1e-12}), truth, {floor, 8});
+}
+
+// The same integral at any scale of the field: a grid of Marschner-Lobb and its transfer function's
+// levels both scaled by 2^k give g and tau, so I, unchanged (a power of two scales every node and
+// every level exactly).  Near 1e180 the estimate was infinite (the joint charge squared the
+// field's rounding) and the ray exited as not finite; the unscaled ray is the truth suite's.
+TEST(ReferenceHonesty, FieldValuesOfAnySizeGiveTheSameIntegral) {
+  const Box box{};
+  const MarschnerLobb ml{6.0, 0.25};
+  const Ray ray = make_ray(Vec3(-0.8731098770975874, 2.21897088105742, 0.7436407713121307),
+                           Vec3(0.16997766334442513, -0.9845619820624084, -0.04177675718998865));
+  const auto at_scale = [&](int k) {
+    const double scale = std::ldexp(1.0, k);
+    const GridField grid(box, {24, 24, 24}, GridLayout::node, Interpolation::trilinear,
+                         [&](const Vec3& p) { return scale * ml.value(p); });
+    const TransferFunction tf = TransferFunction::emission_extinction(curve({{0, 0}, {scale, 1}}),
+                                                                      curve({{0, 0}, {scale, 0.5}}));
+    return integrate_reference(grid, box, tf, 0, ray, {1e-12});
+  };
+  const ReferenceResult one = at_scale(0);
+  ASSERT_TRUE(one.tolerance_met);
+  for (const int k : {-600, -300, 300, 600, 900}) {
+    const ReferenceResult r = at_scale(k);
+    ASSERT_TRUE(std::isfinite(r.value) && std::isfinite(r.error_estimate)) << k;
+    EXPECT_LE(std::abs(r.value - one.value), r.error_estimate + one.error_estimate) << k;
+    EXPECT_TRUE(r.tolerance_met) << k << ": estimate " << r.error_estimate;
+  }
 }
 
 }  // namespace

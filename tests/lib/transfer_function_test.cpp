@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "tests/lib/reference_check.h"
 
 namespace vrv {
@@ -80,6 +83,28 @@ TEST(TransferFunction, TransparentSomewhereFindsEveryZeroStretch) {
       curve({{1e308, 1.0}, {1.5e308, 1.0}, {1.5e308, 0.0}, {1.7e308, 0.0}, {1.7e308, 1.0}}),
       curve({{1e308, 1.0}, {1.5e308, 1.0}, {1.5e308, 0.0}, {1.7e308, 0.0}, {1.7e308, 1.0}}));
   EXPECT_TRUE(far.transparent_somewhere(1.2e308, 1.79e308));
+}
+
+// Past 2^53 a value minus 1 is the value itself, as is the midpoint of two neighbouring doubles:
+// the branch below a jump at 1.2 x 2^54 was sampled above it, so the jump had size 0 and the
+// function looked proportional (g = 8/3 tau everywhere) where it is 0.3 / 0.8 below the jump.
+TEST(TransferFunction, BranchesOfAJumpPast2To53AreEachTheirOwn) {
+  const double level = 1.2 * 0x1p54, below = level - 0x1p20;
+  const TransferFunction tf = TransferFunction::emission_extinction(curve({{level, 0.3}, {level, 4.0}}),
+                                                                    curve({{level, 0.8}, {level, 1.5}}));
+  EXPECT_FALSE(tf.emission_per_extinction().has_value());
+  EXPECT_EQ(tf.signed_jump_at(level).emission, 3.7);
+  EXPECT_EQ(tf.signed_jump_at(level).extinction, 0.7);
+  EXPECT_EQ(tf.emission(below), 0.3);
+  EXPECT_EQ(tf.emission(level), 4.0);
+  EXPECT_EQ(tf.max_emission_per_extinction(), 4.0 / 1.5);
+  // Two breakpoints one ulp apart: the stretch between them is the lower one alone.
+  const double next = std::nextafter(level, 2 * level);
+  EXPECT_EQ(value_inside(level, next), level);
+  EXPECT_LT(value_inside(-std::numeric_limits<double>::infinity(), level), level);
+  EXPECT_LT(value_inside(-std::numeric_limits<double>::infinity(), -1e308), -1e308);
+  EXPECT_EQ(value_inside(level, std::numeric_limits<double>::infinity()), level);
+  EXPECT_EQ(value_inside(0.25, 0.75), 0.5);
 }
 
 }  // namespace

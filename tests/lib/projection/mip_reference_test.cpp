@@ -72,6 +72,29 @@ TEST(MipReference, CubicCellMaximumInClosedForm) {
   EXPECT_LT(r.position, r.t_exit);
 }
 
+// The same cell scaled by 2^-700 and 2^700: scaling by a power of two is exact in every value, so
+// the maximum is the unscaled one's, scaled, bit for bit.  The derivative's discriminant B^2 - 4AC
+// underflowed near 1e-200 (and overflowed near 1e200): the interior maximum was missed, 6.5e-3
+// off relative with an estimate of 1e-214 (a helper's honesty hunt).
+TEST(MipReference, CubicCellMaximumAtAnyScale) {
+  const Box box;
+  const auto cell = [&](double scale) {
+    return GridField(box, {2, 2, 2}, GridLayout::node, Interpolation::trilinear, [scale](const Vec3& p) {
+      return scale * (0.1 + 0.9 * (p.x() > 0) * (p.y() < 0) + 0.7 * (p.z() > 0) * (p.x() < 0) + 0.3 * (p.y() > 0));
+    });
+  };
+  const Ray ray = make_ray({-1.5, -1.2, -1.4}, {1, 0.8, 0.9});
+  const ProjectionResult one = mip_reference(cell(1), box, ray, {1e-13});
+  ASSERT_GT(one.position, one.t_entry);  // an interior maximum
+  for (const int e : {-700, 700}) {
+    const double scale = std::ldexp(1.0, e);
+    const ProjectionResult r = mip_reference(cell(scale), box, ray, {1e-13 * scale});
+    EXPECT_EQ(r.value, std::ldexp(one.value, e)) << e;
+    EXPECT_EQ(r.position, one.position) << e;
+    EXPECT_LE(r.error_estimate, 2 * std::ldexp(one.error_estimate, e)) << e;
+  }
+}
+
 // Two node peaks along a node line (f piecewise linear there, its maxima the node values): a gap
 // well above the estimate is told apart; one within the field's rounding is a tie (the first).
 TEST(MipReference, TwoPeaksToldApartOrFlagged) {
