@@ -32,6 +32,11 @@ bool ChannelsReferenceResult::tolerance_met() const {
 
 namespace detail {
 
+int emitting_channels(std::span<const ReferenceChannel> channels) {
+  return static_cast<int>(std::count_if(channels.begin(), channels.end(),
+                                        [](const ReferenceChannel& c) { return c.transfer->max_emission() > 0; }));
+}
+
 void require_channel_count(std::size_t channels) {
   if (channels > kMaxChannels)
     throw std::invalid_argument(fmt::format("integrate_channels_reference: {} channels, at most {} (R, G, B and alpha)",

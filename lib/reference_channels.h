@@ -89,6 +89,9 @@ class ChannelAccumulators {
   SpectralDepthShare depths_;  // the pieces' optical depth, done once for the channels
 };
 
+// The channels that emit (alpha's does not): those that weigh their emission with a shading weight.
+int emitting_channels(std::span<const ReferenceChannel> channels);
+
 // A stretch is empty only where every channel is transparent.
 struct AllChannelsTransparent {
   std::span<const ReferenceChannel> channels;
@@ -110,7 +113,7 @@ template <ScalarField F>
 ChannelsReferenceResult integrate_channels_pass(const F& field, const RayFrame& frame,
                                                 std::span<const ReferenceChannel> channels,
                                                 const ReferenceOptions& options, const Shading* shading) {
-  const auto weight = shading_on(field, frame, shading, static_cast<int>(channels.size()));
+  const auto weight = shading_on(field, frame, shading, emitting_channels(channels));
   ChannelAccumulators acc(channels, options, frame.iv, field_change_within(field, frame.position_error),
                           weight.get());
   const long evaluations = walk_ray(field, frame, AllChannelsTransparent{channels}, options, acc);

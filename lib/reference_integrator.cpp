@@ -611,8 +611,9 @@ double RayAccumulator::joint_error(double value, double other_error) const {
     // Second order: e^-x against 1 - x (x = |dtau| size), and the product of both changes, from
     // the first-order sizes x and |dg| size (size^2 alone overflowed for field values near 1e180,
     // where the size is the field's rounding, and the estimate was infinite).
+    // A zero factor wins over an infinite one (charge), as in every other charge.
     const double x = j.size * std::abs(j.dtau), y = j.size * std::abs(j.dg);
-    const double second = 0.5 * x * (x * r_hi + y * j.s_hi * j.t_hi);
+    const double second = 0.5 * (charge(x, x, r_hi) + charge(x, y, j.s_hi * j.t_hi));
     sum += charge(j.size, worst, 1) + (second > 0 ? second : 0.0);
   }
   return sum;

@@ -2,9 +2,10 @@
 // S along one ray, kept for the channels of an RGB walk (lib/reference_channels.h).  Every channel
 // weighs its emission with the same S at the same pieces' nodes and cuts each panel at the same
 // switches, so the first channel to ask computes them and the others read them: bitwise what they
-// would compute, at a third of the cost (S, with its gradients and powers, was most of a shaded
-// RGB ray's time).  Holds the current panel's switches and the values of up to kMaxPieces of its
-// pieces; a new panel clears it.  Off for a grey ray, which asks for each once.
+// would compute (S, with its gradients and powers, was most of a shaded RGB ray's time; channels
+// that cut a piece alike share it).  Holds the current panel's switches and the values of up to
+// kMaxPieces of its pieces; a new panel clears it.  Off where one channel emits (grey, or grey
+// and alpha), which asks for each once.
 #include <cstddef>
 #include <span>
 #include <vector>

@@ -51,7 +51,7 @@ class FieldShading final : public EmissionWeight {
  public:
   // `local`: the ray in its own frame (lib/geometry.h, RayFrame::local), as the panels are fitted.
   // `channels`: how many channels weigh their emission with it (more than one keeps S for the
-  // others: detail::ShadingMemo).
+  // others: detail::ShadingMemo; an alpha channel emits nothing and does not count).
   FieldShading(const F& field, const Ray& local, const Shading& shading, int channels = 1)
       : field_(field), ray_(local), factor_(shading, local.direction), memo_(channels > 1) {}
 

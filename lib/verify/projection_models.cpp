@@ -56,7 +56,7 @@ bool extinction_peaks_at_a_corner(const TransferFunction& tf) {
     if (tf.extinction(b[i]) > tf.extinction(b[top])) top = i;
   if (top == 0 || top + 1 >= b.size()) return false;
   const double peak = tf.extinction(b[top]);
-  return tf.extinction(0.5 * (b[top - 1] + b[top])) < peak && tf.extinction(0.5 * (b[top] + b[top + 1])) < peak;
+  return tf.extinction(value_inside(b[top - 1], b[top])) < peak && tf.extinction(value_inside(b[top], b[top + 1])) < peak;
 }
 
 }  // namespace

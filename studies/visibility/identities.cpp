@@ -48,10 +48,12 @@ double max_colour(const TransferFunction& tf) {
   if (b.empty()) return colour_at(tf.segment(0.0), 0.0);
   double m = 0;
   // Below the first and above the last control value both curves are constant.
-  m = std::max(m, colour_at(tf.segment(b.front() - 1), b.front() - 1));
-  m = std::max(m, colour_at(tf.segment(b.back() + 1), b.back() + 1));
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const double below = value_inside(-inf, b.front()), above = value_inside(b.back(), inf);
+  m = std::max(m, colour_at(tf.segment(below), below));
+  m = std::max(m, colour_at(tf.segment(above), above));
   for (std::size_t i = 0; i + 1 < b.size(); ++i) {
-    const TransferSegment s = tf.segment(0.5 * (b[i] + b[i + 1]));
+    const TransferSegment s = tf.segment(value_inside(b[i], b[i + 1]));
     m = std::max({m, colour_at(s, b[i]), colour_at(s, b[i + 1])});
   }
   return m;
