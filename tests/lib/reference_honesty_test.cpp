@@ -226,7 +226,10 @@ TEST(ReferenceHonesty, AnAbsorbingClosedFormPieceIsChargedItsJointPartByPart) {
 TEST(ReferenceHonesty, FieldValuesPast2To53KeepBothBranchesOfAJump) {
   const Box box{};
   const double top = 0x1p56;
-  const TransferFunction tf = one_jump(0.3 * top, 0.3, 0.8, 4.0, 1.5, 0, top);
+  // The jump's two points alone, so that it is the first breakpoint (the case that failed).
+  const double level = 0.3 * top;
+  const TransferFunction tf = TransferFunction::emission_extinction(curve({{level, 0.3}, {level, 4.0}}),
+                                                                    curve({{level, 0.8}, {level, 1.5}}));
   const LinearRamp ramp{Vec3(0.5 * top, 0, 0), 0.5 * top};
   const GridField cell = make_grid(box, ramp, {2, 2, 2}, GridLayout::node, Interpolation::trilinear);
   const LD truth = 0.3L / 0.8L * -std::expm1(-0.48L) + std::exp(-0.48L) * 4.0L / 1.5L * -std::expm1(-2.1L);
