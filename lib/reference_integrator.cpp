@@ -98,6 +98,7 @@ RayAccumulator::RayAccumulator(const TransferFunction& tf, double background,
     max_extinction_ = std::max(max_extinction_, tf.extinction(v) + jump.extinction);
     if (jump.emission != 0 || jump.extinction != 0) jump_levels_.push_back(v);
   }
+  max_extinction_ = std::max(max_extinction_, tf.max_extinction());  // exact where a line rounds
   check_termination(iv.t0);
 }
 
@@ -270,19 +271,24 @@ std::size_t RayAccumulator::charge_bands(std::size_t first, double c, double pan
   for (; k < bands_.size() && bands_[k].u <= c; ++k) {
     const JumpBand& band = bands_[k];
     const auto jump = tf_.jump_at(band.level);
+    // Phi and the value are those where the ray is, or where it stopped (the rest of the
+    // panel was never integrated).
+    const double at = std::min(c, stopped_at_);
     // Phi at the band's start is at least Phi here less max tau over the way back, and never
     // less than at the panel's start.
     const double transmittance =
-        std::min(panel_transmittance, std::exp(-(phi_ - max_extinction_ * (c - band.u))));
+        std::min(panel_transmittance, std::exp(-(phi_ - max_extinction_ * (at - band.u))));
     // The depth error scales what comes after the band: from here on (booked), and the at most
-    // max g (c - u) already added since its start.
-    if (emission_done_) {  // after termination its bound covers all emission
+    // max g (at - u) already added since its start.
+    // After termination its bound covers the emission from where it began; a band that starts
+    // before (the ray's end or an opaque stop closes the piece holding it) moves emission too.
+    if (emission_done_ && band.u >= emission_done_at_) {
       book_depth_error(jump.extinction * band.dt);
       continue;
     }
     // The crossing x lies in [u, u + 2 dt]: e^-Phi there is at least this, and the emission
     // added before x differs from what is added now by at most max g e^-Phi per unit length.
-    const double beyond = std::max(0.0, band.u + 2 * band.dt - c), behind = std::max(0.0, c - band.u);
+    const double beyond = std::max(0.0, band.u + 2 * band.dt - at), behind = std::max(0.0, at - band.u);
     const double t_lo = std::exp(-(phi_ + max_extinction_ * beyond));
     const double reach = max_emission() * transmittance;
     const auto signed_jump = tf_.signed_jump_at(band.level);
@@ -629,12 +635,15 @@ void RayAccumulator::check_termination(double t) {
   const double behind = rest + transmittance * background_;
   if (stop_when_opaque_ && termination_booked_ + behind <= kTerminationShare * tol_) {
     emission_done_ = stopped_ = stopped_early_ = true;
+    emission_done_at_ = std::min(emission_done_at_, t);
+    stopped_at_ = t;
     error_ += behind;
     termination_booked_ += behind;
     return;
   }
   if (!emission_done_ && rest <= kTerminationShare * tol_) {
     emission_done_ = true;
+    emission_done_at_ = t;
     error_ += rest;
     termination_booked_ += rest;
   }
@@ -648,6 +657,7 @@ void RayAccumulator::give_up(double t) {
   const double rest = std::min(tf_.max_emission() * (iv_.t1 - t), tf_.max_emission_per_extinction()) * shade_max_;
   error_ += transmittance * ((emission_done_ ? 0.0 : rest) + background_);
   stopped_ = capped_ = true;
+  stopped_at_ = t;
 }
 
 ReferenceResult RayAccumulator::finish() const {

@@ -152,6 +152,8 @@ class RayAccumulator {
   double value_ = 0;
   double error_ = 0;
   bool emission_done_ = false;
+  double emission_done_at_ = std::numeric_limits<double>::infinity();  // where it became done
+  double stopped_at_ = std::numeric_limits<double>::infinity();        // where the state froze
   bool stopped_ = false;
   bool stopped_early_ = false;
   bool capped_ = false;

@@ -37,7 +37,23 @@ Line PiecewiseLinear::line_at(double v_inside) const {
   if (after == points_.end()) return Line{points_.back().v, points_.back().y, 0};
   const ControlPoint& a = *(after - 1);
   const ControlPoint& b = *after;
-  return Line{a.v, a.y, (b.y - a.y) / (b.v - a.v)};
+  // Anchored at the end of smaller |y|: y0 + slope (v - v0) then adds terms of one sign for a
+  // non-negative line, a few ulps of the result.  Anchored at the other end it cancels: from
+  // (-1e6, 1e6) down to (0, 0), v = -0.1 gave 1e6 - (1e6 - 0.1), off by ulps of 1e6.
+  const ControlPoint& anchor = std::abs(b.y) < std::abs(a.y) ? b : a;
+  return Line{anchor.v, anchor.y, (b.y - a.y) / (b.v - a.v)};
+}
+
+double PiecewiseLinear::on_piece(double v_inside, double v) const {
+  const auto after = std::upper_bound(points_.begin(), points_.end(), v_inside,
+                                      [](double x, const ControlPoint& p) { return x < p.v; });
+  if (after == points_.begin()) return points_.front().y;
+  if (after == points_.end()) return points_.back().y;
+  const ControlPoint& a = *(after - 1);
+  const ControlPoint& b = *after;
+  if (v == a.v) return a.y;
+  if (v == b.v) return b.y;
+  return line_at(v_inside)(v);
 }
 
 double PiecewiseLinear::operator()(double v) const { return line_at(v)(v); }
@@ -183,6 +199,14 @@ void TransferFunction::finish() {
   // monotone (or products of monotone factors) on a branch, so the ends bound them.
   struct Sample { double g, tau; };
   std::vector<Sample> samples;
+  // g and tau on the branch holding v_inside at one of its ends v, from the curves' control
+  // values where v is one: a maximum, or the two sides of a kink, are then exact.
+  const auto at_end = [&](double v_inside, double v) {
+    const double y1 = first_.on_piece(v_inside, v), y2 = second_.on_piece(v_inside, v);
+    if (convention_ == Convention::emission_extinction) return Sample{std::max(0.0, y1), std::max(0.0, y2)};
+    const double tau = -std::log1p(-std::max(0.0, y1)) / unit_length_;
+    return Sample{std::max(0.0, y2) * tau, tau};
+  };
   segment_slopes_.clear();
   const double inf = std::numeric_limits<double>::infinity();
   max_ratio_ = 0;
@@ -190,21 +214,22 @@ void TransferFunction::finish() {
     const TransferSegment s = segment(v_inside);
     Slopes slopes;
     for (double v : {lo, hi}) {
-      const double tau = s.tau(v);
+      const Sample end = at_end(v_inside, v);
+      const double tau = end.tau;
       if (convention_ == Convention::emission_extinction) {
         slopes.extinction = std::abs(s.second.slope);
         slopes.emission = std::abs(s.first.slope);
       } else {
-        const double a = std::max(0.0, s.first(v));
+        const double a = std::max(0.0, first_.on_piece(v_inside, v));
         const double dtau = std::abs(s.first.slope) / (unit_length_ * (1 - a));
         slopes.extinction = std::max(slopes.extinction, dtau);
         slopes.emission = std::max(slopes.emission, std::abs(s.second.slope) * tau +
-                                                        std::max(0.0, s.second(v)) * dtau);
+                                                        std::max(0.0, second_.on_piece(v_inside, v)) * dtau);
       }
-      samples.push_back({s.g(v), tau});
+      samples.push_back(end);
       // g / tau is monotone on a branch (a ratio of affine functions, or the colour), so its
       // ends bound it; where both vanish its limit is the ratio of the slopes.
-      const double g = s.g(v);
+      const double g = end.g;
       const double dg = convention_ == Convention::emission_extinction ? std::abs(s.first.slope) : 0.0;
       const double dtau = convention_ == Convention::emission_extinction ? std::abs(s.second.slope) : 0.0;
       const double ratio = tau > 0 ? g / tau : g > 0 ? inf : dg == 0 ? 0.0 : dtau > 0 ? dg / dtau : inf;
@@ -224,8 +249,9 @@ void TransferFunction::finish() {
   for (std::size_t i = 0; i < b.size(); ++i) {
     const double below = value_inside(lo(i), hi(i));
     const double above = value_inside(hi(i), hi(i + 1));
-    const TransferSegment l = segment(below), r = segment(above);
-    jumps_.push_back({r.g(b[i]) - l.g(b[i]), r.tau(b[i]) - l.tau(b[i])});
+    // Exact values on both sides: a kink's sides are one control value, so its jump is 0.
+    const Sample l = at_end(below, b[i]), r = at_end(above, b[i]);
+    jumps_.push_back({r.g - l.g, r.tau - l.tau});
   }
 
   max_g_ = max_dg_ = max_dtau_ = 0;
@@ -234,6 +260,7 @@ void TransferFunction::finish() {
     max_g_ = std::max(max_g_, s.g);
     if (s.tau > max_tau) max_tau = s.tau, g_at_max_tau = s.g;
   }
+  max_tau_ = max_tau;
   for (const auto& s : segment_slopes_) {
     max_dg_ = std::max(max_dg_, s.emission);
     max_dtau_ = std::max(max_dtau_, s.extinction);

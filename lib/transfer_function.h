@@ -19,7 +19,8 @@ struct ControlPoint {
 };
 
 // y0 + slope * (v - v0): one linear piece, extended beyond its own interval on purpose, so
-// that a value a rounding error outside a segment does not fall onto the next branch.
+// that a value a rounding error outside a segment does not fall onto the next branch.  (v0, y0)
+// is the piece's end of smaller |y| (PiecewiseLinear::line_at), so the sum does not cancel.
 struct Line {
   double v0 = 0;
   double y0 = 0;
@@ -37,6 +38,9 @@ class PiecewiseLinear {
   double operator()(double v) const;  // right-continuous at jumps
   // The linear piece that holds v_inside (a value strictly between two breakpoints).
   Line line_at(double v_inside) const;
+  // The piece holding v_inside, at v: its control value where v is one of the piece's ends
+  // (exact: the line rounds at its end away from its anchor), else the line's value.
+  double on_piece(double v_inside, double v) const;
   const std::vector<ControlPoint>& points() const { return points_; }
   double max_value() const;
   double min_value() const;
@@ -143,6 +147,7 @@ class TransferFunction {
   };
   Jump signed_jump_at(double v) const;
   double max_emission() const { return max_g_; }
+  double max_extinction() const { return max_tau_; }  // max tau over all values
   // sup g / tau where tau > 0, infinite when g > 0 somewhere tau = 0: the emission of any stretch
   // is at most this times its absorbed fraction 1 - e^-Phi, so at most this, however long.
   double max_emission_per_extinction() const { return max_ratio_; }
@@ -161,6 +166,7 @@ class TransferFunction {
   std::vector<Slopes> segment_slopes_;  // below b_0, between b_{i-1} and b_i, above the last
   std::vector<Jump> jumps_;           // at each breakpoint
   double max_g_ = 0;
+  double max_tau_ = 0;
   double max_ratio_ = 0;
   double max_dg_ = 0;
   double max_dtau_ = 0;

@@ -268,5 +268,24 @@ TEST(ReferenceHonesty, FieldValuesOfAnySizeGiveTheSameIntegral) {
   }
 }
 
+// Transfer functions whose lines have one end far from the values on the ray: a descending
+// extinction from (-1e6, 1e6) to (0, 0) is 0.1 at v = -0.1.  Anchored at its left end it was
+// 1e6 - (1e6 - 0.1), off by ulps of 1e6 (5.8e-11), and I by 1.1e-10 against an estimate of
+// 1e-15; each line is now anchored at its end of smaller |y| (lib/transfer_function.cpp).
+TEST(ReferenceHonesty, TransferFunctionLinesWithFarEnds) {
+  const Box box{};
+  const double v = -0.1;
+  const TransferFunction tf = TransferFunction::emission_extinction(curve({{-1e6, 1e6 + 1}, {1, 0}}),
+                                                                    curve({{-1e6, 1e6}, {0, 0}}));
+  // g = 1 - v and tau = -v exactly (in long double), over the box's length 2.
+  const LD g = 1 - static_cast<LD>(v), tau = -static_cast<LD>(v);
+  const LD truth = g / tau * -std::expm1(-2 * tau);
+  const LinearRamp constant{Vec3(0, 0, 0), v};
+  const GridField cell = make_grid(box, constant, {2, 2, 2}, GridLayout::node, Interpolation::trilinear);
+  const Ray ray = make_ray(Vec3(-2, 0.1, 0.2), Vec3(1, 0, 0));
+  expect_promise(integrate_reference(constant, box, tf, 0, ray, {1e-12}), truth, {kClosedFormFloor * 2, 2});
+  expect_promise(integrate_reference(cell, box, tf, 0, ray, {1e-12}), truth, {kClosedFormFloor * 2, 8});
+}
+
 }  // namespace
 }  // namespace vrv

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "tests/lib/reference_check.h"
 
@@ -105,6 +106,38 @@ TEST(TransferFunction, BranchesOfAJumpPast2To53AreEachTheirOwn) {
   EXPECT_LT(value_inside(-std::numeric_limits<double>::infinity(), -1e308), -1e308);
   EXPECT_EQ(value_inside(level, std::numeric_limits<double>::infinity()), level);
   EXPECT_EQ(value_inside(0.25, 0.75), 0.5);
+}
+
+// Lines are anchored at their end of smaller |y| (no cancellation), so a line rounds at its other
+// end; what finish() derives from the ends (maxima, jumps) comes from the control values: a kink
+// has no jump, and the maxima are the largest control values, on awkward random curves.
+TEST(TransferFunction, KinksHaveNoJumpAndMaximaAreControlValues) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> y(0.0, 3.0), step(1e-3, 0.7);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<ControlPoint> g, tau;
+    double v = -0.3, max_g = 0, max_tau = 0;
+    for (int i = 0; i < 12; ++i, v += step(rng)) {
+      g.push_back({v, y(rng)}), tau.push_back({v, y(rng)});
+      max_g = std::max(max_g, g.back().y), max_tau = std::max(max_tau, tau.back().y);
+    }
+    const TransferFunction tf = TransferFunction::emission_extinction(curve(g), curve(tau));
+    for (const ControlPoint& p : g) {
+      EXPECT_EQ(tf.signed_jump_at(p.v).emission, 0.0) << trial << " at " << p.v;
+      EXPECT_EQ(tf.signed_jump_at(p.v).extinction, 0.0) << trial << " at " << p.v;
+    }
+    EXPECT_EQ(tf.max_emission(), max_g) << trial;
+    EXPECT_EQ(tf.max_extinction(), max_tau) << trial;
+  }
+}
+
+// From (-1e6, 1e6) down to (0, 0) at v = -0.1: anchored at the left end it was 1e6 - (1e6 - 0.1),
+// off by ulps of 1e6; anchored at (0, 0) it is 0.1 to an ulp.
+TEST(TransferFunction, LinesDoNotCancelFarFromTheirAnchor) {
+  const PiecewiseLinear down({{-1e6, 1e6}, {0, 0}});
+  EXPECT_NEAR(down(-0.1), 0.1, 0x1p-52 * 0.1);
+  const PiecewiseLinear up({{0, 0}, {1e6, 1e6}});
+  EXPECT_NEAR(up(0.1), 0.1, 0x1p-52 * 0.1);
 }
 
 }  // namespace

@@ -262,7 +262,8 @@ TEST(ReferenceAdversarial, DataIsWellFormed) {
   // The issue's cases are present under their tags.
   for (const char* tag : {"issue20_axis_fM24_jump_1e-9_above_min", "issue20_far_1e+15_dir_1_0.3_-0.2",
                           "issue20_ramp_1e-13_jump_at_0", "issue20_wall_1e6_behind_jump",
-                          "issue20_ml12_alpha0.01_ring_11_tangent", "issue20_tf200_ml12_0"})
+                          "issue20_ml12_alpha0.01_ring_11_tangent", "issue20_tf200_ml12_0",
+                          "grid3_7x5x11_node_last_piece_max_-2ulp"})
     EXPECT_TRUE(std::any_of(d.rays.begin(), d.rays.end(), [&](const auto& r) { return r.tag == tag; })) << tag;
 }
 

@@ -83,7 +83,7 @@ TEST(AlphaReference, DataHoldDepthsOfBothSets) {
     (r.file.find("color") != std::string::npos ? colour : grey) += 1;
     if (r.optical_depth > 30) ++thick;
   }
-  EXPECT_EQ(grey, 325);
+  EXPECT_EQ(grey, 332);
   EXPECT_EQ(colour, 27);
   EXPECT_GE(thick, 10);
 }
