@@ -287,5 +287,21 @@ TEST(ReferenceHonesty, TransferFunctionLinesWithFarEnds) {
   expect_promise(integrate_reference(cell, box, tf, 0, ray, {1e-12}), truth, {kClosedFormFloor * 2, 8});
 }
 
+// A bright background behind a thick medium: its rounding is that of what reaches the eye,
+// B e^-Phi.  Charged as 16 eps B, a background of 1e10 behind depth 100 was estimated at 3.6e-5
+// for an error of 1e-16 (a helper's hunt: 3.6e285 at 1e300).
+TEST(ReferenceHonesty, BrightBackgroundBehindThickMediumIsTight) {
+  const Box box{};
+  const TransferFunction tf = TransferFunction::emission_extinction(curve({{0, 2}}), curve({{0, 50}}));
+  const LinearRamp constant{Vec3(0, 0, 0), 0.3};
+  const Ray ray = make_ray(Vec3(-2, 0.1, 0.2), Vec3(1, 0, 0));
+  for (const double background : {1e10, 1e300}) {
+    const LD truth = 2.0L / 50 * -std::expm1(-100.0L) + static_cast<LD>(background) * std::exp(-100.0L);
+    // What double resolves at depth Phi = 100: e^-Phi to eps Phi relative (8 eps (1 + Phi) I).
+    const double floor = 8 * std::numeric_limits<double>::epsilon() * 101 * static_cast<double>(truth);
+    expect_promise(integrate_reference(constant, box, tf, background, ray, {1e-12}), truth, {floor, 2});
+  }
+}
+
 }  // namespace
 }  // namespace vrv
