@@ -30,9 +30,18 @@ double value_inside(double lo, double hi) {
   return lo < mid && mid < hi ? mid : lo;
 }
 
+namespace {
+
+// The first control point past v_inside: the piece holding it ends there.
+std::vector<ControlPoint>::const_iterator first_after(const std::vector<ControlPoint>& points, double v_inside) {
+  return std::upper_bound(points.begin(), points.end(), v_inside,
+                          [](double v, const ControlPoint& p) { return v < p.v; });
+}
+
+}  // namespace
+
 Line PiecewiseLinear::line_at(double v_inside) const {
-  const auto after = std::upper_bound(points_.begin(), points_.end(), v_inside,
-                                      [](double v, const ControlPoint& p) { return v < p.v; });
+  const auto after = first_after(points_, v_inside);
   if (after == points_.begin()) return Line{points_.front().v, points_.front().y, 0};
   if (after == points_.end()) return Line{points_.back().v, points_.back().y, 0};
   const ControlPoint& a = *(after - 1);
@@ -45,15 +54,12 @@ Line PiecewiseLinear::line_at(double v_inside) const {
 }
 
 double PiecewiseLinear::on_piece(double v_inside, double v) const {
-  const auto after = std::upper_bound(points_.begin(), points_.end(), v_inside,
-                                      [](double x, const ControlPoint& p) { return x < p.v; });
-  if (after == points_.begin()) return points_.front().y;
-  if (after == points_.end()) return points_.back().y;
-  const ControlPoint& a = *(after - 1);
-  const ControlPoint& b = *after;
-  if (v == a.v) return a.y;
-  if (v == b.v) return b.y;
-  return line_at(v_inside)(v);
+  const auto after = first_after(points_, v_inside);
+  if (after != points_.begin() && after != points_.end()) {
+    if (v == (after - 1)->v) return (after - 1)->y;
+    if (v == after->v) return after->y;
+  }
+  return line_at(v_inside)(v);  // a tail's line is its one value, exactly
 }
 
 double PiecewiseLinear::operator()(double v) const { return line_at(v)(v); }
@@ -201,11 +207,12 @@ void TransferFunction::finish() {
   std::vector<Sample> samples;
   // g and tau on the branch holding v_inside at one of its ends v, from the curves' control
   // values where v is one: a maximum, or the two sides of a kink, are then exact.
+  // (A segment of flat lines through those values: the conventions' formulas stay in
+  // TransferSegment.)
   const auto at_end = [&](double v_inside, double v) {
-    const double y1 = first_.on_piece(v_inside, v), y2 = second_.on_piece(v_inside, v);
-    if (convention_ == Convention::emission_extinction) return Sample{std::max(0.0, y1), std::max(0.0, y2)};
-    const double tau = -std::log1p(-std::max(0.0, y1)) / unit_length_;
-    return Sample{std::max(0.0, y2) * tau, tau};
+    const TransferSegment ends{convention_, Line{v, first_.on_piece(v_inside, v), 0},
+                               Line{v, second_.on_piece(v_inside, v), 0}, unit_length_};
+    return Sample{ends.g(v), ends.tau(v)};
   };
   segment_slopes_.clear();
   const double inf = std::numeric_limits<double>::infinity();
