@@ -54,25 +54,26 @@ void read_bound_set(const StudyReader& r, const toml::table& t, std::string_view
   }
 }
 
+// The options a render case takes: every discrete option but the case's own (its steps) and the
+// ones a step rules out (rate) or vrv gate takes on its command line (max_work).
+bool render_option(Option o) { return o != Option::step && o != Option::rate && o != Option::max_work; }
+
 GateRenderSpec read_render(const StudyReader& r, const toml::node& n, std::string_view path) {
   const toml::table& t = r.table(n, path);
-  r.check_keys(t, path, {"method", "strategy", "correction", "precision", "oversample", "opacity_unit", "color",
-                         "table_size", "table_lookup", "gradient", "gradient_offset"});
+  static const std::vector<std::string_view> keys = [] {
+    std::vector<std::string_view> k;
+    for (const DiscreteOptionField& f : discrete_option_fields())
+      if (render_option(f.option)) k.push_back(option_name(f.option, Spelling::key));
+    return k;
+  }();
+  r.check_keys(t, path, keys);
   GateRenderSpec s;
-  if (const auto* v = t.get("method")) s.method = r.string(*v, StudyReader::child(path, "method"));
-  if (const auto* v = t.get("strategy")) s.strategy = r.string(*v, StudyReader::child(path, "strategy"));
-  if (const auto* v = t.get("correction")) s.correction = r.string(*v, StudyReader::child(path, "correction"));
-  if (const auto* v = t.get("precision")) s.precision = r.string(*v, StudyReader::child(path, "precision"));
-  s.oversample = static_cast<int>(r.integer_or(t, "oversample", path, 1, 65536, 1));
-  // The opacity/colour conventions (vrv render --opacity-unit, --color, --table-size,
-  // --table-lookup): their values are checked as the command line checks them, when the case runs.
-  if (const auto* v = t.get("opacity_unit")) s.opacity_unit = r.string(*v, StudyReader::child(path, "opacity_unit"));
-  if (const auto* v = t.get("color")) s.color = r.string(*v, StudyReader::child(path, "color"));
-  s.table_size = static_cast<int>(r.integer_or(t, "table_size", path, 0, 1 << 20, 0));
-  if (const auto* v = t.get("table_lookup")) s.table_lookup = r.string(*v, StudyReader::child(path, "table_lookup"));
-  // A shaded scene's gradient scheme (vrv render --gradient, --gradient-offset), checked likewise.
-  if (const auto* v = t.get("gradient")) s.gradient = r.string(*v, StudyReader::child(path, "gradient"));
-  if (t.get("gradient_offset")) s.gradient_offset = r.number_or(t, "gradient_offset", path, 0.0);
+  s.options.method = "alpha";
+  s.options.strategy = "step";
+  for (const DiscreteOptionField& f : discrete_option_fields())
+    if (render_option(f.option))
+      if (const toml::node* v = t.get(option_name(f.option, Spelling::key)))
+        read_discrete_option(r, *v, StudyReader::child(path, option_name(f.option, Spelling::key)), f, s.options);
   return s;
 }
 

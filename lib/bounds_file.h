@@ -34,6 +34,8 @@
 #include <string_view>
 #include <vector>
 
+#include "lib/discrete_options.h"
+
 namespace vrv {
 
 // "<file>: <key>: <reason>", one line.
@@ -58,14 +60,12 @@ struct BoundSet {
   bool all_images = false;  // at = "all": error bounds on every image, not only the finest
 };
 
-struct GateRenderSpec {  // a case where vrv renders its own discrete method
-  std::string method = "alpha", strategy = "step", correction = "none", precision = "double";
-  int oversample = 1;
-  std::string opacity_unit = "sample", color = "straight", table_lookup = "centred";
-  int table_size = 0;  // 0: the transfer function itself, no table
-  // Shaded scenes only (vrv render --gradient, --gradient-offset); none: the default scheme.
-  std::optional<std::string> gradient;
-  std::optional<double> gradient_offset;
+// A case where vrv renders its own discrete method: `render = { ... }` holds the options of
+// `vrv render` as keys (lib/discrete_options.h), every one but the step (the case's steps), rate
+// and max_work; the method defaults to alpha and the strategy to step.  Values are checked by
+// discrete_config, as the command line checks them, before any case runs (vrv gate).
+struct GateRenderSpec {
+  DiscreteOptions options;
 };
 
 struct GateCase {

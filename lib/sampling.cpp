@@ -151,13 +151,14 @@ std::optional<Strategy> parse_strategy(std::string_view name) { return parse_nam
 
 std::string_view strategy_name(Strategy s) { return name_of(kStrategyNames, s); }
 
+void check_sampling(const SamplingConfig& config) {
+  if (rate_based(config.strategy)) check_positive(config.rate, Option::rate);
+  else check_positive(config.step, Option::step);
+}
+
 SamplePlan plan_samples(const SamplingConfig& config, const Ray& ray, Interval iv, const Box& box) {
   const bool by_rate = rate_based(config.strategy);
-  if (by_rate) {
-    check_positive(config.rate, Option::rate);
-  } else {
-    check_positive(config.step, Option::step);
-  }
+  check_sampling(config);
   if (!std::isfinite(iv.t0) || !std::isfinite(iv.t1)) {
     throw std::invalid_argument("plan_samples: the clipped ray interval must be finite");
   }

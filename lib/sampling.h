@@ -62,6 +62,10 @@ struct SamplePlan {
   double t(long k) const { return t_first + static_cast<double>(k) * dt; }
 };
 
+// Throws OptionError (naming the rate or the step) unless the one the strategy uses is positive
+// and finite.
+void check_sampling(const SamplingConfig& config);
+
 // The plan for a ray whose clipped range is iv (as clip(ray, box)).  The rate-based strategies
 // work in texture space (box -> [0,1]^3) exactly as Listings 1-4 and map back to world units.
 // A zero-length range gives count 0.  Throws std::invalid_argument for a non-positive or

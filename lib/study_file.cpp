@@ -5,11 +5,16 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
+#include <span>
+#include <type_traits>
+#include <variant>
 #include <sstream>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "lib/discrete_options.h"
 #include "lib/io/error_line.h"
 #include "lib/scene_file.h"
 
@@ -31,6 +36,10 @@ void StudyReader::fail(std::string_view key, std::string_view reason) const {
 
 void StudyReader::check_keys(const toml::table& t, std::string_view path,
                              std::initializer_list<std::string_view> allowed) const {
+  check_keys(t, path, std::span<const std::string_view>(allowed.begin(), allowed.size()));
+}
+
+void StudyReader::check_keys(const toml::table& t, std::string_view path, std::span<const std::string_view> allowed) const {
   for (const auto& [key, value] : t)
     if (std::find(allowed.begin(), allowed.end(), key.str()) == allowed.end())
       fail(child(path, key.str()), fmt::format("unknown key (allowed: {})", fmt::join(allowed, ", ")));
@@ -208,23 +217,6 @@ Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::str
   return scene;
 }
 
-// The renderer conventions of DiscreteConfig: opacity_unit = "sample" | "distance", color =
-// "straight" | "premultiplied", table_size = N (0 or 2..2^20), table_lookup = "centred" | "uncentred".
-void read_conventions(const StudyReader& r, const toml::table& m, const std::string& path, DiscreteConfig& c) {
-  auto choice = [&](const char* key, auto parse, const char* choices, auto& out) {
-    if (!m.contains(key)) return;
-    const std::string text = r.string(*m.get(key), StudyReader::child(path, key));
-    const auto v = parse(text);
-    if (!v) r.fail(StudyReader::child(path, key), fmt::format("unknown value '{}' (one of {})", text, choices));
-    out = *v;
-  };
-  choice("opacity_unit", parse_opacity_unit, "sample, distance", c.opacity_unit);
-  choice("color", parse_color_convention, "straight, premultiplied", c.color);
-  choice("table_lookup", parse_table_lookup, "centred, uncentred", c.table_lookup);
-  if (m.contains("table_size"))
-    c.table_size = static_cast<int>(r.integer(*m.get("table_size"), path + ".table_size", 0, kMaxTableSize));
-}
-
 std::string method_label(const StudyMethodSpec& m) {
   if (m.reference) return fmt::format("reference tol={:g}", m.tol);
   const DiscreteConfig& c = m.config;
@@ -238,89 +230,96 @@ std::string method_label(const StudyMethodSpec& m) {
   if (c.opacity_unit != OpacityUnit::per_sample) label += " opacity/distance";
   if (c.color != ColorConvention::straight) label += fmt::format(" {}", color_convention_name(c.color));
   if (c.table_size > 0) label += fmt::format(" table={} {}", c.table_size, table_lookup_name(c.table_lookup));
+  if (c.classification == Classification::pre) label += " pre-classified";
+  if (c.compositing == Compositing::back_to_front) label += " back_to_front";
+  if (c.termination) label += fmt::format(" termination={:g}", *c.termination);
+  if (c.skip_below) label += fmt::format(" skip<{:g}", *c.skip_below);
   label += c.precision == Precision::single_precision ? " float" : " double";
   return label;
 }
 
+void read_discrete_option(const StudyReader& r, const toml::node& n, const std::string& at,
+                          const DiscreteOptionField& f, DiscreteOptions& opt) {
+  std::visit(
+      [&](auto member) {
+        using T = std::remove_reference_t<decltype(opt.*member)>;
+        if constexpr (std::is_same_v<T, bool>) opt.*member = r.boolean(n, at);
+        else if constexpr (std::is_same_v<T, int>)
+          opt.*member = static_cast<int>(r.integer(n, at, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+        else if constexpr (std::is_same_v<T, std::string> || std::is_same_v<T, std::optional<std::string>>)
+          opt.*member = r.string(n, at);
+        else opt.*member = r.number(n, at);
+      },
+      f.member);
+  if (f.needs_method) opt.give(f.option, "");
+}
+
+namespace {
+
+// The discrete options a study's method takes, as the file spells them: every option of
+// lib/discrete_options.h but method (read first) and max_work (a study has its own work limit).
+bool study_option(const DiscreteOptionField& f) { return f.option != Option::method && f.option != Option::max_work; }
+
+std::vector<std::string_view> study_method_keys() {
+  std::vector<std::string_view> keys = {"method", "label", "tol", "max_error"};
+  for (const DiscreteOptionField& f : discrete_option_fields())
+    if (study_option(f)) keys.push_back(option_name(f.option, Spelling::key));
+  return keys;
+}
+
+// A discrete method's configuration: its options read as lib/discrete_options.h declares them and
+// checked by discrete_config, the command line's own checks, each failure named by the file's key.
+// A study states its placement: strategy and the rate or step it takes are required.
+DiscreteConfig read_discrete_method(const StudyReader& r, const toml::table& m, const std::string& path,
+                                    const std::string& method, const Scene& scene) {
+  DiscreteOptions opt;
+  opt.method = method;
+  for (const DiscreteOptionField& f : discrete_option_fields())
+    if (study_option(f))
+      if (const toml::node* n = m.get(option_name(f.option, Spelling::key)))
+        read_discrete_option(r, *n, StudyReader::child(path, option_name(f.option, Spelling::key)), f, opt);
+  r.require(m, "strategy", path);
+  if (const auto st = parse_strategy(*opt.strategy)) r.require(m, step_based(*st) ? "step" : "rate", path);
+  try {
+    return *discrete_config(opt, scene);
+  } catch (const OptionError& e) {  // named by the key the file uses, not the command line's flag
+    r.fail(StudyReader::child(path, option_name(e.option(), Spelling::key)), e.reason(Spelling::key));
+  }
+}
+
+}  // namespace
+
 StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, const std::string& path,
-                                const Scene& scene) {
-  r.check_keys(m, path, {"method", "label", "tol", "strategy", "rate", "step", "oversample", "centred_oversamples",
-                         "correction", "precision", "max_error", "opacity_unit", "color", "table_size",
-                         "table_lookup"});
+                                  const Scene& scene) {
+  static const std::vector<std::string_view> keys = study_method_keys();
+  r.check_keys(m, path, keys);
   StudyMethodSpec out;
   const std::string name = r.string(r.require(m, "method", path), path + ".method");
-  auto only_for_discrete = [&](std::initializer_list<std::string_view> keys) {
-    for (std::string_view k : keys)
-      if (m.contains(k)) r.fail(StudyReader::child(path, k), "not used by the reference method");
-  };
   if (name == "reference") {
-    only_for_discrete({"strategy", "rate", "step", "oversample", "centred_oversamples", "correction",
-                       "precision", "max_error", "opacity_unit", "color", "table_size", "table_lookup"});
+    for (const std::string_view key : std::span(keys).subspan(3))  // all but method, label and tol
+      if (m.contains(key)) r.fail(StudyReader::child(path, key), "not used by the reference method");
     out.reference = true;
     out.tol = r.number(r.require(m, "tol", path), path + ".tol");
     if (!(out.tol >= 1e-15 && out.tol <= 1))
       r.fail(path + ".tol", fmt::format("must be in [1e-15, 1], got {}", out.tol));
   } else {
-    const auto rule = parse_segment_rule(name);
-    if (!rule)
+    if (!parse_segment_rule(name))
       r.fail(path + ".method", fmt::format("unknown method '{}' (one of reference, riemann, alpha, "
                                            "trapezoid, exact_linear, moreland)", name));
     if (m.contains("tol")) r.fail(path + ".tol", "only the reference method takes tol");
-    DiscreteConfig& c = out.config;
-    c.rule = *rule;
-    const std::string strategy =
-        r.string(r.require(m, "strategy", path), path + ".strategy");
-    const auto st = parse_strategy(strategy);
-    if (!st)
-      r.fail(path + ".strategy", fmt::format("unknown strategy '{}' (one of eye, entry, entry_exit, "
-                                             "entry_exit_corner, step, vtk, inviwo, partial, exit_anchored)", strategy));
-    c.sampling.strategy = *st;
-    c.sampling.dims = scene.dims;
-    double samples;  // a bound on the samples per ray
-    const double diagonal = scene.box.extent().norm();
-    if (step_based(*st)) {
-      if (m.contains("rate")) r.fail(path + ".rate", fmt::format("strategy {} takes step, not rate", strategy));
-      c.sampling.step = r.number(r.require(m, "step", path), path + ".step");
-      if (!(c.sampling.step > 0)) r.fail(path + ".step", fmt::format("must be positive, got {}", c.sampling.step));
-      samples = diagonal / c.sampling.step;
-    } else {
-      if (m.contains("step")) r.fail(path + ".step", fmt::format("strategy {} takes rate, not step", strategy));
-      c.sampling.rate = r.number(r.require(m, "rate", path), path + ".rate");
-      if (!(c.sampling.rate > 0)) r.fail(path + ".rate", fmt::format("must be positive, got {}", c.sampling.rate));
-      samples = c.sampling.rate * std::sqrt(3.0) *
-                *std::max_element(scene.dims.begin(), scene.dims.end());
-    }
-    if (m.contains("oversample"))
-      c.oversample = static_cast<int>(r.integer(*m.get("oversample"), path + ".oversample", 1, 65536));
-    if (m.contains("centred_oversamples"))
-      c.centred_oversamples = r.boolean(*m.get("centred_oversamples"), path + ".centred_oversamples");
+    out.config = read_discrete_method(r, m, path, name, scene);
+    const DiscreteConfig& c = out.config;
+    // A bound on the samples per ray.
+    const double samples = step_based(c.sampling.strategy)
+                               ? scene.box.extent().norm() / c.sampling.step
+                               : c.sampling.rate * std::sqrt(3.0) * *std::max_element(scene.dims.begin(), scene.dims.end());
     if (samples * c.oversample > kMaxCaseSamples)
       r.fail(path, fmt::format("about {:.3g} samples per ray (more than {:g})", samples * c.oversample,
                                kMaxCaseSamples));
-    if (m.contains("correction")) {
-      const std::string corr = r.string(*m.get("correction"), path + ".correction");
-      const auto cc = parse_correction(corr);
-      if (!cc)
-        r.fail(path + ".correction", fmt::format("unknown correction '{}' (one of none, lacroute, "
-                                                 "schulze, lee_newman, lee_newman_quadratic)", corr));
-      c.correction = *cc;
-    }
-    if (m.contains("precision")) {
-      const std::string prec = r.string(*m.get("precision"), path + ".precision");
-      if (prec == "double") c.precision = Precision::double_precision;
-      else if (prec == "float") c.precision = Precision::single_precision;
-      else r.fail(path + ".precision", fmt::format("unknown precision '{}' (double or float)", prec));
-    }
-    read_conventions(r, m, path, c);
     if (m.contains("max_error")) {
       out.max_error = r.number(*m.get("max_error"), path + ".max_error");
       if (!(*out.max_error >= 0))
         r.fail(path + ".max_error", fmt::format("must not be negative, got {}", *out.max_error));
-    }
-    try {
-      validate(c, std::holds_alternative<GridField>(scene.field), scene.transfer);
-    } catch (const OptionError& e) {  // named by the key the file uses, not the command line's flag
-      r.fail(StudyReader::child(path, option_name(e.option(), Spelling::key)), e.reason(Spelling::key));
     }
   }
   out.label = m.contains("label") ? r.string(*m.get("label"), path + ".label") : method_label(out);
@@ -351,6 +350,11 @@ nlohmann::json method_json(const StudyMethodSpec& m) {
       j["table_size"] = d.table_size;
       j["table_lookup"] = std::string(table_lookup_name(d.table_lookup));
     }
+    // Options only where not the defaults, likewise.
+    if (d.classification == Classification::pre) j["classification"] = "pre";
+    if (d.compositing == Compositing::back_to_front) j["compositing"] = "back_to_front";
+    if (d.termination) j["termination"] = *d.termination;
+    if (d.skip_below) j["skip"] = *d.skip_below;
     if (m.max_error) j["max_error"] = *m.max_error;
   }
   return nlohmann::json::parse(j.dump());

@@ -8,12 +8,14 @@
 #include <initializer_list>
 #include <optional>
 #include <stdexcept>
+#include <span>
 #include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "lib/discrete_options.h"
 #include "lib/discrete_raycast.h"
 #include "lib/geometry.h"
 #include "lib/order_estimate.h"
@@ -36,6 +38,7 @@ class StudyReader {
   [[noreturn]] void fail(std::string_view key, std::string_view reason) const;
   void check_keys(const toml::table& t, std::string_view path,
                   std::initializer_list<std::string_view> allowed) const;
+  void check_keys(const toml::table& t, std::string_view path, std::span<const std::string_view> allowed) const;
   const toml::node& require(const toml::table& t, std::string_view key, std::string_view path) const;
   const toml::table& table(const toml::node& n, std::string_view path) const;
   const toml::array& array(const toml::node& n, std::string_view path) const;
@@ -73,6 +76,12 @@ std::string read_study_text(const std::filesystem::path& path);
 Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
                        std::string& toml_text, bool shaded = false);
 
+// One discrete option (lib/discrete_options.h) from its key's node, read as the type its field
+// holds (a string, a number, an integer, true or false), into `opt`, recorded as given; `at` is the
+// key's path for errors.  Its value is checked later, by discrete_config.
+void read_discrete_option(const StudyReader& r, const toml::node& n, const std::string& at,
+                          const DiscreteOptionField& f, DiscreteOptions& opt);
+
 // A method as a study writes it: the reference integrator at `tol`, or a discrete raycast.
 struct StudyMethodSpec {
   std::string label;              // `label` key, else built from the configuration
@@ -83,9 +92,12 @@ struct StudyMethodSpec {
 };
 
 // Keys: method (reference | riemann | alpha | trapezoid | exact_linear | moreland), label, tol
-// (reference), strategy, step | rate, oversample, correction, precision, max_error, and the
-// renderer conventions opacity_unit, color, table_size, table_lookup (discrete; see DiscreteConfig).
-// Checked against the scene (grid-only options, a cap of 1e8 samples per ray).
+// (reference), max_error (discrete), and every discrete option of lib/discrete_options.h but
+// max_work, spelled as keys (strategy, step | rate, oversample, centred_oversamples, correction,
+// termination, skip, compositing, classification, precision, opacity_unit, color, table_size,
+// table_lookup, and for shaded scenes gradient, gradient_offset, shade_at): the command line's
+// values and checks, except that strategy and its rate or step are required.  Checked against the
+// scene (grid-only options, a cap of 1e8 samples per ray).
 StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, const std::string& path,
                                   const Scene& scene);
 // "alpha step h=0.01 N=4 lacroute double", "reference tol=1e-10".

@@ -2,10 +2,13 @@
 //   build/bench_reference [--benchmark_filter=...]
 // Counters: evals_per_ray (mean field evaluations), max_error_estimate.
 // BM_Color_*: an RGB ray (lib/reference_channels.h) beside the same rays in grey with each of its
-// channels alone, in one run (the README's RGB cost ratio: rgb over the costliest grey channel).
+// channels alone and with one grey emission holding every channel's breakpoints, in one run (the
+// README's RGB cost ratios: rgb over the costliest grey channel, and over the grey ray of the same
+// breakpoints).
 // BM_Shading_*: the same rays unshaded (0) and shaded (1: Blinn-Phong, a directional light,
 // two-sided; lib/shading.h) in one run (docs/shading.md's cost ratio); BM_Color_Shaded*: shaded
 // RGB rays beside each channel shaded alone.
+#include <algorithm>
 #include <random>
 #include <vector>
 
@@ -96,18 +99,50 @@ ColorChannels shared_knot_channels() {
   return {{red, knots(0.5, 0.2, 0.1, 0.9, 0.3), knots(0.1, 0.8, 0.4, 0.0, 1.0)}, {0, 0, 0}};
 }
 
-// state.range(0): 0..2 one channel alone (grey), 3 all three (RGB).
+// The value of `f` just below v (its left limit: the lower point of a jump at v).
+double left_limit(const PiecewiseLinear& f, double v) {
+  const auto& p = f.points();
+  const auto at = std::lower_bound(p.begin(), p.end(), v, [](const ControlPoint& c, double x) { return c.v < x; });
+  return at != p.end() && at->v == v ? at->y : f(v);
+}
+
+// The grey scene with every channel's breakpoints: emission the mean of the three channels' (its
+// kinks and jumps the union of theirs), the same extinction.  An RGB ray's panels must resolve all
+// of these breakpoints, so this is the grey ray of the same structure as the RGB ray.
+TransferFunction union_grey(const ColorChannels& color) {
+  std::vector<double> knots;
+  for (const TransferFunction& t : color.transfer)
+    for (const ControlPoint& c : t.first().points()) knots.push_back(c.v);
+  std::sort(knots.begin(), knots.end());
+  knots.erase(std::unique(knots.begin(), knots.end()), knots.end());
+  std::vector<ControlPoint> mean;
+  for (const double v : knots) {
+    double below = 0, at = 0;
+    for (const TransferFunction& t : color.transfer) {
+      below += left_limit(t.first(), v) / 3;
+      at += t.first()(v) / 3;
+    }
+    if (below != at) mean.push_back({v, below});
+    mean.push_back({v, at});
+  }
+  return TransferFunction::emission_extinction(PiecewiseLinear(std::move(mean)), color.transfer[0].second());
+}
+
+// state.range(0): 0..2 one channel alone (grey), 3 all three (RGB), 4 grey with every channel's
+// breakpoints (union_grey).
 template <class F>
 void run_color(benchmark::State& state, const F& field, const ColorChannels& color = color_channels(),
                const Shading* shading = nullptr) {
   const Box box;
   const int channel = static_cast<int>(state.range(0));
+  const TransferFunction grey_union = union_grey(color);
   const std::vector<Ray> rays = random_rays(256);
   long evaluations = 0, count = 0;
   for (auto _ : state) {
     for (const Ray& ray : rays) {
-      if (channel < 3) {
-        const ReferenceResult r = integrate_reference(field, box, color.transfer[channel], 0.0, ray, {1e-12}, shading);
+      if (channel < 3 || channel == 4) {
+        const TransferFunction& tf = channel == 4 ? grey_union : color.transfer[channel];
+        const ReferenceResult r = integrate_reference(field, box, tf, 0.0, ray, {1e-12}, shading);
         benchmark::DoNotOptimize(r.value);
         evaluations += r.evaluations;
       } else {
@@ -118,31 +153,31 @@ void run_color(benchmark::State& state, const F& field, const ColorChannels& col
       ++count;
     }
   }
-  state.SetLabel(channel < 3 ? fmt::format("grey channel {}", channel) : "rgb");
+  state.SetLabel(channel < 3 ? fmt::format("grey channel {}", channel) : channel == 3 ? "rgb" : "grey, every channel's breakpoints");
   state.counters["evals_per_ray"] = static_cast<double>(evaluations) / count;
 }
 
 void BM_Color_MarschnerLobb(benchmark::State& state) { run_color(state, MarschnerLobb{}); }
-BENCHMARK(BM_Color_MarschnerLobb)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Color_MarschnerLobb)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
 
 void BM_Color_MarschnerLobbGrid64(benchmark::State& state) {
   static const GridField grid =
       make_grid(Box{}, MarschnerLobb{}, {64, 64, 64}, GridLayout::node, Interpolation::trilinear);
   run_color(state, grid);
 }
-BENCHMARK(BM_Color_MarschnerLobbGrid64)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Color_MarschnerLobbGrid64)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
 
 void BM_Color_MarschnerLobbSharedKnots(benchmark::State& state) {
   run_color(state, MarschnerLobb{}, shared_knot_channels());
 }
-BENCHMARK(BM_Color_MarschnerLobbSharedKnots)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Color_MarschnerLobbSharedKnots)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
 
 void BM_Color_MarschnerLobbGrid64SharedKnots(benchmark::State& state) {
   static const GridField grid =
       make_grid(Box{}, MarschnerLobb{}, {64, 64, 64}, GridLayout::node, Interpolation::trilinear);
   run_color(state, grid, shared_knot_channels());
 }
-BENCHMARK(BM_Color_MarschnerLobbGrid64SharedKnots)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Color_MarschnerLobbGrid64SharedKnots)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
 
 Shading bench_shading() {
   Shading s;
@@ -171,7 +206,7 @@ void BM_Color_ShadedMarschnerLobbSharedKnots(benchmark::State& state) {
   const Shading s = bench_shading();
   run_color(state, MarschnerLobb{}, shared_knot_channels(), &s);
 }
-BENCHMARK(BM_Color_ShadedMarschnerLobbSharedKnots)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Color_ShadedMarschnerLobbSharedKnots)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
 
 void BM_Color_ShadedMarschnerLobbGrid64SharedKnots(benchmark::State& state) {
   static const GridField grid =
@@ -179,7 +214,7 @@ void BM_Color_ShadedMarschnerLobbGrid64SharedKnots(benchmark::State& state) {
   const Shading s = bench_shading();
   run_color(state, grid, shared_knot_channels(), &s);
 }
-BENCHMARK(BM_Color_ShadedMarschnerLobbGrid64SharedKnots)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Color_ShadedMarschnerLobbGrid64SharedKnots)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -25,7 +25,7 @@
 #include "studies/cli/verify_run.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
-#include "studies/cli/discrete_options.h"
+#include "studies/cli/discrete_flags.h"
 #include "studies/engine/study_runner.h"
 
 namespace vrv::cli {
@@ -76,19 +76,8 @@ int run_study_case(const GateCase& c, const fs::path& out, long& failed) {
 
 // The render case's method at step h, as `vrv render --method ... --step h` takes it.
 DiscreteOptions discrete_options(const GateRenderSpec& spec, double h) {
-  DiscreteOptions d;
-  d.method = spec.method;
-  d.strategy = spec.strategy;
+  DiscreteOptions d = spec.options;
   d.step = h;
-  d.oversample = spec.oversample;
-  d.correction = spec.correction;
-  d.precision = spec.precision;
-  d.opacity_unit = spec.opacity_unit;
-  d.color = spec.color;
-  d.table_size = spec.table_size;
-  d.table_lookup = spec.table_lookup;
-  if (spec.gradient) d.gradient = *spec.gradient;
-  d.gradient_offset = spec.gradient_offset;
   return d;
 }
 
@@ -208,12 +197,10 @@ int run_gate(const GateOptions& o) {
     // it mid-run).
     if (projection) require_unshaded(scenes.back(), c->scene.string(), "vrv gate (a projection's images)");
     if (c->render) {
-      if ((c->render->gradient || c->render->gradient_offset) && !scenes.back().shading)
-        throw std::invalid_argument(fmt::format("{}: case {}: render: {}: applies to a shaded scene only (one with a "
-                                                "[shading] table)", o.bounds, c->name,
-                                                c->render->gradient ? "gradient" : "gradient_offset"));
       try {
         discrete_config(discrete_options(*c->render, c->steps.front()), scenes.back());
+      } catch (const OptionError& e) {  // named by the key the bounds file uses
+        throw std::invalid_argument(fmt::format("{}: case {}: render: {}", o.bounds, c->name, e.message(Spelling::key)));
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(fmt::format("{}: case {}: render: {}", o.bounds, c->name, e.what()));
       }

@@ -26,9 +26,9 @@ std::optional<ProjectionSetup> projection_setup(const std::string& mode, const D
   ProjectionSetup s;
   s.mode = *parsed;
   check_max_work(opt);
-  for (const CLI::Option* o : opt.given) {
-    if (o->count() == 0) continue;
-    const Option option = given_option(*o);
+  for (const DiscreteOptionField& f : discrete_option_fields()) {
+    const Option option = f.option;
+    if (!opt.was_given(option)) continue;
     if (opt.method.empty()) throw OptionError(option, "applies to a discrete projection only; add {0}", {Option::method});
     if (option != Option::strategy && option != Option::rate && option != Option::step)
       throw OptionError(option, fmt::format("applies to emission-absorption raycasts, not to {{0}} {}", literal(mode)),

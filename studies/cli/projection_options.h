@@ -11,7 +11,7 @@
 #include "lib/projection/projection_mode.h"
 #include "lib/projection/projection_result.h"
 #include "lib/scene.h"
-#include "studies/cli/discrete_options.h"
+#include "studies/cli/discrete_flags.h"
 
 namespace vrv::cli {
 

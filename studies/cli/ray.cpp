@@ -22,7 +22,7 @@
 #include "lib/util/progress.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
-#include "studies/cli/discrete_options.h"
+#include "studies/cli/discrete_flags.h"
 #include "studies/cli/projection_options.h"
 #include "lib/scene_mode.h"
 #include "lib/projection/projection_reference.h"

@@ -17,6 +17,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include <fmt/format.h>
@@ -27,6 +29,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include "lib/discrete_error_estimate.h"
+#include "lib/discrete_options.h"
 #include "lib/discrete_plan.h"
 #include "lib/image_loop.h"  // pixel_ray
 #include "lib/io/npy.h"
@@ -40,7 +43,6 @@
 #include "lib/option_error.h"
 #include "lib/projection/projection_reference.h"
 #include "lib/scene_mode.h"
-#include "studies/cli/discrete_options.h"
 #include "studies/cli/projection_options.h"
 #include "lib/io/image_module.h"
 #include "studies/cli/published_folder.h"
@@ -128,61 +130,51 @@ py::array_t<T> filled_rgb(std::vector<py::ssize_t> shape, std::size_t n, auto&& 
   return a;
 }
 
-// The keywords the discrete options (and max_work) take, named as on the command line with '_'
-// for '-' (method=... is --method), and the Python type each is given as.
-enum class Kind { text, number, integer, flag };
-const std::map<std::string, Kind>& keyword_kinds() {
-  static const std::map<std::string, Kind> kinds = {
-      {"method", Kind::text},          {"strategy", Kind::text},       {"rate", Kind::number},
-      {"step", Kind::number},          {"oversample", Kind::integer},  {"centred_oversamples", Kind::flag},
-      {"correction", Kind::text},      {"termination", Kind::number},  {"skip", Kind::number},
-      {"compositing", Kind::text},     {"classification", Kind::text}, {"precision", Kind::text},
-      {"opacity_unit", Kind::text},    {"color", Kind::text},          {"table_size", Kind::integer},
-      {"table_lookup", Kind::text},    {"max_work", Kind::number},     {"gradient", Kind::text},
-      {"gradient_offset", Kind::number}, {"shade_at", Kind::text}};
-  return kinds;
-}
-
-// The command-line argument a keyword stands for ("--step=0.01"); none for a false flag.
-std::optional<std::string> keyword_argument(const std::string& key, const py::handle& value) {
-  const auto kind = keyword_kinds().find(key);
-  if (kind == keyword_kinds().end()) throw py::type_error(fmt::format("unexpected keyword argument '{}'", key));
-  std::string option = "--" + key;
-  std::replace(option.begin(), option.end(), '_', '-');
-  switch (kind->second) {
-    case Kind::text: return option + "=" + py::cast<std::string>(value);
-    case Kind::number: return fmt::format("{}={}", option, py::cast<double>(value));
-    case Kind::integer: return fmt::format("{}={}", option, py::cast<long>(value));
-    case Kind::flag: return py::cast<bool>(value) ? std::optional<std::string>(option) : std::nullopt;
+// One keyword into its field of DiscreteOptions (declared in lib/discrete_options.h), as the Python
+// type the field holds; an option that needs a method is recorded as given with its value's text,
+// which the work refusal quotes as the command line would (a false flag is not given).
+template <class T>
+void set_keyword(DiscreteOptions& opt, T DiscreteOptions::*member, const DiscreteOptionField& f, const py::handle& value) {
+  using Value = typename std::conditional_t<std::is_same_v<T, std::optional<double>>, std::type_identity<double>,
+                                            std::conditional_t<std::is_same_v<T, std::optional<std::string>>,
+                                                               std::type_identity<std::string>, std::type_identity<T>>>::type;
+  const Value v = py::cast<Value>(value);
+  opt.*member = v;
+  if (!f.needs_method) return;
+  if constexpr (std::is_same_v<Value, bool>) {
+    if (v) opt.give(f.option, "true");
+  } else if constexpr (std::is_same_v<Value, std::string>) {
+    opt.give(f.option, v);
+  } else {
+    opt.give(f.option, fmt::format("{}", v));
   }
-  return std::nullopt;
 }
 
-// The keywords parsed by the command line's own parser (studies/cli/discrete_options.h), so the
-// checks, the defaults (max_work 1e9) and every message are `vrv ray`'s and `vrv render`'s.
+// The keywords as lib/discrete_options.h declares them (the command line's names with '_' for
+// '-': method=... is --method), so the checks, the defaults (max_work 1e9) and every message are
+// `vrv ray`'s and `vrv render`'s.
 struct DiscreteKeywords {
-  CLI::App app;  // owns the options DiscreteOptions::given points at (the work refusal names them)
-  cli::DiscreteOptions options;
+  DiscreteOptions options;
   std::optional<DiscreteConfig> config;  // none: the reference
 };
 
 std::unique_ptr<DiscreteKeywords> discrete_keywords(const Scene& scene, const py::dict& kw,
                                                     bool projection = false) {
   auto k = std::make_unique<DiscreteKeywords>();
-  cli::add_discrete_options(k->app, k->options);
-  std::vector<std::string> args;
-  for (const auto& [key, value] : kw)
-    if (!value.is_none())
-      if (auto arg = keyword_argument(py::str(key), value)) args.push_back(*arg);
-  std::reverse(args.begin(), args.end());  // CLI11 takes them last first
-  try {
-    k->app.parse(args);
-  } catch (const CLI::ParseError& e) {
-    throw std::invalid_argument(e.what());
+  for (const auto& item : kw) {
+    const std::string name = py::str(item.first);
+    const py::handle value = item.second;
+    const auto fields = discrete_option_fields();
+    const auto field = std::find_if(fields.begin(), fields.end(), [&](const DiscreteOptionField& f) {
+      return option_name(f.option, Spelling::key) == name;
+    });
+    if (field == fields.end()) throw py::type_error(fmt::format("unexpected keyword argument '{}'", name));
+    if (value.is_none()) continue;
+    std::visit([&](auto member) { set_keyword(k->options, member, *field, value); }, field->member);
   }
   if (projection) return k;  // its method and options are read by projection_keywords
   try {
-    k->config = cli::discrete_config(k->options, scene);
+    k->config = discrete_config(k->options, scene);
   } catch (const OptionError& e) {  // named by the keyword, as the caller wrote it
     throw std::invalid_argument(e.message(Spelling::key));
   }
@@ -287,14 +279,14 @@ py::dict reference(const Scene& scene, const Points& origins, const Points& dire
   if (mode) {
     // A projection's work is estimated as the emission-absorption reference's (as vrv ray --mode).
     const auto keywords = discrete_keywords(scene, py::dict(py::arg("max_work") = max_work));
-    cli::check_work(keywords->options, std::nullopt, tol, scene, static_cast<long>(rays.size()),
+    check_work(keywords->options, std::nullopt, tol, scene, static_cast<long>(rays.size()),
                     [&](long i) { return rays[i]; });
     return projection_values(scene, origins, rays, *mode, tol);
   }
   const ReferenceOptions options{tol};
   validate(options);
   const auto keywords = discrete_keywords(scene, py::dict(py::arg("max_work") = max_work));
-  cli::check_work(keywords->options, std::nullopt, tol, scene, static_cast<long>(rays.size()),
+  check_work(keywords->options, std::nullopt, tol, scene, static_cast<long>(rays.size()),
                   [&](long i) { return rays[i]; });
   if (scene.color) return color_reference(leading_shape(origins, "origins"), interruptible([&] {
                                             return color_reference_values(scene, rays, options);
@@ -322,7 +314,7 @@ py::dict discrete_projection(const Scene& scene, const Points& origins, const Po
   const std::vector<Ray> rays = make_rays(origins, directions);
   DiscreteConfig work;
   work.sampling = config->sampling;
-  cli::check_work(keywords->options, work, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; });
+  check_work(keywords->options, work, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; });
   const std::vector<DiscreteProjectionResult> r =
       interruptible([&] { return discrete_projection_values(scene, rays, *config); });
   const auto shape = leading_shape(origins, "origins");
@@ -356,9 +348,9 @@ py::dict discrete(const Scene& scene, const Points& origins, const Points& direc
     if (const std::string why = why_no_error_bound(scene, *config); !why.empty())
       throw std::invalid_argument(fmt::format("bound: no a-priori bound is derived for {} (docs/error-bounds.md)", why));
   const std::vector<Ray> rays = make_rays(origins, directions);
-  const double work = cli::estimate_work(config, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; }) *
+  const double work = estimate_work(config, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; }) *
                       (bound ? kPredictedRaycastWorkFactor : 1);
-  if (work > keywords->options.max_work) cli::refuse_work(keywords->options, true, work, static_cast<long>(rays.size()));
+  if (work > keywords->options.max_work) refuse_work(keywords->options, true, work, static_cast<long>(rays.size()));
   const auto shape = leading_shape(origins, "origins");
   py::dict out;
   if (scene.color) {  // each channel cast alone: value (..., 3), samples summed over the channels
@@ -399,7 +391,7 @@ py::array_t<double> render_projection(const Scene& scene, ProjectionMode mode, c
   const auto config = projection_keywords(scene, std::string(projection_mode_name(mode)), *keywords);
   DiscreteConfig work;
   work.sampling = config->sampling;
-  cli::check_work(keywords->options, work, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; });
+  check_work(keywords->options, work, 0, scene, static_cast<long>(rays.size()), [&](long i) { return rays[i]; });
   const std::vector<DiscreteProjectionResult> r =
       interruptible([&] { return discrete_projection_values(scene, rays, *config); });
   py::array_t<double> a({camera.height, camera.width});
@@ -441,7 +433,7 @@ py::array_t<double> render(const Scene& scene, double tol, std::optional<int> wi
   const Camera camera = scene_camera(scene, width, height);
   const ReferenceOptions options{tol};
   if (!config) validate(options);
-  cli::check_work(keywords->options, config, tol, scene, static_cast<long>(camera.width) * camera.height,
+  check_work(keywords->options, config, tol, scene, static_cast<long>(camera.width) * camera.height,
                   [&](long i) { return pixel_ray(camera, i); });
   if (mode) {
     const ReferenceImage ref = interruptible([&] { return projection_reference_image(scene, camera, *mode, tol, false); });

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 namespace vrv {
@@ -43,12 +44,12 @@ study = "convergence"
   EXPECT_DOUBLE_EQ(*a.bounds.limits.at(Bound::min_order).fail, 1.75);  // inherited
   EXPECT_DOUBLE_EQ(a.bounds.threshold, 1e-4);
   EXPECT_TRUE(a.bounds.all_images);
-  EXPECT_EQ(a.render->strategy, "inviwo");
+  EXPECT_EQ(a.render->options.strategy, "inviwo");
   // The opacity/colour conventions of `vrv render` (--opacity-unit, --color, --table-*).
-  EXPECT_EQ(a.render->opacity_unit, "distance");
-  EXPECT_EQ(a.render->color, "premultiplied");
-  EXPECT_EQ(a.render->table_size, 256);
-  EXPECT_EQ(a.render->table_lookup, "uncentred");
+  EXPECT_EQ(a.render->options.opacity_unit, "distance");
+  EXPECT_EQ(a.render->options.color, "premultiplied");
+  EXPECT_EQ(a.render->options.table_size, 256);
+  EXPECT_EQ(a.render->options.table_lookup, "uncentred");
   EXPECT_EQ(*a.width, 16);
   EXPECT_EQ(f.cases[1].study, "convergence");
 }
@@ -78,6 +79,30 @@ TEST(BoundsFile, CaseNamesArePlainFileNames) {
   EXPECT_NE(error_of(named("")).find("case[0].name: empty"), std::string::npos);
   EXPECT_NE(error_of(named(std::string(101, 'n'))).find("101 bytes, more than 100"), std::string::npos);
   EXPECT_EQ(error_of(named("alpha step 0.1")), "no error");
+}
+
+// A render case takes `vrv render`'s options as keys (lib/discrete_options.h), read as study files
+// read them, but not the step (the case's steps), the rate or the work limit.
+TEST(BoundsFile, RenderCaseTakesTheDiscreteOptions) {
+  const BoundsFile f = parse_bounds(
+      "[[case]]\nname = \"x\"\nsteps = [0.1, 0.05]\n"
+      "render = { termination = 0.99, classification = \"pre\", centred_oversamples = true, oversample = 2 }\n",
+      "b.toml");
+  const DiscreteOptions& o = f.cases.at(0).render->options;
+  EXPECT_EQ(o.method, "alpha");  // the defaults of a render case
+  EXPECT_EQ(o.strategy, "step");
+  EXPECT_EQ(o.termination, 0.99);
+  EXPECT_EQ(o.classification, "pre");
+  EXPECT_TRUE(o.centred_oversamples);
+  EXPECT_EQ(o.oversample, 2);
+  EXPECT_TRUE(o.was_given(Option::termination));
+  EXPECT_FALSE(o.was_given(Option::skip));
+  for (const char* key : {"step", "rate", "max_work"}) {
+    const std::string text = fmt::format("[[case]]\nname = \"x\"\nsteps = [0.1]\nrender = {{ {} = 1 }}\n", key);
+    EXPECT_EQ(error_of(text).rfind(fmt::format("b.toml: case[0].render.{}: unknown key", key), 0), 0u) << error_of(text);
+  }
+  EXPECT_EQ(error_of("[[case]]\nname = \"x\"\nsteps = [0.1]\nrender = { skip = \"low\" }\n"),
+            "b.toml: case[0].render.skip: expected a number");
 }
 
 TEST(BoundsFile, ErrorsNameFileAndKey) {

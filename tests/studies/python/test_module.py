@@ -231,6 +231,9 @@ def test_bad_scene_text_and_rays_raise_value_error():
         scene.render(rate=2)
     with pytest.raises(TypeError):
         scene.render(method="riemann", sped=0.1)
+    # A misspelt keyword is refused even when None (it was dropped unread, as if never given).
+    with pytest.raises(TypeError, match=r"^unexpected keyword argument 'sped'$"):
+        scene.discrete([0, 0, -3], [0, 0, 1], method="riemann", step=0.1, sped=None)
 
 
 def errors_and_order(images, reference, steps):

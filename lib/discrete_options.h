@@ -1,21 +1,28 @@
 #pragma once
-// The command-line options that configure a discrete raycast, shared by `ray` and `render`.
+// The options of a discrete raycast as a user gives them, declared once: each option's field (its
+// default is the field's initializer), its help text and its place in one table
+// (discrete_option_fields), and discrete_config(), the one place they are checked and turned into
+// a DiscreteConfig.  The front ends are thin adapters that fill DiscreteOptions from the table:
+// the command line (studies/cli/discrete_flags), study files (read_study_method, lib/study_file)
+// and Python keywords (studies/python/module.cpp).  Names and spellings: lib/option_error.
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
+#include <utility>
+#include <variant>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "lib/discrete_raycast.h"
 #include "lib/option_error.h"
 #include "lib/scene.h"
 #include "lib/work_estimate.h"
 
-namespace vrv::cli {
+namespace vrv {
 
 struct DiscreteOptions {
   std::string method;  // empty: the reference integrator
-  std::optional<std::string> strategy;  // default entry_exit_corner, or step with --step
+  std::optional<std::string> strategy;  // default entry_exit_corner, or step with a step
   std::optional<double> rate;
   std::optional<double> step;
   int oversample = 1;
@@ -33,29 +40,51 @@ struct DiscreteOptions {
   std::string gradient = "central";
   std::optional<double> gradient_offset;
   std::string shade_at = "samples";
-  // Every option above except --method: each is refused without --method (it would do nothing).
-  std::vector<CLI::Option*> given;
   // Work limit, for the reference too: a run whose field evaluations (estimated before anything
   // is cast, lib/work_estimate.h) exceed it is refused.  1e9 is about a minute to a few minutes
   // on one core.
   double max_work = 1e9;
+
+  // The options the user gave that need a method (every one above but method and max_work), with
+  // the text they gave (the work refusal quotes it): each is refused without a method.
+  std::vector<std::pair<Option, std::string>> given;
+  void give(Option option, std::string text);
+  bool was_given(Option option) const;
+  // The text given for the option, or nullptr.
+  const std::string* given_text(Option option) const;
 };
 
-void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt);
-// The configuration, or nothing when no --method asks for a discrete raycast.  Throws
-// OptionError (a std::invalid_argument; each front end spells the option as its user wrote it)
-// for a bad value or combination, or for a discrete option given without --method.
+// One option's declaration: its field and help.  `needs_method`: refused without a method
+// (adapters record it in DiscreteOptions::given when the user gives it).
+struct DiscreteOptionField {
+  using Member = std::variant<std::string DiscreteOptions::*, std::optional<std::string> DiscreteOptions::*,
+                              std::optional<double> DiscreteOptions::*, double DiscreteOptions::*,
+                              int DiscreteOptions::*, bool DiscreteOptions::*>;
+  Option option;
+  Member member;
+  std::string_view help;
+  bool needs_method = true;
+};
+
+// Every option of DiscreteOptions, in the order the command line's help lists them.
+std::span<const DiscreteOptionField> discrete_option_fields();
+// The declaration of one option, or nullptr for an option that is not a discrete raycast's (mode).
+const DiscreteOptionField* discrete_option_field(Option option);
+
+// The configuration, or nothing when no method asks for a discrete raycast.  Throws OptionError
+// (a std::invalid_argument; each front end spells the option as its user wrote it) for a bad
+// value or combination, or for a discrete option given without a method.
 std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const Scene& scene);
-// The Option (lib/option_error.h) of one of DiscreteOptions::given.
-Option given_option(const CLI::Option& o);
 // OptionError(Option::max_work) unless positive.
 void check_max_work(const DiscreteOptions& opt);
 
-// The sample placement of --strategy, --rate and --step (shared by the projections' discrete
-// modes); throws OptionError.
+// The sample placement of strategy, rate and step (shared by the projections' discrete modes);
+// throws OptionError.
 SamplingConfig sampling_config(const DiscreteOptions& opt, const Scene& scene);
 
 // Throws the refusal: `discrete` says whether the work is samples or the reference's evaluations.
+// The message names the options as the command line spells them (Python's refusals are the
+// command line's, word for word).
 [[noreturn]] void refuse_work(const DiscreteOptions& opt, bool discrete, double work, long rays);
 
 // The work of casting these rays, without a limit (check_work below compares it with one).  An RGB
@@ -87,4 +116,4 @@ double check_work(const DiscreteOptions& opt, const std::optional<DiscreteConfig
   return work;
 }
 
-}  // namespace vrv::cli
+}  // namespace vrv
