@@ -360,10 +360,20 @@ nlohmann::json method_json(const StudyMethodSpec& m) {
   return nlohmann::json::parse(j.dump());
 }
 
+double read_reference_tol(const StudyReader& r, const toml::table& t, std::string_view path,
+                          std::optional<double> fallback) {
+  constexpr double kLoosest = 1e-6;
+  const toml::node* n = t.get("reference_tol");
+  if (!n && fallback) return *fallback;
+  const std::string at = StudyReader::child(path, "reference_tol");
+  const double tol = r.number(n ? *n : r.require(t, "reference_tol", path), at);
+  if (!(tol > 0 && tol <= kLoosest)) r.fail(at, fmt::format("must be in (0, {:g}], got {:g}", kLoosest, tol));
+  return tol;
+}
+
 RaySample read_ray_sample(const StudyReader& r, const toml::table& doc, RaySample d) {
   RaySample s;
-  s.reference_tol = r.number_or(doc, "reference_tol", "", d.reference_tol);
-  if (!(s.reference_tol > 0)) r.fail("reference_tol", "must be positive");
+  s.reference_tol = read_reference_tol(r, doc, "", d.reference_tol);
   s.rays = r.integer_or(doc, "rays", "", 1, 100000, d.rays);
   s.quick_rays = r.integer_or(doc, "quick_rays", "", 1, 100000, d.quick_rays);
   s.seed = static_cast<std::uint64_t>(r.integer_or(doc, "seed", "", 0, 1L << 40, static_cast<long>(d.seed)));

@@ -108,8 +108,16 @@ nlohmann::json method_json(const StudyMethodSpec& m);
 // `order_tolerance = { margin = M, floor = F }` under `parent` (lib/order_estimate.h): M > 0, F >= 0.
 OrderTolerance read_order_tolerance(const StudyReader& r, const toml::table& parent, std::string_view path);
 
+// `reference_tol` under `t` at `path`: the absolute tolerance of a study's truths, one rule for
+// every study: a finite number in (0, 1e-6] (a looser truth could not resolve the errors a study
+// measures).  Tighter than double arithmetic can certify is allowed: the study's
+// reference_within_tolerance check then reports the truths that miss it.  `fallback`: its value
+// when the key is absent; without one the key is required.
+double read_reference_tol(const StudyReader& r, const toml::table& t, std::string_view path,
+                          std::optional<double> fallback = std::nullopt);
+
 // The rays a ray-sampled study casts, each key optional (the given default when absent):
-// rays and quick_rays in [1, 100000], seed in [0, 2^40], reference_tol > 0.
+// rays and quick_rays in [1, 100000], seed in [0, 2^40], reference_tol (read_reference_tol).
 struct RaySample {
   long rays = 64, quick_rays = 16;
   std::uint64_t seed = 0;

@@ -72,11 +72,7 @@ StudyDefinition read_convergence_study(const StudyInput& in) {
   s.name = in.name;
   if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
   if (doc.contains("order_tolerance")) s.order_tolerance = read_order_tolerance(r, doc, "");
-  if (doc.contains("reference_tol")) {
-    s.reference_tol = r.number(*doc.get("reference_tol"), "reference_tol");
-    if (!(s.reference_tol > 0))
-      r.fail("reference_tol", fmt::format("must be positive, got {}", s.reference_tol));
-  }
+  s.reference_tol = read_reference_tol(r, doc, "", s.reference_tol);
 
   // [scene]: the usual scene tables, parsed by parse_scene; its keys reported as scene.<key>.
   s.scene = read_study_scene(r, doc, "", s.scene_toml);

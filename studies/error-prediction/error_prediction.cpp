@@ -116,8 +116,7 @@ ErrorPredictionStudy read_error_prediction_study(const StudyInput& in) {
   r.check_keys(doc, "", {"name", "kind", "description", "reference_tol", "rays", "quick_rays", "seed", "rules",
                          "strategies", "variant", "asymptotic_miss", "separation", "case"});
   ErrorPredictionStudy s;
-  s.reference_tol = r.number_or(doc, "reference_tol", "", s.reference_tol);
-  if (!(s.reference_tol > 0)) r.fail("reference_tol", "must be positive");
+  s.reference_tol = read_reference_tol(r, doc, "", s.reference_tol);
   s.rays = r.integer_or(doc, "rays", "", 1, 100000, s.rays);
   s.quick_rays = r.integer_or(doc, "quick_rays", "", 1, 100000, s.quick_rays);
   s.seed = static_cast<std::uint64_t>(r.integer_or(doc, "seed", "", 0, 1L << 40, 29));

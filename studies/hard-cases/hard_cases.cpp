@@ -70,11 +70,7 @@ HardCasesStudy read_hard_cases_study(const StudyInput& in) {
   s.source = r.source();
   s.name = in.name;
   if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
-  if (doc.contains("reference_tol")) {
-    s.reference_tol = r.number(*doc.get("reference_tol"), "reference_tol");
-    if (!(s.reference_tol > 0))
-      r.fail("reference_tol", fmt::format("must be positive, got {}", s.reference_tol));
-  }
+  s.reference_tol = read_reference_tol(r, doc, "", s.reference_tol);
   parse_hard_cases(r, doc, s);
   return s;
 }

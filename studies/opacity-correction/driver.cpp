@@ -113,8 +113,7 @@ OpacityStudy read_study(const StudyInput& in) {
       },
       s.scenes.analytic.field);
   s.render_N = static_cast<int>(r.integer(r.require(rd, "oversample", "render"), "render.oversample", 1, 1024));
-  s.scenes.reference_tol = r.number(r.require(rd, "reference_tol", "render"), "render.reference_tol");
-  if (!(s.scenes.reference_tol > 0)) r.fail("render.reference_tol", "must be positive");
+  s.scenes.reference_tol = read_reference_tol(r, rd, "render");
   s.quick_width = static_cast<int>(r.integer(r.require(rd, "quick_width", "render"), "render.quick_width", 1, 4096));
   s.quick_height = static_cast<int>(r.integer(r.require(rd, "quick_height", "render"), "render.quick_height", 1, 4096));
   s.error_map_quantile = r.number(r.require(rd, "error_map_quantile", "render"), "render.error_map_quantile");

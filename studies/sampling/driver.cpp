@@ -139,9 +139,7 @@ StudyPlan parse_sampling_study(const StudyInput& in) {
   st.name = in.name;
   st.scene = read_study_scene(r, doc, "", st.scene_toml);
   st.ramp = read_ramp(r, doc, st.scene);
-  st.reference_tol = r.number(r.require(doc, "reference_tol", ""), "reference_tol");
-  if (!(st.reference_tol >= 1e-15 && st.reference_tol <= 1e-6))
-    r.fail("reference_tol", fmt::format("must be in [1e-15, 1e-6], got {}", st.reference_tol));
+  st.reference_tol = read_reference_tol(r, doc, "");
   st.strategies = read_strategies(r, doc, "strategies", "");
   st.setup = read_setup(r, doc);
 

@@ -115,8 +115,7 @@ ImageSettings read_images(const StudyReader& r, const toml::table& doc) {
   const auto parsed = parse_strategy(strategy);
   if (!parsed || !step_based(*parsed)) r.fail("images.strategy", "must be a step strategy (step, vtk, inviwo)");
   st.strategy = *parsed;
-  st.reference_tol = r.number(r.require(images, "reference_tol", "images"), "images.reference_tol");
-  if (!(st.reference_tol > 0)) r.fail("images.reference_tol", "must be > 0");
+  st.reference_tol = read_reference_tol(r, images, "images");
   st.order_tolerance = read_order_tolerance(r, images, "images");
   st.rules = read_rules(r, images);
   return st;

@@ -128,9 +128,7 @@ Definition read_definition(const StudyInput& in) {
                             "quick_repeats", "scene", "rays", "method"});
   Definition d;
   d.scene = read_study_scene(r, in.doc, "", d.scene_toml);
-  d.reference_tol = r.number_or(in.doc, "reference_tol", "", 1e-13);
-  if (!(d.reference_tol >= 1e-15 && d.reference_tol <= 1e-6))
-    r.fail("reference_tol", fmt::format("must be in [1e-15, 1e-6], got {:g}", d.reference_tol));
+  d.reference_tol = read_reference_tol(r, in.doc, "", d.reference_tol);
   d.targets = r.numbers(in.doc, "targets", "", 1e-14, 1);
   if (in.doc.contains("discrete_targets")) {
     d.discrete_targets = r.numbers(in.doc, "discrete_targets", "", 1e-14, 1);

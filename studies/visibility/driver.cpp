@@ -84,7 +84,7 @@ VisibilityStudy read_study(const StudyInput& in) {
   s.identity.seed = static_cast<std::uint64_t>(
       r.integer(r.require(id, "seed", "identity"), "identity.seed", 0, 1L << 62));
   s.identity.step = positive(r, id, "step", "identity");
-  s.identity.reference_tol = positive(r, id, "reference_tol", "identity");
+  s.identity.reference_tol = read_reference_tol(r, id, "identity");
   s.identity.max_error = positive(r, id, "max_error", "identity");
   s.identity.max_transparency_error = positive(r, id, "max_transparency_error", "identity");
 
@@ -106,7 +106,7 @@ VisibilityStudy read_study(const StudyInput& in) {
   s.termination.quick_image =
       r.integer(r.require(te, "quick_image", "termination"), "termination.quick_image", 1, 1024);
   s.termination.step = positive(r, te, "step", "termination");
-  s.termination.reference_tol = positive(r, te, "reference_tol", "termination");
+  s.termination.reference_tol = read_reference_tol(r, te, "termination");
 
   const toml::table& cu = r.table(r.require(doc, "culling", ""), "culling");
   r.check_keys(cu, "culling", {"blocks", "views", "quick_views", "image", "quick_image", "threshold",

@@ -1,9 +1,11 @@
 // The study-file reader (lib/study_file): hostile inputs give one-line StudyFileErrors.
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <variant>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "lib/scene_file.h"
@@ -93,6 +95,35 @@ TEST(StudyFile, OrderToleranceIsBounded) {
       EXPECT_EQ(std::string(e.what()).rfind(std::string("s.toml: ") + key + ": must be in (0, 0.5]", 0), 0u)
           << e.what();
     }
+  }
+}
+
+// One rule for every study's reference_tol (issue 19: eight readers had four rules, [1e-15, 1e-6]
+// in two studies and any positive number in the others).
+TEST(StudyFile, ReferenceTolHasOneRule) {
+  const StudyReader r("s.toml");
+  const auto read = [&](const std::string& text, std::optional<double> fallback) -> std::string {
+    try {
+      return fmt::format("{:g}", read_reference_tol(r, parse_study_toml(text, "s.toml"), "", fallback));
+    } catch (const StudyFileError& e) {
+      return e.what();
+    }
+  };
+  EXPECT_EQ(read("", 1e-13), "1e-13");
+  EXPECT_EQ(read("", std::nullopt), "s.toml: reference_tol: missing");
+  EXPECT_EQ(read("reference_tol = 1e-11\n", 1e-13), "1e-11");
+  EXPECT_EQ(read("reference_tol = 1e-16\n", 1e-13), "1e-16");  // allowed: the audit reports the misses
+  EXPECT_EQ(read("reference_tol = 1e-6\n", 1e-13), "1e-06");
+  EXPECT_EQ(read("reference_tol = 1e-5\n", 1e-13), "s.toml: reference_tol: must be in (0, 1e-06], got 1e-05");
+  EXPECT_EQ(read("reference_tol = 0\n", 1e-13), "s.toml: reference_tol: must be in (0, 1e-06], got 0");
+  EXPECT_EQ(read("reference_tol = -1e-9\n", 1e-13), "s.toml: reference_tol: must be in (0, 1e-06], got -1e-09");
+  EXPECT_EQ(read("reference_tol = 'tight'\n", 1e-13), "s.toml: reference_tol: expected a number");
+  const toml::table doc = parse_study_toml("[images]\nreference_tol = 1\n", "s.toml");
+  try {
+    read_reference_tol(r, *doc["images"].as_table(), "images");
+    FAIL();
+  } catch (const StudyFileError& e) {
+    EXPECT_EQ(std::string(e.what()), "s.toml: images.reference_tol: must be in (0, 1e-06], got 1");
   }
 }
 
