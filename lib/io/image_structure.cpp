@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdint>
 #include <fstream>
+#include <optional>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -52,9 +53,52 @@ std::string walk_png(std::uint64_t size, Header&& header) {
   return {};
 }
 
+// The bytes of a type OpenEXR's reader takes whatever size the attribute declares; 0 for a type it
+// reads by the declared size (string, stringvector, floatvector, preview, an unknown type).
+std::uint64_t exr_fixed_size(std::string_view type) {
+  struct Fixed {
+    std::string_view type;
+    std::uint64_t size;
+  };
+  static constexpr Fixed kFixed[] = {
+      {"box2i", 16},       {"box2f", 16},        {"v2i", 8},       {"v2f", 8},        {"v2d", 16},
+      {"v3i", 12},         {"v3f", 12},          {"v3d", 24},      {"m33f", 36},      {"m33d", 72},
+      {"m44f", 64},        {"m44d", 128},        {"int", 4},       {"float", 4},      {"double", 8},
+      {"compression", 1},  {"lineOrder", 1},     {"envmap", 1},    {"deepImageState", 1},
+      {"tiledesc", 9},     {"rational", 8},      {"timecode", 8},  {"keycode", 28},   {"chromaticities", 32}};
+  for (const Fixed& f : kFixed)
+    if (f.type == type) return f.size;
+  return 0;
+}
+
+// The bytes a channel list at `value` takes as OpenEXR reads it: entries (name, 0, 16 bytes) until
+// an empty name; nullopt when it does not end within `bytes`.
+std::optional<std::uint64_t> exr_channel_list_size(std::string_view bytes, std::size_t value) {
+  for (std::size_t p = value; p < bytes.size();) {
+    if (bytes[p] == 0) return p + 1 - value;
+    const std::size_t name_end = bytes.find('\0', p);
+    if (name_end == std::string_view::npos) break;
+    p = name_end + 1 + 16;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<std::uint64_t> exr_value_extent(std::string_view type, std::string_view bytes, std::uint64_t value,
+                                              std::uint64_t declared) {
+  if (type == "chlist") return exr_channel_list_size(bytes, value);
+  const std::uint64_t fixed = exr_fixed_size(type);
+  return fixed ? fixed : declared;
+}
+
+namespace {
+
 // An EXR's header(s): after magic and version, attributes (name, type, int32 size, value) until an
 // empty name; a multipart file repeats that, an empty header last.  `bytes` may be the file's
-// first part only (`size` is the whole file's): what is cut off is left to OpenEXR.
+// first part only (`size` is the whole file's): what is cut off is left to OpenEXR.  The walk
+// steps from attribute to attribute as OpenEXR does (exr_value_extent), not by the declared
+// sizes: where a size is wrong they part ways, and OpenEXR would then take text for a size.
 std::string walk_exr(std::string_view bytes, std::uint64_t size) {
   if (bytes.size() < 8) return {};
   const bool multipart = u32(bytes.substr(4, 4), false) & kExrMultipart;
@@ -70,7 +114,10 @@ std::string walk_exr(std::string_view bytes, std::uint64_t size) {
         return fmt::format("EXR attribute '{}' at byte {} claims {} bytes, {} are left (damaged or truncated)",
                            printable(bytes.substr(at, name_end - at)), at, static_cast<std::int32_t>(length),
                            size - value);
-      at = value + length;
+      const std::optional<std::uint64_t> extent =
+          exr_value_extent(bytes.substr(name_end + 1, type_end - name_end - 1), bytes, value, length);
+      if (!extent) return {};  // a channel list running off the end: OpenEXR says so, allocating nothing
+      at = value + *extent;
     }
     ++at;  // the header's terminating empty name
     if (!multipart) break;

@@ -5,9 +5,15 @@
 // 632-byte PNG whose tEXt chunk claims 1.6e9 bytes (35 s under the sanitizers, 4.5 s in Release)
 // and an 870-byte EXR whose vrv:step attribute claims 1.8e9
 // (tests/fuzz/corpus/image_reader/chunk_length_past_end.png, attribute_length_past_end.exr).
-// Only the lengths are walked (PNG chunk headers; EXR header attributes); contents and CRCs are
-// the libraries' business: this is what they do not bound cheaply themselves.
+// A third: a 447-byte EXR whose channel list declares 19 bytes and takes 20.  OpenEXR reads a
+// channel list to its end and fixed-size types by their own size, not by the declared size, so it
+// read on one byte out of step, took the text "inte" for a string's size and allocated 1.7 GB
+// (tests/fuzz/corpus/image_reader/channel_list_size_wrong.exr).  The walk therefore steps as
+// OpenEXR does.  Only the lengths are walked (PNG chunk headers; EXR header attributes); contents
+// and CRCs are the libraries' business: this is what they do not bound cheaply themselves.
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -20,5 +26,11 @@ std::string image_structure_problem(std::string_view bytes);
 // The same for a file: a PNG's chunk headers are read one by one, an EXR's header (at most its
 // first 16 MiB: attributes are small) whole; "" when it cannot be read (the reader says why).
 std::string image_file_structure_problem(const std::filesystem::path& file);
+
+// The bytes OpenEXR 3's header reader takes for an attribute of `type` whose value starts at
+// `value` in `bytes`, declared `declared` bytes long: a channel list's entries and end (nullopt
+// when they do not end within `bytes`), a fixed-size type's own size, else the declared size.
+std::optional<std::uint64_t> exr_value_extent(std::string_view type, std::string_view bytes, std::uint64_t value,
+                                              std::uint64_t declared);
 
 }  // namespace vrv

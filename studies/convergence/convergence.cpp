@@ -202,7 +202,7 @@ std::vector<double> grid_errors(const StudyDefinition& study, const AnalyticFiel
 // "reference" is the continuous integral through the trilinear grid (the reconstruction error
 // alone); each rule runs at steps_per_cell x cell, so its error mixes both discretisations and
 // its expected order is the smaller of the two.
-void refine_grid(const StudyDefinition& study, bool quick, const std::vector<Ray>& rays,
+void refine_grid(const StudyDefinition& study, bool quick, const std::vector<Ray>& rays, ReferenceAudit& audit,
                  bool progress, const StudyCheckpoint& checkpoint, StudyResult& result) {
   const std::vector<int>& res = quick ? study.quick_grid_resolutions : study.grid_resolutions;
   const auto& source = std::visit(
@@ -216,7 +216,7 @@ void refine_grid(const StudyDefinition& study, bool quick, const std::vector<Ray
     std::vector<double> t(n);
     parallel_for_index(static_cast<long>(n), [&](long i) {
       t[static_cast<std::size_t>(i)] =
-          audited_reference(study.scene, rays[static_cast<std::size_t>(i)], {study.reference_tol}).value;
+          audited_reference(audit, study.scene, rays[static_cast<std::size_t>(i)], {study.reference_tol}).value;
     });
     return t;
   });
@@ -255,7 +255,7 @@ void refine_grid(const StudyDefinition& study, bool quick, const std::vector<Ray
 
 }  // namespace
 
-StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress,
+StudyResult run_convergence(const StudyDefinition& study, bool quick, ReferenceAudit& audit, bool progress,
                             const StudyCheckpoint& checkpoint) {
   const long n = quick ? study.quick_count : study.count;
   const std::vector<Ray> rays = study_rays(study.scene.box, n, study.seed);
@@ -279,7 +279,7 @@ StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progr
       // One ray is one checkpoint: its errors, then its sample counts (exact as doubles).
       const std::vector<double> v = checkpointed(checkpoint, fmt::format("ray_{}", i), 2 * per_ray, [&] {
         const Ray& ray = rays[static_cast<std::size_t>(i)];
-        const double reference = audited_reference(field, study.scene.box, study.scene.transfer,
+        const double reference = audited_reference(audit, field, study.scene.box, study.scene.transfer,
                                                    study.scene.background, ray,
                                                    {study.reference_tol}).value;
         std::vector<double> out(2 * per_ray);
@@ -323,7 +323,7 @@ StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progr
     result.pass = result.pass && o.pass;
     result.orders.push_back(o);
   }
-  if (!study.grid_resolutions.empty()) refine_grid(study, quick, rays, progress, checkpoint, result);
+  if (!study.grid_resolutions.empty()) refine_grid(study, quick, rays, audit, progress, checkpoint, result);
   return result;
 }
 

@@ -18,6 +18,7 @@
 #include "lib/order_estimate.h"
 #include "lib/scene.h"
 #include "studies/engine/checkpoint.h"
+#include "studies/engine/reference_audit.h"
 #include "studies/engine/study_driver.h"
 
 namespace vrv {
@@ -97,8 +98,9 @@ struct StudyResult {
 };
 
 // Runs the study with parallel_for_index over rays (respects any ThreadLimit alive); the result
-// does not depend on the number of threads.  progress: a Progress bar on stderr.
-StudyResult run_convergence(const StudyDefinition& study, bool quick, bool progress,
+// does not depend on the number of threads.  progress: a Progress bar on stderr.  The
+// reference's truths are counted in `audit`.
+StudyResult run_convergence(const StudyDefinition& study, bool quick, ReferenceAudit& audit, bool progress,
                             const StudyCheckpoint& checkpoint = {});
 
 // Field evaluations of the run (full or `quick`), estimated from the definition alone.

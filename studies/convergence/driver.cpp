@@ -49,7 +49,7 @@ StudyPlan parse_convergence(const StudyInput& in) {
   StudyDefinition study = read_convergence_study(in);
   StudyJob job = [study](const StudyRun& run) {
     const StudyResult result =
-        run_convergence(study, run.quick, run.progress, checkpoint_function(run.checkpoints));
+        run_convergence(study, run.quick, run.audit, run.progress, checkpoint_function(run.checkpoints));
     write_study_tables(run.dir, study, result);
     StudyOutcome out;
     out.checks = checks_of(study, result);

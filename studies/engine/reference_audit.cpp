@@ -16,20 +16,8 @@ namespace vrv {
 namespace fs = std::filesystem;
 namespace {
 
-std::mutex audit_mutex;
-ReferenceAuditCounts audit;
-
 // Not a checkpoint's name (those end in .txt, checkpoint.cpp).
 constexpr std::string_view kSnapshotFile = "reference_audit.snapshot";
-
-// Taken while a snapshot is read from the counters and written: snapshots reach the file in the
-// order they were taken, so the file never goes back to fewer truths than a stored checkpoint's.
-std::mutex snapshot_mutex;
-
-void store_snapshot(const fs::path& dir) {
-  const std::lock_guard lock(snapshot_mutex);
-  write_file_atomically(dir / kSnapshotFile, reference_audit_snapshot(reference_audit_counts()));
-}
 
 // A whole word as a long (>= 0) or a double; nullopt otherwise.
 std::optional<long> count_of(const std::string& word) {
@@ -49,34 +37,47 @@ std::optional<double> number_of(const std::string& word) {
 
 }  // namespace
 
-void record_reference(const ReferenceResult& r) {
+void ReferenceAuditCounts::add(bool tolerance_met, double error_estimate) {
+  add(ReferenceAuditCounts{1, tolerance_met ? 0 : 1, error_estimate});
+}
+
+void ReferenceAuditCounts::add(const ReferenceAuditCounts& more) {
+  rays += more.rays;
+  missed += more.missed;
+  if (std::isnan(more.largest_estimate) || more.largest_estimate > largest_estimate)
+    largest_estimate = more.largest_estimate;
+}
+
+void ReferenceAudit::record(bool tolerance_met, double error_estimate) {
+  record(ReferenceAuditCounts{1, tolerance_met ? 0 : 1, error_estimate});
+}
+
+void ReferenceAudit::record(const ReferenceAuditCounts& counts) {
   if (!counts_on_this_rank()) return;  // a truth every MPI rank computes counts once, on rank 0
-  const std::lock_guard lock(audit_mutex);
-  ++audit.rays;
-  if (!r.tolerance_met) ++audit.missed;
-  if (std::isnan(r.error_estimate) || r.error_estimate > audit.largest_estimate)
-    audit.largest_estimate = r.error_estimate;
+  const std::lock_guard lock(mutex_);
+  counts_.add(counts);
 }
 
-ReferenceResult audited_reference(const Scene& scene, const Ray& ray, const ReferenceOptions& options) {
-  ReferenceResult r = integrate_reference(scene, ray, options);
-  record_reference(r);
-  return r;
+ReferenceAuditCounts ReferenceAudit::counts() const {
+  const std::lock_guard lock(mutex_);
+  return counts_;
 }
 
-void reset_reference_audit() {
-  const std::lock_guard lock(audit_mutex);
-  audit = {};
-}
-
-ReferenceAuditCounts reference_audit_counts() {
-  const std::lock_guard lock(audit_mutex);
-  return audit;
-}
-
-ReferenceAuditCounts reference_audit_counts_over_ranks() {
-  const ReferenceAuditCounts mine = reference_audit_counts();
+ReferenceAuditCounts ReferenceAudit::counts_over_ranks() const {
+  const ReferenceAuditCounts mine = counts();
   return {sum_over_ranks(mine.rays), sum_over_ranks(mine.missed), max_over_ranks(mine.largest_estimate)};
+}
+
+void ReferenceAudit::store_snapshot(const fs::path& dir) {
+  const std::lock_guard lock(snapshot_mutex_);
+  write_file_atomically(dir / kSnapshotFile, reference_audit_snapshot(counts()));
+}
+
+ReferenceResult audited_reference(ReferenceAudit& audit, const Scene& scene, const Ray& ray,
+                                  const ReferenceOptions& options) {
+  ReferenceResult r = integrate_reference(scene, ray, options);
+  audit.record(r);
+  return r;
 }
 
 std::string reference_audit_snapshot(const ReferenceAuditCounts& counts) {
@@ -95,8 +96,8 @@ std::optional<ReferenceAuditCounts> parse_reference_audit_snapshot(std::string_v
   return ReferenceAuditCounts{*r, *m, *e};
 }
 
-void start_reference_audit(Checkpoints& checkpoints, bool resume) {
-  reset_reference_audit();
+void ReferenceAudit::start(Checkpoints& checkpoints, bool resume) {
+  ReferenceAuditCounts start;
   const fs::path file = checkpoints.dir() / kSnapshotFile;
   std::error_code ec;
   if (resume && fs::exists(file, ec)) {
@@ -107,14 +108,17 @@ void start_reference_audit(Checkpoints& checkpoints, bool resume) {
     if (!counts)
       throw StudyResumeError(fmt::format("{}: --resume: not a reference audit snapshot; run without --resume",
                                          file.string()));
-    const std::lock_guard lock(audit_mutex);
-    audit = *counts;
+    start = *counts;
   } else if (resume && checkpoints.found_stored()) {
     throw StudyResumeError(fmt::format("{}: --resume: the checkpoints have no reference audit snapshot "
                                        "(an older vrv's), so their misses are unknown; run without --resume",
                                        checkpoints.dir().string()));
   }
-  checkpoints.before_store(store_snapshot);
+  {
+    const std::lock_guard lock(mutex_);
+    counts_ = start;
+  }
+  checkpoints.before_store([this](const fs::path& dir) { store_snapshot(dir); });
 }
 
 StudyCheck reference_audit_check(const ReferenceAuditCounts& counts) {

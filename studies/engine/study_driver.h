@@ -32,7 +32,8 @@ struct StudyInput {
   std::string name;
 };
 
-class Checkpoints;  // studies/engine/checkpoint.h
+class Checkpoints;     // studies/engine/checkpoint.h
+class ReferenceAudit;  // studies/engine/reference_audit.h
 
 struct StudyRun {
   std::filesystem::path dir;  // exists; write every file with write_file_atomically
@@ -40,6 +41,8 @@ struct StudyRun {
   bool progress = false;      // a progress bar on stderr is welcome
   // Where a driver stores each finished configuration (checkpointed(), for --resume); may be null.
   Checkpoints* checkpoints = nullptr;
+  // Where the run's truths are counted (audited_reference): the runner's check of them.
+  ReferenceAudit& audit;
 };
 
 // Where a check's bound comes from (docs/studies.md, "Four kinds of check"):

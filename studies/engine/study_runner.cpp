@@ -181,6 +181,7 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
   struct ClearCleanup {
     ~ClearCleanup() { set_interrupt_cleanup_dir({}); }
   } clear_cleanup;
+  ReferenceAudit audit_counts;  // before the checkpoints: their stores write its snapshots
   Checkpoints checkpoints(staging.dir() / "checkpoints",
                           study.text + (opt.quick ? "\n# --quick" : "\n# full"), staging.resumed());
 
@@ -189,13 +190,12 @@ int run_study_job(const LoadedStudy& study, const StudyRunOptions& opt) {
   {
     const ThreadLimit limit(opt.threads);
     const PixelSharing sharing;  // every rank meets the job's loops in the same order
-    StudyRun run{staging.dir(), opt.quick, !opt.quiet};
     // A checkpointed loop is not dealt (a rank's checkpoints would be its own): none over ranks,
     // where --resume is refused.
-    run.checkpoints = rank_count() > 1 ? nullptr : &checkpoints;
-    start_reference_audit(checkpoints, staging.resumed());  // a resumed run: from the stored counts
+    StudyRun run{staging.dir(), opt.quick, !opt.quiet, rank_count() > 1 ? nullptr : &checkpoints, audit_counts};
+    audit_counts.start(checkpoints, staging.resumed());  // a resumed run: from the stored counts
     outcome = job_naming_reused_non_finite(study, run, checkpoints);
-    const ReferenceAuditCounts audit = reference_audit_counts_over_ranks();
+    const ReferenceAuditCounts audit = audit_counts.counts_over_ranks();
     outcome.checks.push_back(reference_audit_check(audit));
     outcome.parameters["reference_audit"] = {{"truths_computed", audit.rays}, {"missed", audit.missed},
                                              {"largest_estimate", audit.largest_estimate}};

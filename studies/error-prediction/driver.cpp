@@ -10,7 +10,7 @@ namespace {
 StudyPlan parse_error_prediction(const StudyInput& in) {
   ErrorPredictionStudy study = read_error_prediction_study(in);
   StudyJob job = [study](const StudyRun& run) {
-    const ErrorPredictionResult result = run_error_prediction(study, run.quick, run.checkpoints);
+    const ErrorPredictionResult result = run_error_prediction(study, run);
     write_error_prediction(run.dir, result);
     StudyOutcome out;
     out.checks = error_prediction_checks(study, result);

@@ -162,7 +162,9 @@ ErrorPredictionStudy read_error_prediction_study(const StudyInput& in) {
   return s;
 }
 
-ErrorPredictionResult run_error_prediction(const ErrorPredictionStudy& study, bool quick, Checkpoints* checkpoints) {
+ErrorPredictionResult run_error_prediction(const ErrorPredictionStudy& study, const StudyRun& run) {
+  const bool quick = run.quick;
+  Checkpoints* checkpoints = run.checkpoints;
   ErrorPredictionResult out;
   out.rays = quick ? study.quick_rays : study.rays;
   constexpr std::size_t kWidth = 6;
@@ -170,7 +172,7 @@ ErrorPredictionResult run_error_prediction(const ErrorPredictionStudy& study, bo
     const std::vector<Ray> rays = study_rays(c.scene.box, out.rays, study.seed);
     const std::vector<double> truth = checkpointed(checkpoints, c.name + ".truth", [&] {
       return task_rows(out.rays, 2, [&](long i, std::span<double> row) {
-        const ReferenceResult ref = audited_reference(c.scene, rays[i], {study.reference_tol});
+        const ReferenceResult ref = audited_reference(run.audit, c.scene, rays[i], {study.reference_tol});
         row[0] = ref.value, row[1] = ref.error_estimate;
       }, task_block(out.rays));
     }, 2 * rays.size());

@@ -66,7 +66,8 @@ struct ErrorPredictionResult {
 };
 
 ErrorPredictionStudy read_error_prediction_study(const StudyInput& in);
-ErrorPredictionResult run_error_prediction(const ErrorPredictionStudy& study, bool quick, Checkpoints* checkpoints);
+// With the run's --quick, checkpoints and audit.
+ErrorPredictionResult run_error_prediction(const ErrorPredictionStudy& study, const StudyRun& run);
 // rays.csv (every ray), summary.{csv,md,tex} (per configuration), cases.{csv,md,tex} (per case),
 // methods.{csv,md,tex} (per method),
 // classes.{csv,md,tex} (pooled by the asymptotic flag) and plots.json in `dir`.

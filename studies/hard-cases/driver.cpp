@@ -45,7 +45,7 @@ namespace {
 StudyPlan parse_hard_cases(const StudyInput& in) {
   HardCasesStudy study = read_hard_cases_study(in);
   StudyJob job = [study](const StudyRun& run) {
-    const HardCasesResult result = run_hard_cases(study, run.progress, checkpoint_function(run.checkpoints));
+    const HardCasesResult result = run_hard_cases(study, run.audit, run.progress, checkpoint_function(run.checkpoints));
     write_hard_case_tables(run.dir, study, result);
     StudyOutcome out;
     out.checks = hard_case_checks(result);

@@ -105,7 +105,8 @@ StudyWork hard_cases_work(const HardCasesStudy& study) {
   return work;
 }
 
-HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress, const StudyCheckpoint& checkpoint) {
+HardCasesResult run_hard_cases(const HardCasesStudy& study, ReferenceAudit& audit, bool progress,
+                               const StudyCheckpoint& checkpoint) {
   const std::size_t C = study.cases.size();
   std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (case, method)
   for (std::size_t c = 0; c < C; ++c)
@@ -116,7 +117,7 @@ HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress, const
   parallel_for_index(static_cast<long>(C), [&](long i) {
     const HardCase& hc = study.cases[static_cast<std::size_t>(i)];
     const std::vector<double> v = checkpointed(checkpoint, fmt::format("truth_{}", i), 2, [&] {
-      const ReferenceResult r = audited_reference(hc.scene, make_ray(hc.origin, hc.direction), {study.reference_tol});
+      const ReferenceResult r = audited_reference(audit, hc.scene, make_ray(hc.origin, hc.direction), {study.reference_tol});
       return std::vector<double>{r.value, r.error_estimate};
     });
     truth[static_cast<std::size_t>(i)].value = v[0];

@@ -13,6 +13,7 @@
 #include "lib/study_file.h"
 #include "lib/scene.h"
 #include "studies/engine/checkpoint.h"
+#include "studies/engine/reference_audit.h"
 #include "studies/engine/study_driver.h"
 
 namespace vrv {
@@ -80,12 +81,13 @@ HardCasesStudy load_hard_cases_study(const std::filesystem::path& path);
 // is finite and, for reference rows, error <= error_estimate + truth's estimate and
 // error_estimate <= tol, for discrete rows with max_error, error <= max_error, and for discrete
 // rows with an a-priori bound, error <= bound + truth's estimate.
-// checkpoint (studies/engine/checkpoint.h): each case's truth and each (case, method) row.
+// checkpoint (studies/engine/checkpoint.h): each case's truth and each (case, method) row; the
+// truths are counted in `audit`.
+HardCasesResult run_hard_cases(const HardCasesStudy& study, ReferenceAudit& audit, bool progress,
+                               const StudyCheckpoint& checkpoint = {});
+
 // Field evaluations of the run (the same for --quick), on each case's own ray.
 StudyWork hard_cases_work(const HardCasesStudy& study);
-
-HardCasesResult run_hard_cases(const HardCasesStudy& study, bool progress,
-                               const StudyCheckpoint& checkpoint = {});
 
 struct HardCaseFiles {
   std::string cases_csv, cases_md, cases_tex;

@@ -29,7 +29,7 @@ DiscreteConfig oversampled_config(Correction c, int N, double unit_step, bool ce
 }
 
 RenderValues render_values(const RenderScenes& s, const Camera& camera, const std::vector<RenderMethod>& methods,
-                           bool progress, Checkpoints* checkpoints) {
+                           bool progress, Checkpoints* checkpoints, ReferenceAudit& audit) {
   const long pixels = static_cast<long>(camera.width) * camera.height;
   RenderValues out;
   out.reference.assign(pixels, 0);
@@ -43,7 +43,7 @@ RenderValues render_values(const RenderScenes& s, const Camera& camera, const st
   hooks.block = camera.width;
   hooks.progress = [&](long done) { bar.advance(done); };
   const std::vector<double> v = image_records(camera, {}, width, [&](const Ray& ray, std::span<double> o) {
-    const ReferenceResult ref = audited_reference(s.analytic, ray, {s.reference_tol});
+    const ReferenceResult ref = audited_reference(audit, s.analytic, ray, {s.reference_tol});
     o[0] = ref.value;
     o[1] = ref.error_estimate;
     for (std::size_t k = 0; k < configs.size(); ++k) o[2 + k] = discrete_raycast(s.sampled, ray, configs[k]).value;

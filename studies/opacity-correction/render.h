@@ -12,6 +12,7 @@
 #include "lib/io/image_io.h"
 #include "lib/metrics.h"
 #include "lib/scene.h"
+#include "studies/engine/reference_audit.h"
 
 namespace vrv {
 
@@ -45,9 +46,9 @@ struct RenderValues {
   std::vector<std::vector<double>> methods;
   double worst_estimate = 0;
 };
-// With checkpoints, each image row is stored (--resume).
+// With checkpoints, each image row is stored (--resume); the truths are counted in `audit`.
 RenderValues render_values(const RenderScenes& s, const Camera& camera, const std::vector<RenderMethod>& methods,
-                           bool progress, Checkpoints* checkpoints = nullptr);
+                           bool progress, Checkpoints* checkpoints, ReferenceAudit& audit);
 Image to_image(const std::vector<double>& values, int width, int height);
 
 // Mean, max and root-mean-square of |a - b| over the pixels (sums in index order; p99 not taken).

@@ -194,7 +194,7 @@ std::map<Correction, double> render_part(const OpacityStudy& s, const StudyRun& 
   for (bool centred : s.placements)
     for (Correction c : s.corrections)
       methods.push_back({name_of(c) + (centred ? ", centred" : ""), c, s.render_N, centred});
-  const RenderValues v = render_values(s.scenes, cam, methods, run.progress, run.checkpoints);
+  const RenderValues v = render_values(s.scenes, cam, methods, run.progress, run.checkpoints, run.audit);
   Table t({"method", "correction", "placement", "N", "mean_abs_difference", "max_abs_difference", "rms_difference",
            "paper"});
   t.allow_missing("paper");

@@ -13,6 +13,8 @@ StudyPlan parse_projections(const StudyInput& in) {
     const ProjectionsResult result = run_projections(study, run.quick);
     write_projections(run.dir, study, result);
     const ProjectionsImages images = run_projections_images(study, run.quick);
+    run.audit.record(result.truths);
+    run.audit.record(images.truths);
     write_projections_images(run.dir, images);
     StudyOutcome out;
     out.checks = projections_checks(study, result);

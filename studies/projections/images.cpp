@@ -56,10 +56,7 @@ ProjectionsImages run_projections_images(const ProjectionsStudy& study, bool qui
     auto [it, added] = refs.try_emplace(m.config.mode);
     if (added) {
       it->second = projection_values(study.scene, rays, m.config.mode, {study.reference_tol});
-      for (const ProjectionResult& v : it->second) {
-        out.max_reference_estimate = std::max(out.max_reference_estimate, v.error_estimate);
-        out.references_missed += !v.tolerance_met;
-      }
+      for (const ProjectionResult& v : it->second) out.truths.add(v);
       Image image(camera.width, camera.height);
       for (std::size_t i = 0; i < rays.size(); ++i) image.pixels[i] = static_cast<float>(it->second[i].value);
       out.references.push_back({std::string(projection_mode_name(m.config.mode)), std::move(image)});
@@ -108,9 +105,9 @@ std::vector<StudyCheck> images_checks(const ProjectionsStudy& study, const Proje
   for (const ProjectionsErrorMap& m : images.error_maps) bad += !(std::isfinite(m.rms_error) && std::isfinite(m.max_error));
   return {{"finite image errors", static_cast<double>(bad), 0, bad == 0,
            "error maps whose RMS or largest error is not finite", CheckKind::finite},
-          {"image references within reference_tol", images.max_reference_estimate, study.reference_tol,
-           images.references_missed == 0,
-           fmt::format("largest error estimate of the images' references; {} missed", images.references_missed),
+          {"image references within reference_tol", images.truths.largest_estimate, study.reference_tol,
+           images.truths.missed == 0,
+           fmt::format("largest error estimate of the images' references; {} missed", images.truths.missed),
            CheckKind::derived}};
 }
 

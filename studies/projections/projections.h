@@ -10,6 +10,7 @@
 #include "lib/order_estimate.h"
 #include "lib/projection/discrete_projection.h"
 #include "lib/scene.h"
+#include "studies/engine/reference_audit.h"
 #include "studies/engine/study_driver.h"
 #include "studies/engine/study_work.h"
 
@@ -50,8 +51,7 @@ struct ProjectionsResult {
   long rays = 0;
   std::vector<ProjectionsRow> errors;
   std::vector<ProjectionsOrder> orders;
-  double max_reference_estimate = 0;  // over every mode's reference on every ray
-  long references_missed = 0;         // references whose estimate missed reference_tol
+  ReferenceAuditCounts truths;  // every mode's reference on every ray
 };
 
 // The images (images.cpp): each mode's reference image, each method's error map at the coarsest step.
@@ -64,8 +64,7 @@ struct ProjectionsImages {
   int width = 0, height = 0;
   std::vector<std::pair<std::string, Image>> references;  // (mode name, image)
   std::vector<ProjectionsErrorMap> error_maps;  // one per distinct cast (mode, method, strategy)
-  double max_reference_estimate = 0;
-  long references_missed = 0;
+  ReferenceAuditCounts truths;  // every mode's reference on every pixel
 };
 
 ProjectionsStudy read_projections_study(const StudyInput& in);

@@ -69,14 +69,14 @@ double fan_angle_degrees(const FanSetup& s, int i) {
   return s.angle_degrees - s.fov_degrees / 2 + s.fov_degrees * (i + 0.5) / s.rays;
 }
 
-std::vector<ContinuousRay> continuous_rays(const Scene& scene, const std::vector<Ray>& rays,
-                                           double tol) {
+std::vector<ContinuousRay> continuous_rays(const Scene& scene, const std::vector<Ray>& rays, double tol,
+                                           ReferenceAudit& audit) {
   std::vector<ContinuousRay> out(rays.size());
   parallel_for_index(static_cast<long>(rays.size()), [&](long i) {
     const Ray& ray = rays[static_cast<std::size_t>(i)];
     ContinuousRay& r = out[static_cast<std::size_t>(i)];
     if (const auto iv = clip(ray, scene.box)) r.chord = iv->length();
-    const ReferenceResult ref = audited_reference(scene, ray, ReferenceOptions{tol});
+    const ReferenceResult ref = audited_reference(audit, scene, ray, ReferenceOptions{tol});
     r.value = ref.value;
     r.estimate = ref.error_estimate;
   });

@@ -13,6 +13,7 @@
 #include "lib/io/image_io.h"
 #include "lib/metrics.h"
 #include "lib/scene.h"
+#include "studies/engine/reference_audit.h"
 #include "lib/vrv.h"  // camera_rays: every ray of a camera (fan: width rays; images: row-major)
 
 namespace vrv::sampling_study {
@@ -59,8 +60,10 @@ struct ContinuousRay {
 // The world (paper) angle of fan ray i, in degrees.
 double fan_angle_degrees(const FanSetup& s, int i);
 
-// Each ray in its own slot: the same numbers for any thread count.
-std::vector<ContinuousRay> continuous_rays(const Scene& scene, const std::vector<Ray>& rays, double tol);
+// Each ray in its own slot: the same numbers for any thread count.  continuous_rays counts its
+// truths in `audit`.
+std::vector<ContinuousRay> continuous_rays(const Scene& scene, const std::vector<Ray>& rays, double tol,
+                                           ReferenceAudit& audit);
 std::vector<RayValue> discrete_rays(const Scene& scene, const std::vector<Ray>& rays,
                                     const DiscreteConfig& c);
 

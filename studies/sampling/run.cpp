@@ -81,10 +81,10 @@ StudyCheck at_least(std::string name, double value, double bound, std::string de
 }
 
 // Each configuration's values on every ray (fan or pixels) are one checkpoint (--resume).
-std::vector<ContinuousRay> continuous(Checkpoints* c, const std::string& key, const Scene& scene,
+std::vector<ContinuousRay> continuous(const StudyRun& run, const std::string& key, const Scene& scene,
                                       const std::vector<Ray>& rays, double tol) {
   return checkpointed_records<ContinuousRay>(
-      c, key, 3, [&] { return continuous_rays(scene, rays, tol); },
+      run.checkpoints, key, 3, [&] { return continuous_rays(scene, rays, tol, run.audit); },
       [](const ContinuousRay& r, std::vector<double>& out) { out.insert(out.end(), {r.chord, r.value, r.estimate}); },
       [](std::span<const double> v) { return ContinuousRay{v[0], v[1], v[2]}; }, rays.size());
 }
@@ -136,9 +136,9 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
 
   // The fan: the continuous solution on the grid and on the ramp, then every configuration.
   Checkpoints* const cp = run.checkpoints;
-  const std::vector<ContinuousRay> truth = continuous(cp, "fan_truth", st.scene, fan_rays, st.reference_tol);
+  const std::vector<ContinuousRay> truth = continuous(run, "fan_truth", st.scene, fan_rays, st.reference_tol);
   progress.advance();
-  const std::vector<ContinuousRay> truth_ramp = continuous(cp, "fan_truth_ramp", ramp, fan_rays, st.reference_tol);
+  const std::vector<ContinuousRay> truth_ramp = continuous(run, "fan_truth_ramp", ramp, fan_rays, st.reference_tol);
   progress.advance();
   double max_estimate = 0, continuous_identity = 0;
   for (std::size_t i = 0; i < truth.size(); ++i) {
@@ -172,7 +172,7 @@ StudyOutcome run_sampling_study(const Study& st, const StudyRun& run) {
       }
 
   // The images: the continuous solution, then every strategy at every image rate.
-  const std::vector<ContinuousRay> image_truth = continuous(cp, "image_truth", st.scene, pixels, st.reference_tol);
+  const std::vector<ContinuousRay> image_truth = continuous(run, "image_truth", st.scene, pixels, st.reference_tol);
   progress.advance();
   for (const ContinuousRay& c : image_truth) max_estimate = std::max(max_estimate, c.estimate);
   std::vector<StrategyRun> images;

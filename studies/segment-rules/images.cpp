@@ -51,7 +51,7 @@ void add_render_work(const RenderSpec& spec, const std::vector<RuleSpec>& rules,
 }
 
 RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rules, Strategy strategy,
-                        double reference_tol, bool quick, bool progress, Checkpoints* checkpoints,
+                        double reference_tol, ReferenceAudit& audit, bool quick, bool progress, Checkpoints* checkpoints,
                         const std::string& checkpoint_key) {
   const Camera camera = render_camera(spec, quick);
   const std::vector<double>& steps = quick ? spec.quick_steps : spec.steps;
@@ -85,7 +85,7 @@ RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rul
     hooks.progress = [&](long done) { bar.advance(done); };
     records = image_records(camera, {}, width, [&](const Ray& ray, std::span<double> v) {
       const ReferenceResult ref =
-          audited_reference(field, scene.box, scene.transfer, scene.background, ray, {reference_tol});
+          audited_reference(audit, field, scene.box, scene.transfer, scene.background, ray, {reference_tol});
       v[0] = ref.hit ? 1 : 0;
       v[1] = ref.value;
       for (std::size_t k = 0; k < per_pixel; ++k) {

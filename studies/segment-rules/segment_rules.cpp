@@ -301,7 +301,7 @@ StudyOutcome run_study(const SegmentRulesStudy& st, const StudyRun& run) {
   std::filesystem::create_directories(run.dir / "images");
   nlohmann::json renders = nlohmann::json::array();
   for (const RenderSpec& spec : st.renders) {
-    const RenderResult res = run_render(spec, st.rules, st.strategy, st.reference_tol, run.quick, run.progress,
+    const RenderResult res = run_render(spec, st.rules, st.strategy, st.reference_tol, run.audit, run.quick, run.progress,
                                            run.checkpoints, fmt::format("render{}", renders.size()));
     long bad_rows = 0;
     for (const ImageErrorRow& row : res.rows) {

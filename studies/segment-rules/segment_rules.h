@@ -17,6 +17,7 @@
 #include "lib/scene.h"
 #include "lib/segment_rule.h"
 #include "lib/study_file.h"
+#include "studies/engine/reference_audit.h"
 #include "studies/engine/study_work.h"
 
 namespace vrv {
@@ -101,9 +102,10 @@ RenderSpec read_render(const StudyReader& r, const toml::table& t, const std::st
 
 // Renders the reference image (integrate_reference at reference_tol per pixel) and every
 // (rule, step); means are over the pixels whose ray meets the box.  Deterministic for any
-// thread count.  With checkpoints, each image row is stored under checkpoint_key (--resume).
+// thread count.  With checkpoints, each image row is stored under checkpoint_key (--resume).  The
+// reference's truths are counted in `audit`.
 RenderResult run_render(const RenderSpec& spec, const std::vector<RuleSpec>& rules, Strategy strategy,
-                        double reference_tol, bool quick, bool progress, Checkpoints* checkpoints = nullptr,
+                        double reference_tol, ReferenceAudit& audit, bool quick, bool progress, Checkpoints* checkpoints = nullptr,
                         const std::string& checkpoint_key = "render");
 
 // Adds the field evaluations of run_render(spec, ...) to `work` (the reference and every rule

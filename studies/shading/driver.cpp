@@ -11,6 +11,7 @@ StudyPlan parse_shading(const StudyInput& in) {
   ShadingStudy study = read_shading_study(in);
   StudyJob job = [study](const StudyRun& run) {
     const ShadingResult result = run_shading(study, run.quick);
+    run.audit.record(result.truths);
     write_shading(run.dir, result);
     StudyOutcome out;
     out.checks = shading_checks(study, result);

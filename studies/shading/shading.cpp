@@ -73,10 +73,7 @@ References references(const Scene& scene, const std::vector<Ray>& rays, double t
   References r;
   r.values.resize(rays.size());
   parallel_for_index(static_cast<long>(rays.size()), [&](long i) { r.values[i] = integrate_reference(scene, rays[i], {tol}); });
-  for (const ReferenceResult& v : r.values) {
-    out.max_reference_estimate = std::max(out.max_reference_estimate, v.error_estimate);
-    if (!v.tolerance_met) ++out.references_missed;
-  }
+  for (const ReferenceResult& v : r.values) out.truths.add(v);
   return r;
 }
 
@@ -153,8 +150,7 @@ ReferenceImage reference_image(const Scene& scene, const Camera& camera, double 
     r.value[i] = v.value, r.hit[i] = v.hit, estimate[i] = v.error_estimate, met[i] = v.tolerance_met;
   });
   for (std::size_t i = 0; i < n; ++i) {
-    out.max_reference_estimate = std::max(out.max_reference_estimate, estimate[i]);
-    out.references_missed += !met[i];
+    out.truths.add(met[i], estimate[i]);
   }
   return r;
 }
@@ -340,9 +336,9 @@ std::vector<StudyCheck> shading_checks(const ShadingStudy& study, const ShadingR
     finite = finite && std::isfinite(r.error.mean) && std::isfinite(r.error.max), worst = std::max(worst, r.error.max);
   checks.push_back({"finite errors", worst, 0, finite, "every scheme's errors at every step and grid, and in every image, are finite",
                     CheckKind::finite});
-  checks.push_back({"references within reference_tol", result.max_reference_estimate, study.reference_tol,
-                    result.references_missed == 0,
-                    fmt::format("largest error estimate of the shaded references; {} missed", result.references_missed),
+  checks.push_back({"references within reference_tol", result.truths.largest_estimate, study.reference_tol,
+                    result.truths.missed == 0,
+                    fmt::format("largest error estimate of the shaded references; {} missed", result.truths.missed),
                     CheckKind::derived});
   return checks;
 }

@@ -19,6 +19,7 @@
 #include "lib/metrics.h"
 #include "lib/order_estimate.h"
 #include "lib/scene.h"
+#include "studies/engine/reference_audit.h"
 #include "studies/engine/study_driver.h"
 #include "studies/engine/study_work.h"
 
@@ -84,8 +85,7 @@ struct ShadingResult {
   std::vector<ShadingStepRow> steps;
   std::vector<ShadingGridRow> grids;
   std::vector<ShadingOrder> orders;
-  double max_reference_estimate = 0;
-  long references_missed = 0;
+  ReferenceAuditCounts truths;  // every reference the study computed
 };
 
 ShadingStudy read_shading_study(const StudyInput& in);

@@ -451,7 +451,7 @@ StudyPlan parse_speed_vs_error(const StudyInput& in) {
           std::vector<ReferenceResult> t(static_cast<std::size_t>(n));
           parallel_for_index(n, [&](long i) {
             t[static_cast<std::size_t>(i)] =
-                audited_reference(d.scene, rays[static_cast<std::size_t>(i)], ReferenceOptions{d.reference_tol});
+                audited_reference(run.audit, d.scene, rays[static_cast<std::size_t>(i)], ReferenceOptions{d.reference_tol});
           });
           return t;
         },

@@ -93,7 +93,7 @@ IdentityResult run_identity(const VisibilityStudy& s, const StudyRun& run) {
   ref.stop_when_opaque = false;  // the identities need the whole optical depth
   // Both integrals return the optical depth Phi = -log(transparency).
   auto continuous = [&](const TransferFunction& tf, const Box& b, const Ray& ray) {
-    const ReferenceResult r = audited_reference(field, b, tf, 1.0, ray, ref);
+    const ReferenceResult r = audited_reference(run.audit, field, b, tf, 1.0, ray, ref);
     return r.hit ? r.optical_depth : 0.0;
   };
   const DiscreteConfig cfg = alpha_config(s.identity.step);
@@ -251,7 +251,7 @@ TerminationResult run_termination(const VisibilityStudy& s, const StudyRun& run)
   hooks.block = cam.width;
   hooks.progress = [&](long done) { bar.advance(done); };
   const std::vector<double> pixels = image_records(cam, {}, width, [&](const Ray& ray, std::span<double> o) {
-    o[0] = audited_reference(s.scene, ray, {s.termination.reference_tol}).value;
+    o[0] = audited_reference(run.audit, s.scene, ray, {s.termination.reference_tol}).value;
     for (std::size_t c = 0; c < casters.size(); ++c) {
       const DiscreteResult r = casters[c].cast(ray);
       o[1 + 2 * c] = r.value;

@@ -54,7 +54,7 @@ std::string plots_json(const VolumeStudy& st) {
 
 StudyOutcome run_volume_study(const VolumeStudy& st, const StudyRun& run) {
   const RenderSpec& spec = st.render;
-  const RenderResult res = run_render(spec, st.rules, st.strategy, st.reference_tol, run.quick, run.progress,
+  const RenderResult res = run_render(spec, st.rules, st.strategy, st.reference_tol, run.audit, run.quick, run.progress,
                                       run.checkpoints, "render");
   StudyOutcome out;
   Table errors({"rule", "step", "mean_error", "max_error", "samples_per_ray"});

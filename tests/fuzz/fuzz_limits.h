@@ -10,6 +10,7 @@
 
 #include <toml++/toml.h>
 
+#include "lib/io/image_structure.h"
 #include "lib/scene_file.h"
 
 namespace vrv::fuzz {
@@ -67,7 +68,9 @@ inline std::int64_t claimed_image_pixels(std::string_view b) {
       return (i32(2) - i32(0) + 1) * (i32(3) - i32(1) + 1);
     }
     if (size > b.size() - value) return -1;
-    at = value + size;
+    const auto extent = vrv::exr_value_extent(b.substr(name_end + 1, type_end - name_end - 1), b, value, size);
+    if (!extent) return -1;
+    at = value + *extent;  // as OpenEXR steps (lib/io/image_structure.h)
   }
   return -1;
 }

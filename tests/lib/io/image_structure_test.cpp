@@ -1,6 +1,7 @@
 // Image headers walked before OpenImageIO reads a file (lib/io/image_structure.h): a PNG chunk or
 // EXR attribute claiming more than the file holds is refused in one line naming it (the message is
-// the walk's, so libpng and OpenEXR never saw the file); images vrv writes pass.
+// the walk's, so libpng and OpenEXR never saw the file), the EXR's attributes stepped over as
+// OpenEXR reads them; images vrv writes pass.
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -28,6 +29,11 @@ constexpr const char* kPngProblem =
     "PNG chunk 'tEXt' at byte 292 claims 1627389980 bytes, 327 are left (damaged or truncated)";
 constexpr const char* kExrProblem =
     "EXR attribute 'vrv:step' at byte 786 claims 1819239187 bytes, 63 are left (damaged or truncated)";
+// Its channel list declares 19 bytes and takes 20: OpenEXR, one byte out of step, reads the text
+// "inte" as the next string's size (and allocated 1.7 GB before finding the file's end).
+constexpr const char* kExrOutOfStep =
+    "EXR attribute ' up [0, 1, 0] fov 40 extent 2.5 angle 0 4x3vrv:method' at byte 323 claims 1702129257 "
+    "bytes, 59 are left (damaged or truncated)";
 
 TEST(ImageStructure, AHeaderClaimingMoreThanTheFileIsNamed) {
   const std::string png = fuzz_input("chunk_length_past_end.png");
@@ -37,14 +43,30 @@ TEST(ImageStructure, AHeaderClaimingMoreThanTheFileIsNamed) {
   EXPECT_NE(image_structure_problem(png.substr(0, 45)).find("'oFFs' at byte 33"), std::string::npos);
   EXPECT_EQ(image_structure_problem(png.substr(0, 36)), "");
   EXPECT_EQ(image_structure_problem(fuzz_input("attribute_length_past_end.exr")), kExrProblem);
+  EXPECT_EQ(image_structure_problem(fuzz_input("channel_list_size_wrong.exr")), kExrOutOfStep);
   EXPECT_EQ(image_structure_problem("not an image at all"), "");
+}
+
+// The walk steps over an attribute as OpenEXR reads it, whatever size the attribute declares.
+TEST(ImageStructure, AnAttributeTakesWhatOpenExrReads) {
+  using namespace std::string_literals;
+  const std::string channel = "Y\0"s + std::string(16, '\1');  // a name, then type, sampling...
+  EXPECT_EQ(exr_value_extent("chlist", channel + "\0"s, 0, 18), 19u);  // the entry and the end
+  EXPECT_EQ(exr_value_extent("chlist", "xx" + channel + channel + "\0"s, 2, 0), 37u);
+  EXPECT_EQ(exr_value_extent("chlist", channel, 0, 19), std::nullopt);  // no end within the bytes
+  EXPECT_EQ(exr_value_extent("box2i", "", 0, 3), 16u);
+  EXPECT_EQ(exr_value_extent("compression", "", 0, 1000), 1u);
+  EXPECT_EQ(exr_value_extent("tiledesc", "", 0, 0), 9u);
+  EXPECT_EQ(exr_value_extent("string", "", 0, 7), 7u);
+  EXPECT_EQ(exr_value_extent("someUnknownType", "", 0, 12), 12u);
 }
 
 TEST(ImageStructure, TheReaderRefusesItBeforeTheLibraries) {
   const fs::path dir = fs::temp_directory_path() / "vrv_image_structure_test";
   fs::create_directories(dir);
   for (const auto& [name, problem] : {std::pair{"chunk_length_past_end.png", kPngProblem},
-                                      std::pair{"attribute_length_past_end.exr", kExrProblem}}) {
+                                      std::pair{"attribute_length_past_end.exr", kExrProblem},
+                                      std::pair{"channel_list_size_wrong.exr", kExrOutOfStep}}) {
     const fs::path file = dir / name;
     std::ofstream(file, std::ios::binary) << fuzz_input(name);
     try {

@@ -20,7 +20,13 @@ const std::filesystem::path kConvergence =
 TEST(ConvergenceStudy, ConvergenceQuickPassesWithObservedOrdersWithinTolerance) {
   const StudyDefinition study = load_study(kConvergence);
   EXPECT_EQ(study.name, "convergence");
-  const StudyResult r = run_convergence(study, /*quick=*/true, /*progress=*/false);
+  ReferenceAudit audit;
+  const StudyResult r = run_convergence(study, /*quick=*/true, audit, /*progress=*/false);
+  // Two truths per ray (the step refinement's through the field, the grid refinement's through the
+  // analytic field), each counted once in the run's audit.
+  ASSERT_FALSE(study.grid_resolutions.empty());
+  EXPECT_EQ(audit.counts().rays, 2 * r.rays);
+  EXPECT_EQ(audit.counts().missed, 0);
   EXPECT_EQ(r.rays, study.quick_count);
   ASSERT_EQ(r.orders.size(), 5u);
   ASSERT_EQ(r.errors.size(), 5u * study.steps.size());
@@ -35,13 +41,14 @@ TEST(ConvergenceStudy, ConvergenceQuickPassesWithObservedOrdersWithinTolerance) 
 TEST(ConvergenceStudy, ErrorsAreBitwiseIdenticalForOneAndTwoThreads) {
   const StudyDefinition study = load_study(kConvergence);
   std::string one, two;
+  ReferenceAudit audit;
   {
     const ThreadLimit limit(1);
-    one = study_tables(study, run_convergence(study, true, false)).errors_csv;
+    one = study_tables(study, run_convergence(study, true, audit, false)).errors_csv;
   }
   {
     const ThreadLimit limit(2);
-    two = study_tables(study, run_convergence(study, true, false)).errors_csv;
+    two = study_tables(study, run_convergence(study, true, audit, false)).errors_csv;
   }
   EXPECT_FALSE(one.empty());
   EXPECT_EQ(one, two);
@@ -103,7 +110,8 @@ TEST(ConvergenceStudy, GridRefinementIsExactForARampAndSecondOrderForMarschnerLo
   const std::string ml_field = "kind = \"marschner_lobb\"\nfM = 2.0";
   ramp.replace(ramp.find(ml_field), ml_field.size(),
                "kind = \"linear_ramp\"\ngradient = [0.3, 0.2, 0.1]\noffset = 0.5");
-  const StudyResult exact = run_convergence(parse_study(ramp, "ramp.toml", "ramp"), false, false);
+  ReferenceAudit audit;
+  const StudyResult exact = run_convergence(parse_study(ramp, "ramp.toml", "ramp"), false, audit, false);
   ASSERT_EQ(exact.grid_errors.size(), 6u);  // reference and riemann, 3 resolutions
   for (const GridErrorRow& row : exact.grid_errors)
     if (row.method == "reference") {
@@ -114,7 +122,7 @@ TEST(ConvergenceStudy, GridRefinementIsExactForARampAndSecondOrderForMarschnerLo
   // its slope is off by 0.13 on points that lie on a line (SE 0.004), which no spread can excuse.
   const StudyDefinition ml = parse_study(
       valid_study() + "[grid_refinement]\nresolutions = [33, 65, 129]\n", "ml.toml", "ml");
-  const StudyResult smooth = run_convergence(ml, false, false);
+  const StudyResult smooth = run_convergence(ml, false, audit, false);
   ASSERT_EQ(smooth.grid_orders.size(), 2u);
   EXPECT_EQ(smooth.grid_orders[0].method, "reference");
   // Within the tolerance derived from each fit's spread (lib/order_estimate.h).

@@ -23,11 +23,11 @@ Scene marschner_lobb(double fM) {
 }
 
 TEST(ReferenceAudit, CountsTruthsAndPassesWhenEveryOneMetItsTolerance) {
-  reset_reference_audit();
+  ReferenceAudit audit;
   const Scene scene = marschner_lobb(6);
-  const ReferenceResult r = audited_reference(scene, make_ray({-3, 0.1, 0.2}, {1, 0, 0}), {1e-12});
+  const ReferenceResult r = audited_reference(audit, scene, make_ray({-3, 0.1, 0.2}, {1, 0, 0}), {1e-12});
   ASSERT_TRUE(r.tolerance_met);
-  const ReferenceAuditCounts c = reference_audit_counts();
+  const ReferenceAuditCounts c = audit.counts();
   EXPECT_EQ(c.rays, 1);
   EXPECT_EQ(c.missed, 0);
   EXPECT_EQ(c.largest_estimate, r.error_estimate);
@@ -39,20 +39,37 @@ TEST(ReferenceAudit, CountsTruthsAndPassesWhenEveryOneMetItsTolerance) {
 // fM = 1e6: the ray needs more than the work cap, so its truth misses tol and the study's
 // check fails (before the audit, the study would have compared against it without a word).
 TEST(ReferenceAudit, ATruthThatMissedItsToleranceFailsTheCheck) {
-  reset_reference_audit();
+  ReferenceAudit audit;
   const ReferenceResult r =
-      audited_reference(marschner_lobb(1e6), make_ray({-3, 0.1, 0.2}, {1, 0, 0.01}), {1e-12});
+      audited_reference(audit, marschner_lobb(1e6), make_ray({-3, 0.1, 0.2}, {1, 0, 0.01}), {1e-12});
   ASSERT_FALSE(r.tolerance_met);
-  audited_reference(marschner_lobb(6), make_ray({-3, 0.1, 0.2}, {1, 0, 0}), {1e-12});
-  const ReferenceAuditCounts c = reference_audit_counts();
+  audited_reference(audit, marschner_lobb(6), make_ray({-3, 0.1, 0.2}, {1, 0, 0}), {1e-12});
+  const ReferenceAuditCounts c = audit.counts();
   EXPECT_EQ(c.rays, 2);
   EXPECT_EQ(c.missed, 1);
   EXPECT_GE(c.largest_estimate, r.error_estimate);
   const StudyCheck check = reference_audit_check(c);
   EXPECT_FALSE(check.pass);
   EXPECT_EQ(check.value, 1);
-  reset_reference_audit();
-  EXPECT_EQ(reference_audit_counts().rays, 0);
+}
+
+// Each run has its own counts: a miss in one is not seen by another (two studies may run side by
+// side in one process); a projection's or a channel's result is counted like a ray's.
+TEST(ReferenceAudit, EachRunCountsItsOwnTruths) {
+  ReferenceAudit first, second;
+  audited_reference(first, marschner_lobb(1e6), make_ray({-3, 0.1, 0.2}, {1, 0, 0.01}), {1e-12});
+  ProjectionResult projection;
+  projection.error_estimate = 2e-13;
+  second.record(projection);
+  projection.tolerance_met = false;
+  projection.error_estimate = std::numeric_limits<double>::quiet_NaN();
+  second.record(projection);
+  second.record(true, 1e-14);
+  EXPECT_EQ(first.counts().rays, 1);
+  EXPECT_EQ(first.counts().missed, 1);
+  EXPECT_EQ(second.counts().rays, 3);
+  EXPECT_EQ(second.counts().missed, 1);
+  EXPECT_TRUE(std::isnan(second.counts().largest_estimate));  // a NaN estimate is kept, not lost in a max
 }
 
 TEST(ReferenceAudit, SnapshotRoundTripsExactlyNaNAndInfinityIncluded) {
@@ -91,29 +108,31 @@ TEST(ReferenceAudit, AResumedRunStartsFromTheCountsStoredWithItsCheckpoints) {
   const std::filesystem::path dir = std::filesystem::path(VRV_BINARY_DIR) / "test_reference_audit_resume" /
                                     std::to_string(::getpid());
   std::filesystem::remove_all(dir);
+  ReferenceAuditCounts before;
   {
+    ReferenceAudit audit;
     Checkpoints first(dir, "study", false);
-    start_reference_audit(first, false);
-    first.get("truth", [] {
+    audit.start(first, false);
+    first.get("truth", [&] {
       const ReferenceResult r =
-          audited_reference(marschner_lobb(1e6), make_ray({-3, 0.1, 0.2}, {1, 0, 0.01}), {1e-12});
+          audited_reference(audit, marschner_lobb(1e6), make_ray({-3, 0.1, 0.2}, {1, 0, 0.01}), {1e-12});
       return std::vector<double>{r.value};
     });
-  }
-  const ReferenceAuditCounts before = reference_audit_counts();
+    before = audit.counts();
+  }  // the run that stored the checkpoint is gone
   ASSERT_EQ(before.rays, 1);
   ASSERT_EQ(before.missed, 1);
-  reset_reference_audit();  // the process that stored the checkpoint is gone
   {
+    ReferenceAudit audit;
     Checkpoints resumed(dir, "study", true);
-    start_reference_audit(resumed, true);
+    audit.start(resumed, true);
     bool computed = false;
     resumed.get("truth", [&] {
       computed = true;
       return std::vector<double>{0};
     });
     EXPECT_FALSE(computed);
-    const ReferenceAuditCounts after = reference_audit_counts();
+    const ReferenceAuditCounts after = audit.counts();
     EXPECT_EQ(after.rays, before.rays);
     EXPECT_EQ(after.missed, before.missed);
     EXPECT_EQ(after.largest_estimate, before.largest_estimate);
@@ -121,21 +140,23 @@ TEST(ReferenceAudit, AResumedRunStartsFromTheCountsStoredWithItsCheckpoints) {
   }
   // A fresh run (not resuming) starts at zero whatever the folder holds.
   {
+    ReferenceAudit audit;
     Checkpoints fresh(dir, "study", false);
-    start_reference_audit(fresh, false);
-    EXPECT_EQ(reference_audit_counts().rays, 0);
+    audit.start(fresh, false);
+    EXPECT_EQ(audit.counts().rays, 0);
   }
   std::filesystem::remove(dir / "reference_audit.snapshot");
   {
+    ReferenceAudit audit;
     Checkpoints old(dir, "study", true);
-    EXPECT_THROW(start_reference_audit(old, true), StudyResumeError);
+    EXPECT_THROW(audit.start(old, true), StudyResumeError);
   }
   write_file_atomically(dir / "reference_audit.snapshot", "rays 1\nmissed 1\n");
   {
+    ReferenceAudit audit;
     Checkpoints torn(dir, "study", true);
-    EXPECT_THROW(start_reference_audit(torn, true), StudyResumeError);
+    EXPECT_THROW(audit.start(torn, true), StudyResumeError);
   }
-  reset_reference_audit();
   std::filesystem::remove_all(dir);
 }
 

@@ -25,7 +25,11 @@ const std::filesystem::path kHardCases =
 TEST(HardCases, HardCasesQuickPassesAndItsTablesHaveNoNan) {
   const HardCasesStudy study = load_hard_cases_study(kHardCases);
   EXPECT_GE(study.cases.size(), 8u);
-  const HardCasesResult r = run_hard_cases(study, /*progress=*/false);
+  ReferenceAudit audit;
+  const HardCasesResult r = run_hard_cases(study, audit, /*progress=*/false);
+  // Every case's truth is counted in the run's audit, and none missed.
+  EXPECT_EQ(audit.counts().rays, static_cast<long>(study.cases.size()));
+  EXPECT_EQ(audit.counts().missed, 0);
   std::size_t rows = 0;
   for (const HardCase& c : study.cases) rows += c.methods.size();
   ASSERT_EQ(r.cases.size(), rows);
@@ -43,11 +47,11 @@ TEST(HardCases, HardCasesQuickPassesAndItsTablesHaveNoNan) {
   std::string one, two;
   {
     const ThreadLimit limit(1);
-    one = hard_case_tables(study, run_hard_cases(study, false)).cases_csv;
+    one = hard_case_tables(study, run_hard_cases(study, audit, false)).cases_csv;
   }
   {
     const ThreadLimit limit(2);
-    two = hard_case_tables(study, run_hard_cases(study, false)).cases_csv;
+    two = hard_case_tables(study, run_hard_cases(study, audit, false)).cases_csv;
   }
   EXPECT_EQ(one, two);
 }
@@ -64,7 +68,8 @@ TEST(HardCases, RowsWithoutABoundAreLabelledFiniteNotDerived) {
       m.config.sampling.strategy = Strategy::partial;
       break;
     }
-  const HardCasesResult r = run_hard_cases(study, /*progress=*/false);
+  ReferenceAudit audit;
+  const HardCasesResult r = run_hard_cases(study, audit, /*progress=*/false);
   const std::vector<StudyCheck> checks = hard_case_checks(r);
   ASSERT_EQ(checks.size(), r.cases.size());
   int finite = 0, derived = 0;
@@ -82,7 +87,8 @@ TEST(HardCases, RowsWithoutABoundAreLabelledFiniteNotDerived) {
 // checked against it (issue 29); those left `finite` are the ones it does not cover.
 TEST(HardCases, DiscreteRowsUseTheAPrioriBoundWhereItExists) {
   const HardCasesStudy study = load_hard_cases_study(kHardCases);
-  const HardCasesResult r = run_hard_cases(study, /*progress=*/false);
+  ReferenceAudit audit;
+  const HardCasesResult r = run_hard_cases(study, audit, /*progress=*/false);
   std::size_t j = 0, a_priori = 0;
   for (const HardCase& c : study.cases)
     for (const HardCaseMethod& m : c.methods) {

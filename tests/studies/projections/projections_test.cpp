@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -26,8 +27,11 @@ TEST(ProjectionsStudy, QuickRunMeetsTheExpectedOrders) {
   ASSERT_EQ(study.methods.size(), 8u);
   const ProjectionsResult r = run_projections(study, /*quick=*/true);
   EXPECT_EQ(r.rays, study.quick_rays);
-  EXPECT_EQ(r.references_missed, 0);
-  EXPECT_LE(r.max_reference_estimate, study.reference_tol);
+  EXPECT_EQ(r.truths.missed, 0);
+  std::set<ProjectionMode> modes;
+  for (const ProjectionsMethod& m : study.methods) modes.insert(m.config.mode);
+  EXPECT_EQ(r.truths.rays, static_cast<long>(modes.size()) * r.rays);  // each mode's, once per ray
+  EXPECT_LE(r.truths.largest_estimate, study.reference_tol);
   ASSERT_EQ(r.orders.size(), 8u);
   for (const ProjectionsOrder& o : r.orders)
     EXPECT_TRUE(order_matches(o.fit, o.expected, study.order_tolerance)) << o.method << ": " << o.fit.order;

@@ -81,12 +81,14 @@ TEST(SamplingStudy, ImageCentreRowLiesInTheFanPlaneInFanOrder) {
 
 // The continuous solution (vrv's reference on the 5x5 grid) is the closed form for g = 2 tau.
 TEST(SamplingStudy, ContinuousSolutionMatchesTheClosedForm) {
+  ReferenceAudit audit;
   Study st;
   st.scene = study_scene();
   st.ramp.gradient = Vec3(1.0 / 3, 0, 0);
   st.ramp.offset = 0.5;
   const std::vector<Ray> rays = camera_rays(fan_camera(st.setup));
-  const std::vector<ContinuousRay> truth = continuous_rays(st.scene, rays, 1e-13);
+  const std::vector<ContinuousRay> truth = continuous_rays(st.scene, rays, 1e-13, audit);
+  EXPECT_EQ(audit.counts().rays, static_cast<long>(rays.size()));  // every ray's truth, once
   long hit = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     EXPECT_NEAR(truth[i].value, closed_form(st, rays[i], 2.0), 2e-13) << i;
@@ -119,11 +121,12 @@ TEST(SamplingStudy, OrderOverRatesIsTheSlopeAgainstOneOverRate) {
 
 // Listing 3 drops the short corner chords of this set-up; Listing 4 keeps them (Fig. 2c vs 2d).
 TEST(SamplingStudy, EntryExitDropsCornerRaysAndCornerKeepsThem) {
+  ReferenceAudit audit;
   const Scene scene = study_scene();
   const FanSetup s;
   const Camera fan = fan_camera(s);
   const std::vector<Ray> rays = camera_rays(fan);
-  const std::vector<ContinuousRay> truth = continuous_rays(scene, rays, 1e-13);
+  const std::vector<ContinuousRay> truth = continuous_rays(scene, rays, 1e-13, audit);
   const auto plain = discrete_rays(scene, rays, strategy_config(scene, SegmentRule::riemann, Strategy::entry_exit, 1, fan.eye));
   const auto corner =
       discrete_rays(scene, rays, strategy_config(scene, SegmentRule::riemann, Strategy::entry_exit_corner, 1, fan.eye));
@@ -134,10 +137,11 @@ TEST(SamplingStudy, EntryExitDropsCornerRaysAndCornerKeepsThem) {
 // With g = 2 tau the alpha rule composites to 2 (1 - exp(-sum tau dx)); Listing 4 tiles every chord
 // and samples the midpoints, which integrates the linear tau exactly.  Listing 2 does not tile.
 TEST(SamplingStudy, AlphaWithTheCornerPlacementIsExactForProportionalTransfer) {
+  ReferenceAudit audit;
   const Scene scene = study_scene();
   const Camera fan = fan_camera(FanSetup{});
   const std::vector<Ray> rays = camera_rays(fan);
-  const std::vector<ContinuousRay> truth = continuous_rays(scene, rays, 1e-13);
+  const std::vector<ContinuousRay> truth = continuous_rays(scene, rays, 1e-13, audit);
   for (double rate : {1.0, 3.0, 16.0}) {
     const auto corner = discrete_rays(
         scene, rays, strategy_config(scene, SegmentRule::alpha, Strategy::entry_exit_corner, rate, fan.eye));
@@ -149,6 +153,7 @@ TEST(SamplingStudy, AlphaWithTheCornerPlacementIsExactForProportionalTransfer) {
 }
 
 TEST(SamplingStudy, RaysAreBitwiseIdenticalForOneAndTwoThreads) {
+  ReferenceAudit audit;
   const Scene scene = study_scene();
   const Camera fan = fan_camera(FanSetup{});
   const std::vector<Ray> rays = camera_rays(fan);
@@ -158,12 +163,12 @@ TEST(SamplingStudy, RaysAreBitwiseIdenticalForOneAndTwoThreads) {
   {
     const ThreadLimit limit(1);
     one = discrete_rays(scene, rays, c);
-    t1 = continuous_rays(scene, rays, 1e-13);
+    t1 = continuous_rays(scene, rays, 1e-13, audit);
   }
   {
     const ThreadLimit limit(2);
     two = discrete_rays(scene, rays, c);
-    t2 = continuous_rays(scene, rays, 1e-13);
+    t2 = continuous_rays(scene, rays, 1e-13, audit);
   }
   for (std::size_t i = 0; i < rays.size(); ++i) {
     EXPECT_EQ(one[i].value, two[i].value) << i;

@@ -135,16 +135,20 @@ RenderSpec tiny_render() {
 TEST(SegmentRules, RenderErrorsShrinkAtTheExpectedOrdersAndDoNotDependOnThreads) {
   const std::vector<RuleSpec> rules{{SegmentRule::riemann, 1}, {SegmentRule::moreland, 2}};
   RenderResult one, two;
+  ReferenceAudit audit;
   {
     const ThreadLimit limit(1);
-    one = run_render(tiny_render(), rules, Strategy::inviwo, 1e-12, true, false);
+    one = run_render(tiny_render(), rules, Strategy::inviwo, 1e-12, audit, true, false);
   }
   {
     const ThreadLimit limit(2);
-    two = run_render(tiny_render(), rules, Strategy::inviwo, 1e-12, true, false);
+    two = run_render(tiny_render(), rules, Strategy::inviwo, 1e-12, audit, true, false);
   }
   ASSERT_EQ(one.rows.size(), 6u);
   EXPECT_GT(one.hit_pixels, 0);
+  // Both renders' reference pixels were counted, none missed.
+  EXPECT_EQ(audit.counts().rays, 2L * 8 * 8);
+  EXPECT_EQ(audit.counts().missed, 0);
   for (std::size_t i = 0; i < one.rows.size(); ++i) {
     EXPECT_EQ(one.rows[i].mean_error, two.rows[i].mean_error);
     EXPECT_EQ(one.rows[i].max_error, two.rows[i].max_error);
