@@ -10,6 +10,7 @@
 
 #include "lib/discrete_error_bound.h"
 #include "lib/discrete_error_estimate.h"
+#include "lib/option_error.h"
 #include "lib/util/parallel.h"
 #include "lib/vrv.h"
 #include "lib/work_estimate.h"
@@ -18,14 +19,14 @@ namespace vrv {
 
 void validate(const PlanOptions& o) {
   if (!(o.target > 0) || !std::isfinite(o.target))
-    throw std::invalid_argument(fmt::format("--target: must be a positive finite error, got {}", o.target));
+    throw OptionError(Option::target, fmt::format("must be a positive finite error, got {}", o.target));
   if (o.metric != Metric::max && o.metric != Metric::rms)
-    throw std::invalid_argument(fmt::format("--metric: max or rms, got {}", metric_name(o.metric)));
-  if (o.rules.empty()) throw std::invalid_argument("--rules: at least one rule");
+    throw OptionError(Option::metric, fmt::format("max or rms, got {}", metric_name(o.metric)));
+  if (o.rules.empty()) throw OptionError(Option::rules, "at least one rule");
   if (o.strategy != Strategy::step && o.strategy != Strategy::vtk && o.strategy != Strategy::inviwo)
-    throw std::invalid_argument(
-        fmt::format("--strategy: a step-based placement (step, vtk, inviwo), got {}", strategy_name(o.strategy)));
-  if (!(o.max_work > 0)) throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", o.max_work));
+    throw OptionError(Option::strategy,
+                      fmt::format("a step-based placement (step, vtk, inviwo), got {}", strategy_name(o.strategy)));
+  if (!(o.max_work > 0)) throw OptionError(Option::max_work, fmt::format("must be positive, got {}", o.max_work));
 }
 
 PlanOptions plan_options(double target, std::string_view metric, std::string_view rules, std::string_view strategy,
@@ -35,7 +36,7 @@ PlanOptions plan_options(double target, std::string_view metric, std::string_vie
   p.max_work = max_work;
   const auto m = parse_metric(metric);
   if (!m || (*m != Metric::max && *m != Metric::rms))
-    throw std::invalid_argument(fmt::format("--metric: unknown value '{}' (max or rms)", metric));
+    throw OptionError(Option::metric, fmt::format("unknown value '{}' (max or rms)", literal(metric)));
   p.metric = *m;
   p.rules.clear();
   for (std::size_t start = 0; start <= rules.size();) {
@@ -43,13 +44,13 @@ PlanOptions plan_options(double target, std::string_view metric, std::string_vie
     const std::string_view name = rules.substr(start, comma - start);
     const auto rule = parse_segment_rule(name);
     if (!rule)
-      throw std::invalid_argument(
-          fmt::format("--rules: unknown rule '{}' (riemann, alpha, trapezoid, exact_linear, moreland)", name));
+      throw OptionError(Option::rules, fmt::format("unknown rule '{}' (riemann, alpha, trapezoid, exact_linear, moreland)",
+                                                   literal(name)));
     p.rules.push_back(*rule);
     start = comma + 1;
   }
   const auto s = parse_strategy(strategy);
-  if (!s) throw std::invalid_argument(fmt::format("--strategy: unknown value '{}' (step, vtk, inviwo)", strategy));
+  if (!s) throw OptionError(Option::strategy, fmt::format("unknown value '{}' (step, vtk, inviwo)", literal(strategy)));
   p.strategy = *s;
   validate(p);
   return p;

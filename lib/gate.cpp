@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/option_error.h"
 #include "lib/util/not_a_number.h"
 
 namespace vrv {
@@ -124,8 +125,8 @@ BoundVerdict worst(const std::vector<BoundRow>& rows) {
 
 void use_bounds(const BoundSet& set, VerifyOptions& options, std::optional<double> threshold) {
   if (threshold && *threshold != set.threshold)
-    throw std::invalid_argument(fmt::format("--threshold: {} differs from the bounds file's threshold {}",
-                                            *threshold, set.threshold));
+    throw OptionError(Option::threshold,
+                      fmt::format("{} differs from the bounds file's threshold {}", *threshold, set.threshold));
   options.threshold = set.threshold;
   options.allow_nan = set.limits.count(Bound::max_nan) > 0;
 }

@@ -10,7 +10,7 @@
 namespace vrv {
 namespace {
 
-constexpr NameTable<Option, 21> kKeys{{{Option::method, "method"},
+constexpr NameTable<Option, static_cast<std::size_t>(kLastOption) + 1> kKeys{{{Option::method, "method"},
                                        {Option::strategy, "strategy"},
                                        {Option::rate, "rate"},
                                        {Option::step, "step"},
@@ -30,7 +30,29 @@ constexpr NameTable<Option, 21> kKeys{{{Option::method, "method"},
                                        {Option::max_work, "max_work"},
                                        {Option::gradient, "gradient"},
                                        {Option::gradient_offset, "gradient_offset"},
-                                       {Option::shade_at, "shade_at"}}};
+                                       {Option::shade_at, "shade_at"},
+                                       {Option::tol, "tol"},
+                                       {Option::width, "width"},
+                                       {Option::height, "height"},
+                                       {Option::threshold, "threshold"},
+                                       {Option::expected_order, "expected_order"},
+                                       {Option::order_tolerance, "order_tolerance"},
+                                       {Option::order_metric, "order_metric"},
+                                       {Option::unit_distance, "unit_distance"},
+                                       {Option::alpha, "alpha"},
+                                       {Option::target, "target"},
+                                       {Option::metric, "metric"},
+                                       {Option::rules, "rules"},
+                                       {Option::table_points, "table_points"},
+                                       {Option::resolution, "resolution"}}};
+
+// Every option once, in the enum's order (an entry left out would be a default, unnamed one).
+constexpr bool every_option_once() {
+  for (std::size_t i = 0; i < kKeys.size(); ++i)
+    if (static_cast<std::size_t>(kKeys[i].first) != i || kKeys[i].second.empty()) return false;
+  return true;
+}
+static_assert(every_option_once(), "kKeys: one entry per Option, in order");
 
 // The flag is the key with '-' for '_' behind "--": derived, so the two can never disagree.
 std::string flag_of(std::string_view key) {

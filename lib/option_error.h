@@ -1,6 +1,7 @@
 #pragma once
-// One vocabulary for the options of a discrete raycast: each option's command-line flag and its
-// key (study files, Python keywords) in one table.  The library's checks throw OptionError naming
+// One vocabulary for the options the library checks (a discrete raycast's, the reference's
+// tolerance, an image's size, verify's and plan's): each option's command-line flag and its key
+// (study files, bounds files, Python keywords) in one table.  The library's checks throw OptionError naming
 // the option by id; each front end spells it as its user wrote it (`--table-size` on the command
 // line, `table_size` in a study file or a Python call), so no message names an option the user
 // never typed.
@@ -15,8 +16,13 @@ namespace vrv {
 enum class Option {
   method, strategy, rate, step, oversample, centred_oversamples, correction, termination, skip,
   compositing, classification, precision, opacity_unit, color, table_size, table_lookup, mode, max_work,
-  gradient, gradient_offset, shade_at
+  gradient, gradient_offset, shade_at,
+  tol, width, height,                                                         // the reference, an image
+  threshold, expected_order, order_tolerance, order_metric, unit_distance, alpha,  // verify
+  target, metric, rules,                                                       // plan
+  table_points, resolution                                                     // the exports
 };
+inline constexpr Option kLastOption = Option::resolution;  // for loops over every option
 
 enum class Spelling { flag, key };  // --table-size, table_size
 

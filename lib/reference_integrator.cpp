@@ -4,13 +4,14 @@
 
 #include <fmt/format.h>
 
+#include "lib/option_error.h"
 #include "lib/util/error_free.h"
 
 namespace vrv {
 
 void validate(const ReferenceOptions& options) {
   if (!(options.tol > 0) || !std::isfinite(options.tol))
-    throw std::invalid_argument(fmt::format("--tol: must be a positive finite number, got {}", options.tol));
+    throw OptionError(Option::tol, fmt::format("must be a positive finite number, got {}", options.tol));
 }
 
 namespace detail {

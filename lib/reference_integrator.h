@@ -38,7 +38,7 @@ struct ReferenceOptions {
   bool stop_when_opaque = true;
 };
 
-// Throws std::invalid_argument ("--tol: ...") unless options.tol is positive and finite.
+// Throws OptionError (Option::tol) unless options.tol is positive and finite.
 void validate(const ReferenceOptions& options);
 
 struct ReferenceResult {

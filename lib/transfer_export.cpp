@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "lib/option_error.h"
+
 namespace vrv {
 namespace {
 
@@ -54,8 +56,8 @@ namespace {
 
 void check_table_options(double L, int per_segment) {
   if (!(L > 0) || !std::isfinite(L))
-    throw std::invalid_argument(fmt::format("--unit-distance: must be positive and finite, got {}", L));
-  if (per_segment < 1) throw std::invalid_argument("--table-points: must be at least 1");
+    throw OptionError(Option::unit_distance, fmt::format("must be positive and finite, got {}", L));
+  if (per_segment < 1) throw OptionError(Option::table_points, "must be at least 1");
 }
 
 // Every row at breakpoints `b` (a refinement of tf's own, so tf is affine between them), repeats

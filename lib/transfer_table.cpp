@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/option_error.h"
 #include "lib/util/enum_names.h"
 
 namespace vrv {
@@ -22,9 +23,9 @@ std::string_view table_lookup_name(TableLookup t) { return name_of(kTableLookupN
 TransferTable::TransferTable(const PiecewiseLinear& curve, double lo, double hi, int n, TableLookup lookup)
     : lo_(lo) {
   if (n < 2 || n > kMaxTableSize)
-    throw std::invalid_argument(fmt::format("--table-size: must be in [2, {}], got {}", kMaxTableSize, n));
+    throw OptionError(Option::table_size, fmt::format("must be in [2, {}], got {}", kMaxTableSize, n));
   if (!std::isfinite(lo) || !std::isfinite(hi) || hi < lo)
-    throw std::invalid_argument(fmt::format("--table-size: bad value range [{}, {}]", lo, hi));
+    throw OptionError(Option::table_size, fmt::format("bad value range [{}, {}]", lo, hi));
   entries_.resize(n);
   for (int i = 0; i < n; ++i) entries_[i] = curve(i == n - 1 ? hi : lo + (hi - lo) * i / (n - 1));
   const double width = hi - lo;

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/option_error.h"
 #include "lib/work_estimate.h"
 
 namespace vrv {
@@ -11,7 +12,7 @@ namespace vrv {
 void check_verification_work(const Scene& scene, const VerifyOptions& options, int width, int height,
                              const std::vector<double>& steps, double renders, double max_work,
                              const std::string& who) {
-  if (!(max_work > 0)) throw std::invalid_argument(fmt::format("--max-work: must be positive, got {}", max_work));
+  if (!(max_work > 0)) throw OptionError(Option::max_work, fmt::format("must be positive, got {}", max_work));
   const VerificationWork parts = verification_work(scene, options, width, height, steps);
   const double work = parts.total() + renders;
   if (work <= max_work) return;

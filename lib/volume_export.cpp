@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 #include <nifti1.h>
 
+#include "lib/option_error.h"
+
 namespace vrv {
 namespace {
 
@@ -65,8 +67,8 @@ ExportedNodes sample_volume(const Scene& scene, std::optional<std::array<int, 3>
   if (resolution) {
     for (int r : *resolution)
       if (r < 2 || r > kMaxResolution)
-        throw std::invalid_argument(fmt::format(
-            "--resolution: every axis needs 2 to {} nodes (nodes on the box faces), got {}", kMaxResolution, r));
+        throw OptionError(Option::resolution, fmt::format("every axis needs 2 to {} nodes (nodes on the box faces), got {}",
+                                                          kMaxResolution, r));
     return on_box_nodes(scene, *resolution);
   }
   if (const auto* g = std::get_if<GridField>(&scene.field)) return grid_nodes(*g);

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "lib/image_loop.h"
+#include "lib/option_error.h"
 #include "lib/reference_pixels.h"
 #include "lib/util/parallel.h"
 
@@ -20,8 +21,8 @@ Camera scene_camera(const Scene& scene, std::optional<int> width, std::optional<
   try {
     validate(camera);
   } catch (const CameraError& e) {
-    if (e.field() == "width" && width) throw std::invalid_argument("--width: " + e.reason());
-    if (e.field() == "height" && height) throw std::invalid_argument("--height: " + e.reason());
+    if (e.field() == "width" && width) throw OptionError(Option::width, e.reason());
+    if (e.field() == "height" && height) throw OptionError(Option::height, e.reason());
     throw std::invalid_argument(fmt::format("[camera]: {}", e.what()));
   }
   return camera;

@@ -4,11 +4,13 @@
 
 #include <fmt/format.h>
 
+#include "lib/option_error.h"
+
 namespace vrv {
 
 void validate(const ProjectionOptions& options) {
   if (!(options.tol > 0) || !std::isfinite(options.tol))
-    throw std::invalid_argument(fmt::format("--tol: must be a positive finite number, got {}", options.tol));
+    throw OptionError(Option::tol, fmt::format("must be a positive finite number, got {}", options.tol));
 }
 
 ProjectionResult projection_reference(const Scene& scene, const Ray& ray, ProjectionMode mode,

@@ -17,7 +17,7 @@ ProjectionResult projection_reference(const F& field, const Box& box, const Tran
                       : xray_reference(field, box, ray, options, classify);
 }
 
-// Throws std::invalid_argument ("--tol: ...") unless options.tol is positive and finite.
+// Throws OptionError (Option::tol) unless options.tol is positive and finite.
 void validate(const ProjectionOptions& options);
 
 ProjectionResult projection_reference(const Scene& scene, const Ray& ray, ProjectionMode mode,

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "lib/option_error.h"
 #include "lib/transfer_table.h"
 
 namespace vrv {
@@ -38,11 +39,11 @@ void check_image(const ImageWithStep& im, const std::vector<ImageWithStep>& imag
 }
 
 void check_options(const VerifyOptions& opt) {
-  if (!(opt.threshold >= 0)) throw std::invalid_argument("--threshold: must be >= 0");
+  if (!(opt.threshold >= 0)) throw OptionError(Option::threshold, "must be >= 0");
   if (!(opt.reference_tol > 0) || !std::isfinite(opt.reference_tol))
-    throw std::invalid_argument("--tol: must be positive and finite");
+    throw OptionError(Option::tol, "must be positive and finite");
   if (opt.expected_order && !std::isfinite(*opt.expected_order))
-    throw std::invalid_argument("--expected-order: must be finite");
+    throw OptionError(Option::expected_order, "must be finite");
   for (int n : opt.table_sizes)
     if (n < 2 || n > kMaxTableSize)
       throw std::invalid_argument(fmt::format("table_sizes: {} is not in [2, {}]", n, kMaxTableSize));

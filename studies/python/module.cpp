@@ -2,8 +2,9 @@
 //
 // Rays are arrays of shape (..., 3); results keep the leading shape.  The work runs with the GIL
 // released, in parallel over rays (TBB), and every number is the one `vrv ray --json` prints.
-// Bad input raises with the command line's one-line message: ValueError for bad values,
-// FileNotFoundError / IsADirectoryError / PermissionError for scene files that cannot be read.
+// Bad input raises with the command line's one-line message: ValueError for bad values (an option
+// named by the keyword the caller wrote, tol= as "tol: ...", where the command line says "--tol:
+// ..."), FileNotFoundError / IsADirectoryError / PermissionError for scene files that cannot be read.
 // Work above max_work is refused up front with the command line's --max-work message, and
 // Ctrl-C stops a running call within a pixel or so (KeyboardInterrupt, nothing returned or written).
 #include <algorithm>
@@ -173,11 +174,7 @@ std::unique_ptr<DiscreteKeywords> discrete_keywords(const Scene& scene, const py
     std::visit([&](auto member) { set_keyword(k->options, member, *field, value); }, field->member);
   }
   if (projection) return k;  // its method and options are read by projection_keywords
-  try {
-    k->config = discrete_config(k->options, scene);
-  } catch (const OptionError& e) {  // named by the keyword, as the caller wrote it
-    throw std::invalid_argument(e.message(Spelling::key));
-  }
+  k->config = discrete_config(k->options, scene);  // an OptionError names the keyword (PYBIND11_MODULE)
   return k;
 }
 
@@ -185,11 +182,7 @@ std::unique_ptr<DiscreteKeywords> discrete_keywords(const Scene& scene, const py
 // line's rules), or none without method; errors name the keywords the caller wrote.
 std::optional<DiscreteProjectionConfig> projection_keywords(const Scene& scene, const std::string& mode,
                                                             const DiscreteKeywords& keywords) {
-  try {
-    return cli::projection_setup(mode, keywords.options, scene)->discrete;
-  } catch (const OptionError& e) {
-    throw std::invalid_argument(e.message(Spelling::key));
-  }
+  return cli::projection_setup(mode, keywords.options, scene)->discrete;
 }
 
 // Splits mode= from the other keywords (a scene's reference or raycast takes those).
@@ -671,6 +664,14 @@ PYBIND11_MODULE(vrv, m) {
             "raycasts measured against it (docs/library.md)";
   py::register_exception<SceneFileError>(m, "SceneFileError", PyExc_ValueError);
   py::register_exception<BoundsFileError>(m, "BoundsFileError", PyExc_ValueError);
+  // The library's option checks (lib/option_error.h), named as keywords.
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const OptionError& e) {
+      PyErr_SetString(PyExc_ValueError, e.message(Spelling::key).c_str());
+    }
+  });
 
   py::class_<Scene>(m, "Scene", "A vrv scene: volume box, field, transfer function, background, camera")
       .def_static("from_file", &from_file, py::arg("path"), "Load a scene file (TOML)")

@@ -7,15 +7,19 @@
 
 #include <gtest/gtest.h>
 
+#include "lib/discrete_plan.h"
 #include "lib/discrete_raycast.h"
+#include "lib/reference_integrator.h"
 #include "lib/sampling.h"
+#include "lib/verify/verify_options.h"
+#include "lib/vrv.h"
 
 namespace vrv {
 namespace {
 
 TEST(OptionError, EveryOptionHasAKeyAndAFlagDerivedFromIt) {
   std::set<std::string> keys;
-  for (int i = 0; i <= static_cast<int>(Option::max_work); ++i) {
+  for (int i = 0; i <= static_cast<int>(kLastOption); ++i) {
     const auto o = static_cast<Option>(i);
     const std::string key(option_name(o, Spelling::key)), flag(option_name(o, Spelling::flag));
     EXPECT_NE(key, "unknown");
@@ -49,7 +53,7 @@ TEST(OptionError, ValuesWithBracesAreShownAsTyped) {
 }
 
 TEST(OptionError, FlagsMapBackToTheirOption) {
-  for (int i = 0; i <= static_cast<int>(Option::max_work); ++i) {
+  for (int i = 0; i <= static_cast<int>(kLastOption); ++i) {
     const auto o = static_cast<Option>(i);
     EXPECT_EQ(option_from_flag(option_name(o, Spelling::flag)), o);
   }
@@ -79,6 +83,34 @@ TEST(OptionError, TheLibrarysChecksNameTheOption) {
     EXPECT_EQ(e.option(), Option::step);
     EXPECT_EQ(std::string(e.what()), "--step: must be a positive finite number, got -1");
   }
+}
+
+// Beyond the discrete options: the reference's tolerance, an image's size, verify's and plan's
+// options, each named as the user wrote it (Python says tol, the command line --tol).
+TEST(OptionError, TheReferenceImageVerifyAndPlanChecksNameTheirOption) {
+  const auto refused = [](auto&& call, Option option, const std::string& key_message) {
+    try {
+      call();
+      ADD_FAILURE() << key_message << ": no error";
+    } catch (const OptionError& e) {
+      EXPECT_EQ(e.option(), option) << e.what();
+      EXPECT_EQ(e.message(Spelling::key), key_message);
+    }
+  };
+  refused([] { validate(ReferenceOptions{-1}); }, Option::tol, "tol: must be a positive finite number, got -1");
+  refused([] { scene_camera(default_scene(), 0, 8); }, Option::width, "width: must be in [1, 16384], got 0");
+  refused([] { scene_camera(default_scene(), 8, 20000); }, Option::height, "height: must be in [1, 16384], got 20000");
+  VerifyOptions o;
+  refused([&] { apply(VerifySettings{1e-10, 0.25, "median", 0, "auto"}, o); }, Option::order_metric,
+          "order_metric: 'median' is not one of max, mean, rms, p99");
+  refused([&] { apply(VerifySettings{1e-10, 0.25, "rms", 0, "linear"}, o); }, Option::alpha,
+          "alpha: 'linear' is not auto, premultiplied or straight");
+  refused([] { plan_options(1e-3, "p99", "alpha", "step", 1e9); }, Option::metric,
+          "metric: unknown value 'p99' (max or rms)");
+  refused([] { plan_options(1e-3, "max", "alpha,simpson", "step", 1e9); }, Option::rules,
+          "rules: unknown rule 'simpson' (riemann, alpha, trapezoid, exact_linear, moreland)");
+  refused([] { plan_options(-1, "max", "alpha", "step", 1e9); }, Option::target,
+          "target: must be a positive finite error, got -1");
 }
 
 }  // namespace

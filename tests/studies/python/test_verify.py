@@ -121,7 +121,7 @@ def test_bad_input_raises_the_command_lines_message(scene_and_rays, tmp_path):
     nan[2, 3] = np.nan
     with pytest.raises(ValueError, match=r"^image 1 \(step 0.04\): pixel \(3, 2\) channel Y is nan$"):
         vrv.verify(scene, [np.zeros((8, 8)), nan], STEPS[:2])
-    with pytest.raises(ValueError, match=r"^--order-metric: 'median' is not one of"):
+    with pytest.raises(ValueError, match=r"^order_metric: 'median' is not one of"):
         vrv.verify(scene, zeros, STEPS, order_metric="median")
     with pytest.raises(FileNotFoundError, match=r"^no/such/bounds.toml: "):
         vrv.verify(scene, zeros, STEPS, bounds="no/such/bounds.toml")
