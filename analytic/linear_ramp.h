@@ -1,8 +1,10 @@
 #pragma once
 // f(x) = offset + dot(gradient, x): linear along every ray, so with a piecewise-linear
 // transfer function every piece of a ray has a closed form.
+#include <array>
 #include <cmath>
 #include <limits>
+#include <string_view>
 #include <vector>
 
 #include "analytic/vec3.h"
@@ -12,6 +14,9 @@ namespace vrv {
 struct LinearRamp {
   Vec3 gradient{1, 0, 0};
   double offset = 0;
+  // The scene file's [field] kind, and the numbers that define the field (its scene hash covers them).
+  static constexpr std::string_view kind = "linear_ramp";
+  std::array<double, 4> parameters() const { return {gradient[0], gradient[1], gradient[2], offset}; }
 
   double value(const Vec3& p) const { return offset + gradient.dot(p); }
   int degree_along_ray() const { return 1; }

@@ -2,9 +2,11 @@
 // The Marschner-Lobb (1994) test signal on world coordinates:
 //   f(x,y,z) = (1 - sin(pi z / 2) + alpha (1 + rho_r(sqrt(x^2 + y^2)))) / (2 (1 + alpha)),
 //   rho_r(r) = cos(2 pi fM cos(pi r / 2)).
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <string_view>
 #include <vector>
 
 #include "analytic/vec3.h"
@@ -14,6 +16,9 @@ namespace vrv {
 struct MarschnerLobb {
   double fM = 6;
   double alpha = 0.25;
+  // The scene file's [field] kind, and the numbers that define the field (its scene hash covers them).
+  static constexpr std::string_view kind = "marschner_lobb";
+  std::array<double, 2> parameters() const { return {fM, alpha}; }
 
   double value(const Vec3& p) const;
   // grad f at p (smooth everywhere: `inside`, the point naming a smooth piece, is not needed).

@@ -12,10 +12,12 @@
 #include <cstring>
 #include <fstream>
 #include <initializer_list>
+#include <iterator>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include <fmt/format.h>
@@ -246,19 +248,41 @@ LinearRamp read_linear_ramp(const Reader& r, const toml::table& t, std::string_v
   return f;
 }
 
+// The analytic field kinds, each its name (the type's own, analytic/*.h) and its reader, once: a
+// new analytic field is a row here.  The grid kinds ("grid", "volume") are read below.
+struct AnalyticKind {
+  std::string_view name;
+  AnalyticField (*read)(const Reader& r, const toml::table& t, std::string_view path);
+};
+constexpr AnalyticKind kAnalyticKinds[] = {
+    {MarschnerLobb::kind, [](const Reader& r, const toml::table& t, std::string_view path) -> AnalyticField {
+       return read_marschner_lobb(r, t, path);
+     }},
+    {LinearRamp::kind, [](const Reader& r, const toml::table& t, std::string_view path) -> AnalyticField {
+       return read_linear_ramp(r, t, path);
+     }},
+};
+static_assert(std::size(kAnalyticKinds) == std::variant_size_v<AnalyticField>, "a reader for every analytic field");
+
 std::string_view read_kind(const Reader& r, const toml::table& t, std::string_view path) {
   return r.string(r.require(t, "kind", path), child(path, "kind"));
 }
 
+const AnalyticKind* analytic_kind(std::string_view name) {
+  for (const AnalyticKind& k : kAnalyticKinds)
+    if (k.name == name) return &k;
+  return nullptr;
+}
+
 [[noreturn]] void unknown_kind(const Reader& r, std::string_view path, std::string_view kind) {
-  r.fail(child(path, "kind"),
-         fmt::format("unknown field kind \"{}\" (expected marschner_lobb, linear_ramp, grid or volume)", kind));
+  std::string known;
+  for (const AnalyticKind& k : kAnalyticKinds) known += fmt::format("{}, ", k.name);
+  r.fail(child(path, "kind"), fmt::format("unknown field kind \"{}\" (expected {}grid or volume)", kind, known));
 }
 
 AnalyticField read_source(const Reader& r, const toml::table& t, std::string_view path) {
   const std::string_view kind = read_kind(r, t, path);
-  if (kind == "marschner_lobb") return read_marschner_lobb(r, t, path);
-  if (kind == "linear_ramp") return read_linear_ramp(r, t, path);
+  if (const AnalyticKind* k = analytic_kind(kind)) return k->read(r, t, path);
   if (kind == "grid" || kind == "volume")
     r.fail(child(path, "kind"), fmt::format("nested {}: a grid source must be an analytic field", kind));
   unknown_kind(r, path, kind);
@@ -345,8 +369,8 @@ bool volume_places_itself(const Reader& r, const toml::table& field) {
 Field read_field(const Reader& r, const toml::table& t, const Box& box, std::string_view source_name,
                  std::string& files) {
   const std::string_view kind = read_kind(r, t, "field");
-  if (kind == "marschner_lobb") return read_marschner_lobb(r, t, "field");
-  if (kind == "linear_ramp") return read_linear_ramp(r, t, "field");
+  if (const AnalyticKind* k = analytic_kind(kind))
+    return std::visit([](const auto& f) -> Field { return f; }, k->read(r, t, "field"));
   if (kind == "grid") return read_grid(r, t, box);
   if (kind == "volume") return read_volume_field(r, t, box, source_name, files);
   unknown_kind(r, "field", kind);

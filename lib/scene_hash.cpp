@@ -46,14 +46,12 @@ void hash_scene(Hasher& h, const Scene& s) {
   std::visit(
       [&](const auto& f) {
         using F = std::decay_t<decltype(f)>;
-        if constexpr (std::is_same_v<F, MarschnerLobb>) {
-          h.text("marschner_lobb:");
-          h.number(f.fM);
-          h.number(f.alpha);
-        } else if constexpr (std::is_same_v<F, LinearRamp>) {
-          h.text("linear_ramp:");
-          h.vec(f.gradient);
-          h.number(f.offset);
+        if constexpr (!std::is_same_v<F, GridField>) {
+          static_assert(requires { F::kind; f.parameters(); },
+                        "an analytic field declares its kind and parameters() (analytic/marschner_lobb.h)");
+          h.text(F::kind);
+          h.text(":");
+          for (double p : f.parameters()) h.number(p);
         } else {
           const auto n = f.resolution();
           h.text(fmt::format("grid:{},{},{};{};{};", n[0], n[1], n[2], static_cast<int>(f.layout()),
