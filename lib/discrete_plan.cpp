@@ -36,7 +36,7 @@ PlanOptions plan_options(double target, std::string_view metric, std::string_vie
   p.max_work = max_work;
   const auto m = parse_metric(metric);
   if (!m || (*m != Metric::max && *m != Metric::rms))
-    throw OptionError(Option::metric, fmt::format("unknown value '{}' (max or rms)", literal(metric)));
+    throw OptionError(Option::metric, fmt::format("unknown value '{}' (max or rms)", metric));
   p.metric = *m;
   p.rules.clear();
   for (std::size_t start = 0; start <= rules.size();) {
@@ -44,13 +44,13 @@ PlanOptions plan_options(double target, std::string_view metric, std::string_vie
     const std::string_view name = rules.substr(start, comma - start);
     const auto rule = parse_segment_rule(name);
     if (!rule)
-      throw OptionError(Option::rules, fmt::format("unknown rule '{}' (riemann, alpha, trapezoid, exact_linear, moreland)",
-                                                   literal(name)));
+      throw OptionError(Option::rules,
+                        fmt::format("unknown rule '{}' (riemann, alpha, trapezoid, exact_linear, moreland)", name));
     p.rules.push_back(*rule);
     start = comma + 1;
   }
   const auto s = parse_strategy(strategy);
-  if (!s) throw OptionError(Option::strategy, fmt::format("unknown value '{}' (step, vtk, inviwo)", literal(strategy)));
+  if (!s) throw OptionError(Option::strategy, fmt::format("unknown value '{}' (step, vtk, inviwo)", strategy));
   p.strategy = *s;
   validate(p);
   return p;

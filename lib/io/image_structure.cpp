@@ -88,6 +88,10 @@ std::optional<std::uint64_t> exr_channel_list_size(std::string_view bytes, std::
 std::optional<std::uint64_t> exr_value_extent(std::string_view type, std::string_view bytes, std::uint64_t value,
                                               std::uint64_t declared) {
   if (type == "chlist") return exr_channel_list_size(bytes, value);
+  // OpenEXR 3.1.5 reads a float vector's whole floats only, and an ID manifest's 8-byte size
+  // before its declared size - 4 bytes of data (ImfIDManifestAttribute.cpp: 4 more than declared).
+  if (type == "floatvector") return declared / 4 * 4;
+  if (type == "idmanifest" && declared >= 4) return declared + 4;
   const std::uint64_t fixed = exr_fixed_size(type);
   return fixed ? fixed : declared;
 }

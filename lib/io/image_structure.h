@@ -29,7 +29,8 @@ std::string image_file_structure_problem(const std::filesystem::path& file);
 
 // The bytes OpenEXR 3's header reader takes for an attribute of `type` whose value starts at
 // `value` in `bytes`, declared `declared` bytes long: a channel list's entries and end (nullopt
-// when they do not end within `bytes`), a fixed-size type's own size, else the declared size.
+// when they do not end within `bytes`), a fixed-size type's own size, a float vector's whole
+// floats, an ID manifest's declared size + 4 (OpenEXR 3.1.5 reads that much), else the declared size.
 std::optional<std::uint64_t> exr_value_extent(std::string_view type, std::string_view bytes, std::uint64_t value,
                                               std::uint64_t declared);
 

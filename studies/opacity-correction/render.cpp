@@ -91,14 +91,14 @@ std::vector<double> render_groups(const RenderScenes& s, const Camera& camera, i
 
 std::vector<SweepRow> error_against_N(const RenderScenes& s, const std::vector<Ray>& rays,
                                       const std::vector<Correction>& corrections, const std::vector<int>& Ns,
-                                      bool centred, bool progress, Checkpoints* checkpoints) {
+                                      bool centred, bool progress, Checkpoints* checkpoints, ReferenceAudit& audit) {
   const long R = static_cast<long>(rays.size());
   constexpr long kBlock = 64;  // rays per checkpoint
   const std::string key = centred ? "sweep_centred" : "sweep_first";
   Progress bar("N sweep", R * static_cast<long>(1 + corrections.size() * Ns.size()), progress);
   const std::vector<double> reference = checkpointed_items(checkpoints, key + "_reference", R, kBlock, 1,
                                                            [&](long i, std::span<double> o) {
-    o[0] = integrate_reference(s.analytic, rays[i], {s.reference_tol}).value;
+    o[0] = audited_reference(audit, s.analytic, rays[i], {s.reference_tol}).value;
   }, [&](long done) { bar.advance(done); });
   std::vector<SweepRow> rows;
   for (int N : Ns) {

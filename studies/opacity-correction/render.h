@@ -70,7 +70,7 @@ struct SweepRow {
 };
 std::vector<SweepRow> error_against_N(const RenderScenes& s, const std::vector<Ray>& rays,
                                       const std::vector<Correction>& corrections, const std::vector<int>& Ns,
-                                      bool centred, bool progress, Checkpoints* checkpoints = nullptr);
+                                      bool centred, bool progress, Checkpoints* checkpoints, ReferenceAudit& audit);
 
 // Table 1, lower row: seconds for one serial pass of the discrete render (every pixel of
 // camera), the best of `repeats`.

@@ -280,7 +280,7 @@ void sweep_part(const OpacityStudy& s, const StudyRun& run, StudyOutcome& out) {
   const int prev = s.sweep_N.size() > 1 ? s.sweep_N[s.sweep_N.size() - 2] : last;
   for (bool centred : s.placements) {
     const std::vector<SweepRow> rows = error_against_N(s.scenes, rays, s.corrections, s.sweep_N, centred, run.progress,
-                                                        run.checkpoints);
+                                                        run.checkpoints, run.audit);
     std::map<Correction, std::map<int, double>> e;
     for (const SweepRow& r : rows) {
       t.add_row({name_of(r.correction), placement_name(centred), static_cast<long>(r.N), r.mean_error, r.max_error,

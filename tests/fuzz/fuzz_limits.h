@@ -63,7 +63,7 @@ inline std::int64_t claimed_image_pixels(std::string_view b) {
     if (type_end == std::string_view::npos || type_end + 5 > b.size()) return -1;
     const std::uint32_t size = u32(type_end + 1, false);
     const std::size_t value = type_end + 5;
-    if (b.substr(at, name_end - at) == "dataWindow" && size == 16 && value + 16 <= b.size()) {
+    if (b.substr(at, name_end - at) == "dataWindow" && value + 16 <= b.size()) {  // 16 bytes whatever declared
       const auto i32 = [&](std::size_t k) { return static_cast<std::int64_t>(static_cast<std::int32_t>(u32(value + 4 * k, false))); };
       return (i32(2) - i32(0) + 1) * (i32(3) - i32(1) + 1);
     }

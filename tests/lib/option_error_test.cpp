@@ -111,6 +111,11 @@ TEST(OptionError, TheReferenceImageVerifyAndPlanChecksNameTheirOption) {
           "rules: unknown rule 'simpson' (riemann, alpha, trapezoid, exact_linear, moreland)");
   refused([] { plan_options(-1, "max", "alpha", "step", 1e9); }, Option::target,
           "target: must be a positive finite error, got -1");
+  // A value is shown as typed, braces and all.
+  refused([] { plan_options(1e-3, "{x}", "alpha", "step", 1e9); }, Option::metric,
+          "metric: unknown value '{x}' (max or rms)");
+  refused([&] { apply(VerifySettings{1e-10, 0.25, "rms", 0, "{0}"}, o); }, Option::alpha,
+          "alpha: '{0}' is not auto, premultiplied or straight");
 }
 
 }  // namespace

@@ -58,6 +58,8 @@ TEST(ImageStructure, AnAttributeTakesWhatOpenExrReads) {
   EXPECT_EQ(exr_value_extent("compression", "", 0, 1000), 1u);
   EXPECT_EQ(exr_value_extent("tiledesc", "", 0, 0), 9u);
   EXPECT_EQ(exr_value_extent("string", "", 0, 7), 7u);
+  EXPECT_EQ(exr_value_extent("floatvector", "", 0, 11), 8u);
+  EXPECT_EQ(exr_value_extent("idmanifest", "", 0, 20), 24u);
   EXPECT_EQ(exr_value_extent("someUnknownType", "", 0, 12), 12u);
 }
 

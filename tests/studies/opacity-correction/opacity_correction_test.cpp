@@ -165,14 +165,16 @@ TEST(OpacityCorrectionStudy, SweepIsIdentityAtOneAndThreadIndependent) {
   const std::vector<Ray> rays = study_rays(Box{}, 6, 3);
   const std::vector<Correction> cs(std::begin(kAll), std::end(kAll));
   std::vector<SweepRow> one, two;
+  ReferenceAudit audit;
   {
     const ThreadLimit limit(1);
-    one = error_against_N(s, rays, cs, {1, 4}, true, false);
+    one = error_against_N(s, rays, cs, {1, 4}, true, false, nullptr, audit);
   }
   {
     const ThreadLimit limit(2);
-    two = error_against_N(s, rays, cs, {1, 4}, true, false);
+    two = error_against_N(s, rays, cs, {1, 4}, true, false, nullptr, audit);
   }
+  EXPECT_EQ(audit.counts().rays, 2 * 6);  // each sweep's truth on every ray, counted
   ASSERT_EQ(one.size(), 10u);
   for (std::size_t i = 0; i < one.size(); ++i) {
     EXPECT_EQ(one[i].mean_error, two[i].mean_error);
