@@ -112,7 +112,7 @@ double RayAccumulator::field_tolerance() const {
   // everything behind through the transmittance.
   const double per_unit = (emission_done_ ? 0.0 : tf_.max_emission_slope() * shade_max_) +
                           tf_.max_extinction_slope() * sensitivity_after(iv_.t0);
-  const double weight = iv_.length() * per_unit * std::exp(-phi_);
+  const double weight = iv_.length() * per_unit * transmittance_;
   return weight > 0 ? kFieldShare * tol_ / weight : std::numeric_limits<double>::infinity();
 }
 
@@ -129,11 +129,12 @@ void RayAccumulator::advance_depth(double dphi) {
   // for an error of 2e-15.  The piece's own depth keeps 4 ulps for how it was computed.
   book_depth_error(std::abs(sum_rounding(phi_, dphi)) + 4 * eps * dphi);
   phi_ += dphi;
+  transmittance_ = std::exp(-phi_);
 }
 
 void RayAccumulator::consume(const RayPanel& panel) {
   if (stopped_) return;
-  const double transmittance = std::exp(-phi_);
+  const double transmittance = transmittance_;  // at the panel's start
   const double field_error = panel.error + position_error_;
   panel_cuts(panel);
   // A proxy error moves the crossings of jumps within their bands (those of kinks only to
@@ -157,15 +158,15 @@ void RayAccumulator::consume(const RayPanel& panel) {
     const auto joint = emission_done_ || weight_ || !(field_error > 0) ? std::nullopt : signed_slopes(seg, lo, hi);
     if (joint) {
       const double phi0 = phi_, value0 = value_;
-      joint_.push_back({field_error * (t - c), joint->emission, joint->extinction, 0, std::exp(-phi_), value_, 0});
+      joint_.push_back({field_error * (t - c), joint->emission, joint->extinction, 0, transmittance_, value_, 0});
       piece_depth_error_ = 0;
       piece_joint_ = &joint_.back();
       integrate_piece(panel, c, t, seg);
-      piece_joint_->t_lo = std::exp(-phi_), piece_joint_->before_hi = value_;
+      piece_joint_->t_lo = transmittance_, piece_joint_->before_hi = value_;
       piece_joint_ = nullptr;
       split_closed_form_joint(panel, c, t, seg, phi0, value0);
     } else {
-      error_ += charge(field_error, t - c, std::exp(-phi_), emission_done_ ? 0.0 : slopes.emission * shade_max_);
+      error_ += charge(field_error, t - c, transmittance_, emission_done_ ? 0.0 : slopes.emission * shade_max_);
       piece_depth_error_ = charge(field_error, t - c, slopes.extinction);
       book_depth_error(piece_depth_error_);
       integrate_piece(panel, c, t, seg);
@@ -183,7 +184,7 @@ void RayAccumulator::panel_cuts(const RayPanel& panel) {
   if (!weight_ || emission_done_) return;
   switches_.clear();
   weight_->append_switches(panel.a, panel.b, switches_);
-  const double transmittance = std::exp(-phi_);
+  const double transmittance = transmittance_;
   for (const WeightSwitch& w : switches_) {
     if (w.cut) cuts_.push_back(w.t);
     // The integrand takes one side's branch up to the found switch: a jump placed dt off the
@@ -300,7 +301,7 @@ std::size_t RayAccumulator::charge_bands(std::size_t first, double c, double pan
 }
 
 void RayAccumulator::add(const PieceIntegral& piece) {
-  const double attenuated = std::exp(-phi_) * piece.emission;
+  const double attenuated = transmittance_ * piece.emission;
   // The closed forms are accurate to a few dozen ulps (their documented amplification cap).
   error_ += 64 * eps * std::abs(attenuated);
   value_ += attenuated;
@@ -381,6 +382,13 @@ bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, dou
   // the light, the integral is that bracket times e^-Phi0 (1 - e^-dPhi), and only Phi is needed.
   // Taken when the bracket meets the piece's share of the tolerance; else the spectral route.
   if (!tf_.affine() || emission_done_ || panel.size() < 2 || weight_) return false;
+  // The layer: 64 optical depths at the entry's tau (a few ulps of t if thinner than that).
+  const double tau_c = seg.tau(panel(c));
+  // Only where the layer is a small part of the piece (the spectral route handles depths of
+  // hundreds per piece well, and then more tightly).  Checked first: the value ranges cost a
+  // re-expansion of the proxy each (a sixth of an ordinary ray's time when made first), and
+  // most pieces of a grid ray end here.
+  if (!(tau_c * (d - c) > 4096)) return false;
   double lo = 0, hi = 0;
   tf_.segment(panel(0.5 * (c + d)), lo, hi);
   const double margin = panel.error + position_error_;
@@ -388,12 +396,6 @@ bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, dou
     const ValueRange r = piece_range(panel, from, to);
     return ValueRange{std::max(r.min - margin, lo), std::min(r.max + margin, hi)};
   };
-  // The layer: 64 optical depths at the entry's tau (a few ulps of t if thinner than that).
-  const double tau_c = seg.tau(panel(c));
-  // Only where the layer is a small part of the piece (the spectral route handles depths of
-  // hundreds per piece well, and then more tightly).  Checked before the value ranges, which
-  // cost a re-expansion of the proxy each (a sixth of an ordinary ray's time when made first).
-  if (!(tau_c * (d - c) > 4096)) return false;
   const double e = std::min(d, c + std::max(64 / tau_c, 8 * eps * std::max(std::abs(c), std::abs(d))));
   if (!(e > c)) return false;
   const ValueRange whole = values_on(c, d);
@@ -404,7 +406,7 @@ bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, dou
   const double r_lo = seg.g(layer.min) / tau_lo, r_hi = seg.g(layer.max) / tau_hi;
   if (!(std::min(tau_lo, tau_hi) * (e - c) > 32)) return false;
   const double r_min = std::min(r_lo, r_hi), r_max = std::max(r_lo, r_hi);
-  const double transmittance = std::exp(-phi_);
+  const double transmittance = transmittance_;
   const double local_tol = kQuadratureShare * tol_ * (d - c) / iv_.length();
   if (!(0.5 * (r_max - r_min) * transmittance <= local_tol)) return false;
   const double phi0 = phi_, booked0 = depth_error_;
@@ -423,7 +425,7 @@ bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, dou
   if (piece_joint_) piece_joint_->before_lo = value_;  // likewise for the piece's joint charge
   if (e < d) {
     // Behind the layer: at most max g e^-Phi per unit length; only Phi is carried on.
-    error_ += std::max(seg.g(whole.min), seg.g(whole.max)) * std::exp(-phi_) * (d - e);
+    error_ += std::max(seg.g(whole.min), seg.g(whole.max)) * transmittance_ * (d - e);
     integrate_spectral(panel, e, d, seg, true, 0);
   }
   return true;
@@ -553,7 +555,7 @@ RayAccumulator::SpectralTry RayAccumulator::spectral_try(const RayPanel& panel, 
   ChebyshevAccuracy h_acc = chebyshev_accuracy({h_c, count}, h_noise);
   if (!h_acc.resolved && depth.position_noise > 0)
     h_acc = chebyshev_accuracy({h_c, count},
-                               h_noise + slopes.emission * shade_max_ * depth.position_noise * std::exp(-phi_));
+                               h_noise + slopes.emission * shade_max_ * depth.position_noise * transmittance_);
   const double h_floor = 2 * eps * max_abs({h_c, count});
   const auto node_noise = [&](int j) { return std::max(noise[j], h_floor); };
   out.error = 2 * half * without_noise(h_acc) + half * weighted_sum(rule, node_noise);
@@ -574,7 +576,7 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   const bool ladder = !exact && panel.size() <= kKnownDegreeNodes;
   int n = ladder ? std::min(most, kFirstLadderPoints) : most;
   const double local_tol = kQuadratureShare * tol_ * (d - c) / iv_.length();
-  const double transmittance = std::exp(-phi_);
+  const double transmittance = transmittance_;
   const auto accepted = [&](const SpectralTry& s) {
     const double judged = s.error + s.depth_error * transmittance * sensitivity_after(c);
     return s.converged && (judged <= local_tol || s.at_rounding);
@@ -629,7 +631,7 @@ double RayAccumulator::joint_error(double value, double other_error) const {
 void RayAccumulator::check_termination(double t) {
   if (stopped_) return;
   // Everything still to come emits at most max g per unit length, attenuated by e^-Phi.
-  const double transmittance = std::exp(-phi_);
+  const double transmittance = transmittance_;
   const double rest = emission_done_ ? 0.0 : transmittance * max_emission() * (iv_.t1 - t);
   // Opaque: neither the emission to come nor the background (whose share lies in
   // [0, e^-Phi I0], reported as e^-Phi I0) can matter any more.
@@ -654,7 +656,7 @@ void RayAccumulator::give_up(double t) {
   if (stopped_) return;
   // The rest emits at most max g per unit length, and at most sup g / tau however long it is
   // (a box of +-1e300 gave estimates of 2e300 where I <= 2), and lets through at most e^-Phi I0.
-  const double transmittance = std::exp(-phi_);
+  const double transmittance = transmittance_;
   const double rest = std::min(tf_.max_emission() * (iv_.t1 - t), tf_.max_emission_per_extinction()) * shade_max_;
   error_ += transmittance * ((emission_done_ ? 0.0 : rest) + background_);
   stopped_ = capped_ = true;
@@ -668,13 +670,13 @@ ReferenceResult RayAccumulator::finish() const {
   r.t_exit = iv_.t1;
   r.optical_depth = phi_;
   r.stopped_early = stopped_early_;
-  r.value = value_ + background_ * std::exp(-phi_);
+  r.value = value_ + background_ * transmittance_;
   // First order in dPhi; 10 % covers the second-order terms.
   const double after = std::max(0.0, r.value * depth_error_ - depth_error_weighted_);
   // The sum's and the background term's own rounding: relative to what each adds (a background
   // of 1e10 behind a depth of 62 was charged 16 eps x 1e10 = 3.6e-5 for an error of 1e-16); the
   // depth's error reaches the background through `after`.
-  const double separate = error_ + 1.1 * after + 16 * eps * (std::abs(value_) + std::abs(background_) * std::exp(-phi_));
+  const double separate = error_ + 1.1 * after + 16 * eps * (std::abs(value_) + std::abs(background_) * transmittance_);
   r.error_estimate = separate + joint_error(r.value, separate);
   r.capped = capped_;
   r.tolerance_met = !capped_ && r.error_estimate <= tol_ && std::isfinite(r.value) &&

@@ -149,6 +149,7 @@ class RayAccumulator {
   Interval iv_;
   double position_error_;
   double phi_ = 0;
+  double transmittance_ = 1;  // e^-Phi, kept with Phi (advance_depth): every piece asks for it several times
   double value_ = 0;
   double error_ = 0;
   bool emission_done_ = false;
