@@ -12,8 +12,10 @@ namespace {
 
 constexpr NameTable<OpacityUnit, 2> kOpacityUnits{
     {{OpacityUnit::per_sample, "sample"}, {OpacityUnit::per_unit_distance, "distance"}}};
+static_assert(names_complete(kOpacityUnits));
 constexpr NameTable<ColorConvention, 2> kColors{
     {{ColorConvention::straight, "straight"}, {ColorConvention::premultiplied, "premultiplied"}}};
+static_assert(names_complete(kColors));
 
 }  // namespace
 

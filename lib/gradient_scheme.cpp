@@ -10,7 +10,9 @@ namespace {
 constexpr NameTable<GradientScheme, 3> kSchemes{{{GradientScheme::analytic, "analytic"},
                                                  {GradientScheme::central, "central"},
                                                  {GradientScheme::nodes, "nodes"}}};
+static_assert(names_complete(kSchemes));
 constexpr NameTable<ShadeAt, 2> kShadeAt{{{ShadeAt::samples, "samples"}, {ShadeAt::nodes, "nodes"}}};
+static_assert(names_complete(kShadeAt));
 
 // The spacing of the grid's nodes along axis a (as GridField places them).
 double spacing(const GridField& g, int a) {

@@ -168,6 +168,7 @@ constexpr NameTable<Correction, 5> kCorrectionNames{{
     {Correction::lee_newman, "lee_newman"},
     {Correction::lee_newman_quadratic, "lee_newman_quadratic"},
 }};
+static_assert(names_complete(kCorrectionNames));
 
 std::optional<Correction> parse_correction(std::string_view name) { return parse_name(kCorrectionNames, name); }
 

@@ -31,6 +31,7 @@ constexpr NameTable<Strategy, 9> kStrategyNames{{
     {Strategy::partial, "partial"},
     {Strategy::exit_anchored, "exit_anchored"},
 }};
+static_assert(names_complete(kStrategyNames));
 
 // More samples than this on one ray is a configuration error, not a plan.
 constexpr double kMaxSamples = 1e12;

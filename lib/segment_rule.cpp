@@ -11,6 +11,7 @@ constexpr NameTable<SegmentRule, 5> kSegmentRuleNames{{
     {SegmentRule::exact_linear, "exact_linear"},
     {SegmentRule::moreland, "moreland"},
 }};
+static_assert(names_complete(kSegmentRuleNames));
 }  // namespace
 
 std::optional<SegmentRule> parse_segment_rule(std::string_view name) { return parse_name(kSegmentRuleNames, name); }

@@ -14,8 +14,10 @@ namespace {
 
 constexpr NameTable<ShadingModel, 2> kModels{
     {{ShadingModel::phong, "phong"}, {ShadingModel::blinn_phong, "blinn_phong"}}};
+static_assert(names_complete(kModels));
 constexpr NameTable<NormalSign, 2> kNormals{
     {{NormalSign::gradient, "gradient"}, {NormalSign::negative_gradient, "negative_gradient"}}};
+static_assert(names_complete(kNormals));
 
 void require_coefficient(double value, std::string_view key) {
   if (!(value >= 0) || !std::isfinite(value))

@@ -14,6 +14,7 @@ namespace vrv {
 namespace {
 
 constexpr NameTable<TableLookup, 2> kTableLookupNames{{{TableLookup::centred, "centred"}, {TableLookup::uncentred, "uncentred"}}};
+static_assert(names_complete(kTableLookupNames));
 
 }  // namespace
 

@@ -10,6 +10,7 @@ constexpr NameTable<XrayRule, 3> kRules{{
     {XrayRule::trapezoid, "trapezoid"},
     {XrayRule::simpson, "simpson"},
 }};
+static_assert(names_complete(kRules));
 
 }  // namespace
 

@@ -11,6 +11,7 @@ constexpr NameTable<ProjectionMode, 4> kModes{{
     {ProjectionMode::mip, "mip"},
     {ProjectionMode::mip_classified, "mip_classified"},
 }};
+static_assert(names_complete(kModes));
 
 }  // namespace
 

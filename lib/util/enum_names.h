@@ -11,6 +11,19 @@ namespace vrv {
 template <class E, std::size_t N>
 using NameTable = std::array<std::pair<E, std::string_view>, N>;
 
+// Every row named, and no name or value twice: a row left out of a table's initializer list is a
+// default one (the first enumerator, no name), which `static_assert(names_complete(kTable))`
+// beside each table refuses at compile time.
+template <class E, std::size_t N>
+constexpr bool names_complete(const NameTable<E, N>& table) {
+  for (std::size_t i = 0; i < N; ++i) {
+    if (table[i].second.empty()) return false;
+    for (std::size_t j = 0; j < i; ++j)
+      if (table[j].first == table[i].first || table[j].second == table[i].second) return false;
+  }
+  return true;
+}
+
 template <class E, std::size_t N>
 std::optional<E> parse_name(const NameTable<E, N>& table, std::string_view name) {
   for (const auto& [value, n] : table)

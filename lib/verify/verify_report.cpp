@@ -12,8 +12,10 @@ constexpr NameTable<Region, 5> kRegionNames{{{Region::outside, "outside"},
                                              {Region::silhouette, "silhouette"},
                                              {Region::tf_jump, "tf_jump"},
                                              {Region::all, "all"}}};
+static_assert(names_complete(kRegionNames));
 
 constexpr NameTable<OrderKind, 2> kOrderKindNames{{{OrderKind::reference, "reference"}, {OrderKind::self, "self"}}};
+static_assert(names_complete(kOrderKindNames));
 
 constexpr NameTable<FaultKind, 10> kFaultNames{{{FaultKind::quantisation, "quantisation"},
                                                {FaultKind::half_step_offset, "half-step offset"},
@@ -25,6 +27,7 @@ constexpr NameTable<FaultKind, 10> kFaultNames{{{FaultKind::quantisation, "quant
                                                {FaultKind::swapped_channels, "swapped channels"},
                                                {FaultKind::gradient_floor, "gradient floor"},
                                                {FaultKind::fitted, "fitted fault"}}};
+static_assert(names_complete(kFaultNames));
 
 nlohmann::ordered_json number(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr; }
 
