@@ -249,7 +249,8 @@ LinearRamp read_linear_ramp(const Reader& r, const toml::table& t, std::string_v
 }
 
 // The analytic field kinds, each its name (the type's own, analytic/*.h) and its reader, once: a
-// new analytic field is a row here.  The grid kinds ("grid", "volume") are read below.
+// new analytic field is a row here (it holds no nodes: field_grid_nodes has none for it).  The
+// grid kinds are kGridKinds, below.
 struct AnalyticKind {
   std::string_view name;
   AnalyticField (*read)(const Reader& r, const toml::table& t, std::string_view path);
@@ -274,18 +275,29 @@ const AnalyticKind* analytic_kind(std::string_view name) {
   return nullptr;
 }
 
-[[noreturn]] void unknown_kind(const Reader& r, std::string_view path, std::string_view kind) {
-  std::string known;
-  for (const AnalyticKind& k : kAnalyticKinds) known += fmt::format("{}, ", k.name);
-  r.fail(child(path, "kind"), fmt::format("unknown field kind \"{}\" (expected {}grid or volume)", kind, known));
-}
+struct GridKind;
+const GridKind* grid_kind(std::string_view name);
+[[noreturn]] void unknown_kind(const Reader& r, std::string_view path, std::string_view kind);
 
 AnalyticField read_source(const Reader& r, const toml::table& t, std::string_view path) {
   const std::string_view kind = read_kind(r, t, path);
   if (const AnalyticKind* k = analytic_kind(kind)) return k->read(r, t, path);
-  if (kind == "grid" || kind == "volume")
+  if (grid_kind(kind))
     r.fail(child(path, "kind"), fmt::format("nested {}: a grid source must be an analytic field", kind));
   unknown_kind(r, path, kind);
+}
+
+// A grid's node counts from its resolution (positive integers; the reader checks them).
+std::optional<std::array<std::int64_t, 3>> resolution_nodes(const toml::table& t) {
+  const toml::array* a = t.get_as<toml::array>("resolution");
+  if (!a || a->size() != 3) return std::nullopt;
+  std::array<std::int64_t, 3> n{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto* v = a->get_as<std::int64_t>(i);
+    if (!v || v->get() <= 0) return std::nullopt;
+    n[i] = v->get();
+  }
+  return n;
 }
 
 GridField read_grid(const Reader& r, const toml::table& t, const Box& box) {
@@ -366,13 +378,53 @@ bool volume_places_itself(const Reader& r, const toml::table& field) {
          VolumePlacement::header;
 }
 
+// What a grid kind's reader needs beside its table.
+struct FieldContext {
+  const Box& box;
+  std::string_view source_name;  // the scene file: a volume's relative path is relative to its folder
+  std::string& files;            // the digest of the files read (lib/scene_hash.h)
+};
+
+// The grid field kinds, each its name, its reader and the nodes its grid will hold as its table
+// tells before anything is read (none where only the reading can tell: a volume's reader checks
+// the file's header against the memory budget itself), once: a new grid kind is a row here.
+struct GridKind {
+  std::string_view name;
+  GridField (*read)(const Reader& r, const toml::table& t, const FieldContext& context);
+  std::optional<std::array<std::int64_t, 3>> (*nodes)(const toml::table& t);
+};
+constexpr GridKind kGridKinds[] = {
+    {"grid", [](const Reader& r, const toml::table& t, const FieldContext& c) { return read_grid(r, t, c.box); },
+     resolution_nodes},
+    {"volume",
+     [](const Reader& r, const toml::table& t, const FieldContext& c) {
+       return read_volume_field(r, t, c.box, c.source_name, c.files);
+     },
+     [](const toml::table&) -> std::optional<std::array<std::int64_t, 3>> { return std::nullopt; }},
+};
+
+const GridKind* grid_kind(std::string_view name) {
+  for (const GridKind& k : kGridKinds)
+    if (k.name == name) return &k;
+  return nullptr;
+}
+
+[[noreturn]] void unknown_kind(const Reader& r, std::string_view path, std::string_view kind) {
+  std::vector<std::string_view> known;
+  for (const AnalyticKind& k : kAnalyticKinds) known.push_back(k.name);
+  for (const GridKind& k : kGridKinds) known.push_back(k.name);
+  const std::string_view last = known.back();
+  known.pop_back();
+  r.fail(child(path, "kind"),
+         fmt::format("unknown field kind \"{}\" (expected {} or {})", kind, fmt::join(known, ", "), last));
+}
+
 Field read_field(const Reader& r, const toml::table& t, const Box& box, std::string_view source_name,
                  std::string& files) {
   const std::string_view kind = read_kind(r, t, "field");
   if (const AnalyticKind* k = analytic_kind(kind))
     return std::visit([](const auto& f) -> Field { return f; }, k->read(r, t, "field"));
-  if (kind == "grid") return read_grid(r, t, box);
-  if (kind == "volume") return read_volume_field(r, t, box, source_name, files);
+  if (const GridKind* k = grid_kind(kind)) return k->read(r, t, FieldContext{box, source_name, files});
   unknown_kind(r, "field", kind);
 }
 
@@ -618,6 +670,13 @@ toml::table parse_toml(const Reader& r, std::string_view text, std::string_view 
 }
 
 }  // namespace
+
+std::optional<std::array<std::int64_t, 3>> field_grid_nodes(const toml::table& field) {
+  const auto* kind = field.get_as<std::string>("kind");
+  if (!kind) return std::nullopt;
+  const GridKind* k = grid_kind(kind->get());
+  return k ? k->nodes(field) : std::nullopt;
+}
 
 Scene parse_scene(std::string_view toml_text, std::string_view source_name) {
   return parse_scene(toml_text, source_name, 0);

@@ -4,12 +4,15 @@
 // Strict on purpose: unknown keys, wrong types, non-finite numbers and out-of-range values
 // are errors, never silently replaced by defaults; only documented optional keys default.
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <stdexcept>
 #include <string_view>
 #include <vector>
+
+#include <toml++/toml.h>
 
 #include "lib/scene.h"
 
@@ -55,6 +58,12 @@ std::string exported_scene_toml(std::string_view toml_text, std::string_view sou
 // would overflow the stack: every TOML reader (scene and study files) calls this before parsing.
 // "line L, column C: key nested too deeply (...)" when `text` has such a key, else nullopt.
 std::optional<std::string> toml_nesting_problem(std::string_view text);
+
+// The node counts of the grid a [field] table describes, as its kind tells from the table alone
+// before anything is read (a grid's resolution); nothing for an analytic field, for a volume (its
+// reader checks the file's header against the memory budget: max_volume_bytes above), and for a
+// table that is not a field.  Lenient: a malformed table's error is the reader's.
+std::optional<std::array<std::int64_t, 3>> field_grid_nodes(const toml::table& field);
 
 // The built-in Marschner-Lobb scene as TOML text, and parsed.
 std::string_view default_scene_toml();

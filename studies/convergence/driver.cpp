@@ -62,7 +62,17 @@ StudyPlan parse_convergence(const StudyInput& in) {
   return {std::move(job), [study](bool quick) { return convergence_work(study, quick); }};
 }
 
-const RegisterStudyKind kConvergence{"convergence", parse_convergence};
+// [grid_refinement]'s grids, built one at a time from one of its lists.
+std::vector<GridSize> convergence_grids(const toml::table& doc) {
+  const toml::table* g = doc.get_as<toml::table>("grid_refinement");
+  if (!g) return {};
+  std::vector<GridSize> out;
+  for (std::string_view key : {"resolutions", "quick_resolutions"})
+    if (const auto cube = largest_cube(*g, key); cube && (out.empty() || (*cube)[0] > out[0][0])) out = {*cube};
+  return out;
+}
+
+const RegisterStudyKind kConvergence{"convergence", parse_convergence, convergence_grids};
 
 }  // namespace
 }  // namespace vrv

@@ -3,26 +3,18 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
+
+#include "lib/scene_file.h"
 
 namespace vrv {
 namespace {
 
 constexpr double kBytesPerNode = sizeof(double);
 
-// Positive integers of an array, or nothing if any element is something else.
-std::vector<std::int64_t> integers(const toml::array& a) {
-  std::vector<std::int64_t> out;
-  for (const auto& e : a) {
-    const auto* i = e.as_integer();
-    if (!i || i->get() <= 0) return {};
-    out.push_back(i->get());
-  }
-  return out;
-}
-
-void add_grid(StudyMemory& m, std::array<std::int64_t, 3> r) {
+void add_grid(StudyMemory& m, GridSize r) {
   const double nodes = static_cast<double>(r[0]) * static_cast<double>(r[1]) * static_cast<double>(r[2]);
   m.bytes += nodes * kBytesPerNode;
   ++m.grids;
@@ -31,6 +23,7 @@ void add_grid(StudyMemory& m, std::array<std::int64_t, 3> r) {
   if (nodes > largest) m.largest = r;
 }
 
+// Every [field] table's grid, wherever the file holds scenes (cases, lists of them).
 void walk(const toml::node& n, StudyMemory& m) {
   if (const auto* a = n.as_array()) {
     for (const auto& e : *a) walk(e, m);
@@ -38,28 +31,34 @@ void walk(const toml::node& n, StudyMemory& m) {
   }
   const auto* t = n.as_table();
   if (!t) return;
-  for (const auto& [key, value] : *t) {
-    const auto* a = value.as_array();
-    if (a && key.str() == "resolution") {
-      const auto r = integers(*a);
-      if (r.size() == 3) add_grid(m, {r[0], r[1], r[2]});
-    } else if (a && (key.str() == "resolutions" || key.str() == "quick_resolutions")) {
-      const auto r = integers(*a);  // built one at a time: the largest counts
-      if (!r.empty()) {
-        const std::int64_t n3 = *std::max_element(r.begin(), r.end());
-        add_grid(m, {n3, n3, n3});
-      }
-    } else {
-      walk(value, m);
-    }
-  }
+  if (const auto nodes = field_grid_nodes(*t)) add_grid(m, *nodes);
+  for (const auto& [key, value] : *t) walk(value, m);
 }
 
 }  // namespace
 
-StudyMemory estimate_study_memory(const toml::table& doc) {
+std::optional<GridSize> largest_cube(const toml::table& t, std::string_view key) {
+  const toml::node* n = t.get(key);
+  if (!n) return std::nullopt;
+  double largest = 0;
+  const auto take = [&](const toml::node& e) {
+    if (const auto v = e.value<double>(); v && *v >= 1 && *v <= 1e6 && *v == std::floor(*v)) largest = std::max(largest, *v);
+  };
+  if (const auto* a = n->as_array()) {
+    for (const auto& e : *a) take(e);
+  } else {
+    take(*n);
+  }
+  if (!(largest >= 1)) return std::nullopt;
+  const auto side = static_cast<std::int64_t>(largest);
+  return GridSize{side, side, side};
+}
+
+StudyMemory estimate_study_memory(const toml::table& doc, StudyGrids own) {
   StudyMemory m;
   walk(doc, m);
+  if (own)
+    for (const GridSize& g : own(doc)) add_grid(m, g);
   return m;
 }
 

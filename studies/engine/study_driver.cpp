@@ -11,14 +11,18 @@
 namespace vrv {
 namespace {
 // Function-local so registration from other translation units' static objects is order-safe.
-std::map<std::string, StudyParse, std::less<>>& registry() {
-  static std::map<std::string, StudyParse, std::less<>> kinds;
+struct Registered {
+  StudyParse parse = nullptr;
+  StudyGrids grids = nullptr;
+};
+std::map<std::string, Registered, std::less<>>& registry() {
+  static std::map<std::string, Registered, std::less<>> kinds;
   return kinds;
 }
 }  // namespace
 
-RegisterStudyKind::RegisterStudyKind(std::string kind, StudyParse parse) {
-  registry().emplace(std::move(kind), parse);
+RegisterStudyKind::RegisterStudyKind(std::string kind, StudyParse parse, StudyGrids grids) {
+  registry().emplace(std::move(kind), Registered{parse, grids});
 }
 
 std::string_view check_kind_name(CheckKind kind) {
@@ -34,12 +38,17 @@ std::string_view check_kind_name(CheckKind kind) {
 
 StudyParse find_study_kind(std::string_view kind) {
   const auto it = registry().find(kind);
-  return it == registry().end() ? nullptr : it->second;
+  return it == registry().end() ? nullptr : it->second.parse;
+}
+
+StudyGrids find_study_grids(std::string_view kind) {
+  const auto it = registry().find(kind);
+  return it == registry().end() ? nullptr : it->second.grids;
 }
 
 std::vector<std::string> study_kinds() {
   std::vector<std::string> out;
-  for (const auto& [kind, parse] : registry()) out.push_back(kind);
+  for (const auto& [kind, registered] : registry()) out.push_back(kind);
   return out;
 }
 

@@ -8,7 +8,10 @@
 // A driver registers itself from its own .cpp file:
 //   const RegisterStudyKind kSampling{"sampling", parse_sampling_study};
 // where parse_sampling_study(const StudyInput&) validates the file and returns the job to run
-// with an estimate of its work (study_work.h), which `vrv study` checks before running it.
+// with an estimate of its work (study_work.h), which `vrv study` checks before running it.  A
+// kind that builds grids of its own (beyond its scenes' [field] tables) declares them too, for the
+// memory estimate made before the file is read (memory_budget.h):
+//   const RegisterStudyKind kShading{"shading", parse_shading, shading_grids};
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -20,6 +23,7 @@
 
 #include "lib/study_file.h"
 #include "lib/order_estimate.h"
+#include "studies/engine/memory_budget.h"
 #include "studies/engine/study_work.h"
 
 namespace vrv {
@@ -84,11 +88,13 @@ struct StudyPlan {
 using StudyParse = StudyPlan (*)(const StudyInput&);  // throws StudyFileError
 
 struct RegisterStudyKind {
-  RegisterStudyKind(std::string kind, StudyParse parse);
+  RegisterStudyKind(std::string kind, StudyParse parse, StudyGrids grids = nullptr);
 };
 
 // nullptr when no driver has that kind.
 StudyParse find_study_kind(std::string_view kind);
+// The kind's own grids (nullptr: none, or no such kind).
+StudyGrids find_study_grids(std::string_view kind);
 std::vector<std::string> study_kinds();  // sorted
 
 // An observed order against the expected one, the tolerance derived from the fit's spread

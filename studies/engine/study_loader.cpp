@@ -28,7 +28,7 @@ LoadedStudy load_study_text(std::string text, const std::string& source, const s
   if (doc.contains("description")) s.description = r.string(*doc.get("description"), "description");
   // Before the driver reads the file: drivers build their grids as they read.
   const double limit = options.memory_limit > 0 ? options.memory_limit : default_memory_limit();
-  const StudyMemory memory = estimate_study_memory(doc);
+  const StudyMemory memory = estimate_study_memory(doc, find_study_grids(s.kind));
   if (memory.bytes > limit)
     r.fail("(memory)", fmt::format("its grids need {}, more than the limit of {} (raise it with "
                                    "--max-memory GIB)", describe(memory), gibibytes(limit)));

@@ -168,7 +168,21 @@ StudyPlan parse_opacity_study(const StudyInput& in) {
           [study](bool quick) { return opacity_work(study, quick); }};
 }
 
-const RegisterStudyKind kOpacityCorrection{"opacity_correction", parse_opacity_study};
+// [render]'s grid, sampled from the scene's analytic field.
+std::vector<GridSize> opacity_grids(const toml::table& doc) {
+  const toml::table* render = doc.get_as<toml::table>("render");
+  const toml::array* a = render ? render->get_as<toml::array>("resolution") : nullptr;
+  if (!a || a->size() != 3) return {};
+  GridSize n{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto v = a->get(i)->value<double>();
+    if (!v || !(*v >= 1 && *v <= 1e6)) return {};
+    n[i] = static_cast<std::int64_t>(*v);
+  }
+  return {n};
+}
+
+const RegisterStudyKind kOpacityCorrection{"opacity_correction", parse_opacity_study, opacity_grids};
 
 }  // namespace
 

@@ -23,7 +23,16 @@ StudyPlan parse_shading(const StudyInput& in) {
   return {std::move(job), [study](bool quick) { return shading_work(study, quick); }};
 }
 
-const RegisterStudyKind kShading{"shading", parse_shading};
+// The refinement's node grids (one at a time: the largest) and the images' grid.
+std::vector<GridSize> shading_grids(const toml::table& doc) {
+  std::vector<GridSize> out;
+  if (const auto cube = largest_cube(doc, "grids")) out.push_back(*cube);
+  const std::int64_t n = ShadingStudy{}.image_grid;
+  out.push_back(largest_cube(doc, "image_grid").value_or(GridSize{n, n, n}));
+  return out;
+}
+
+const RegisterStudyKind kShading{"shading", parse_shading, shading_grids};
 
 }  // namespace
 }  // namespace vrv
