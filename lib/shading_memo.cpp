@@ -14,7 +14,7 @@ void ShadingMemo::keep_switches(double a, double b, std::span<const WeightSwitch
   if (!on_) return;
   has_panel_ = true, a_ = a, b_ = b;
   switches_.assign(switches.begin(), switches.end());
-  pieces_.clear(), data_.clear(), next_ = 0;
+  pieces_.clear(), data_.clear(), index_.clear();
 }
 
 bool ShadingMemo::matches(const Piece& p, double c, double d, std::span<const double> ts) const {
@@ -25,22 +25,20 @@ bool ShadingMemo::matches(const Piece& p, double c, double d, std::span<const do
 bool ShadingMemo::read(double c, double d, std::span<const double> ts, std::span<double> s,
                        std::span<double> noise) {
   if (!on_) return false;
-  for (std::size_t k = 0; k < pieces_.size(); ++k) {
-    const std::size_t i = (next_ + k) % pieces_.size();
+  return index_.find(c, d, [&](std::uint32_t i) {
     const Piece& p = pieces_[i];
-    if (!matches(p, c, d, ts)) continue;
+    if (!matches(p, c, d, ts)) return false;
     const auto at = data_.begin() + static_cast<std::ptrdiff_t>(p.offset + p.count);
     std::copy_n(at, p.count, s.begin());
     std::copy_n(at + static_cast<std::ptrdiff_t>(p.count), p.count, noise.begin());
-    next_ = i + 1;
     return true;
-  }
-  return false;
+  });
 }
 
 void ShadingMemo::keep(double c, double d, std::span<const double> ts, std::span<const double> s,
                        std::span<const double> noise) {
   if (!on_ || !has_panel_ || pieces_.size() == kMaxPieces) return;
+  index_.add(c, d, static_cast<std::uint32_t>(pieces_.size()));
   pieces_.push_back({c, d, data_.size(), ts.size()});
   data_.insert(data_.end(), ts.begin(), ts.end());
   data_.insert(data_.end(), s.begin(), s.begin() + static_cast<std::ptrdiff_t>(ts.size()));

@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "lib/piece_index.h"
 #include "lib/weight_switch.h"
 
 namespace vrv::detail {
@@ -41,7 +42,7 @@ class ShadingMemo {
   std::vector<WeightSwitch> switches_;
   std::vector<Piece> pieces_;
   std::vector<double> data_;
-  std::size_t next_ = 0;  // where the next lookup starts: the channels ask in the same order
+  PieceIndex index_{kMaxPieces};  // where each kept piece is
 };
 
 }  // namespace vrv::detail

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "lib/piece_index.h"
 #include "lib/transfer_function.h"
 
 namespace vrv::detail {
@@ -48,21 +49,19 @@ struct SpectralDepth {
 
 // A panel's depth halves, asked for by the channels in turn; cleared for every panel.  At most
 // kMaxPieces are kept (a panel split to the work cap has thousands of tries; past the cap each
-// channel computes its own), and the channels ask in the same order, so a lookup starts where
-// the last one ended.
+// channel computes its own), found by their ends (PieceIndex).
 class SpectralDepthShare {
  public:
   static constexpr std::size_t kMaxPieces = 64;
   // The piece's depth half, or nullptr; `with_phi` asks for one that has Phi at the nodes.
   SpectralDepth* find(const SpectralDepthKey& key, bool with_phi) {
-    for (std::size_t k = 0; k < used_; ++k) {
-      const std::size_t i = (next_ + k) % used_;
-      if (keys_[i] == key && (entries_[i].has_phi || !with_phi)) {
-        next_ = i + 1;
-        return &entries_[i];
-      }
-    }
-    return nullptr;
+    SpectralDepth* found = nullptr;
+    index_.find(key.c, key.d, [&](std::uint32_t i) {
+      if (!(keys_[i] == key) || !(entries_[i].has_phi || !with_phi)) return false;
+      found = &entries_[i];
+      return true;
+    });
+    return found;
   }
   // Room for the piece's depth half (storage kept across panels: no allocation per piece), or
   // nullptr when kMaxPieces are kept.  Valid until the next slot().
@@ -70,16 +69,17 @@ class SpectralDepthShare {
     if (used_ == kMaxPieces) return nullptr;
     if (used_ == entries_.size()) keys_.emplace_back(), entries_.emplace_back();
     keys_[used_] = key;
+    index_.add(key.c, key.d, static_cast<std::uint32_t>(used_));
     return &entries_[used_++];
   }
-  void clear() { used_ = 0, next_ = 0; }
+  void clear() { used_ = 0, index_.clear(); }
   void reserve(std::size_t pieces) { keys_.reserve(pieces), entries_.reserve(pieces); }
 
  private:
   std::vector<SpectralDepthKey> keys_;
   std::vector<SpectralDepth> entries_;
   std::size_t used_ = 0;
-  std::size_t next_ = 0;  // where the next lookup starts
+  PieceIndex index_{kMaxPieces};
 };
 
 }  // namespace vrv::detail
