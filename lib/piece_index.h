@@ -39,6 +39,19 @@ class PieceIndex {
       if (slots_[i].c == c && slots_[i].d == d && f(slots_[i].entry)) return true;
     return false;
   }
+  // Where probing for [c, d] starts (exposed for tests): splitmix64's finaliser over both ends, so
+  // every bit reaches the low bits the mask keeps.  A multiplication alone left them to the ends'
+  // low mantissa bits, which are 0 for dyadic ends: the pieces [i/64, (i+1)/64] all took one slot
+  // and every lookup was a scan again (PieceIndex.DyadicPiecesSpreadAsRandomOnesDo).
+  std::size_t home(double c, double d) const {
+    std::uint64_t h = std::bit_cast<std::uint64_t>(c) ^ std::rotl(std::bit_cast<std::uint64_t>(d), 32);
+    h ^= h >> 30;
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 27;
+    h *= 0x94D049BB133111EBull;
+    h ^= h >> 31;
+    return static_cast<std::size_t>(h) & (size_ - 1);
+  }
 
  private:
   struct Slot {
@@ -46,11 +59,6 @@ class PieceIndex {
     std::uint32_t entry = 0;
     double c = 0, d = 0;
   };
-  std::size_t home(double c, double d) const {
-    const std::uint64_t h = std::bit_cast<std::uint64_t>(c) * 0x9E3779B97F4A7C15ull ^
-                            std::bit_cast<std::uint64_t>(d) * 0xC2B2AE3D27D4EB4Full;
-    return static_cast<std::size_t>(h ^ (h >> 31)) & (size_ - 1);
-  }
   std::size_t size_;
   std::vector<Slot> slots_;
   std::uint32_t generation_ = 1;

@@ -60,9 +60,10 @@ std::string exported_scene_toml(std::string_view toml_text, std::string_view sou
 std::optional<std::string> toml_nesting_problem(std::string_view text);
 
 // The node counts of the grid a [field] table describes, as its kind tells from the table alone
-// before anything is read (a grid's resolution); nothing for an analytic field, for a volume (its
-// reader checks the file's header against the memory budget: max_volume_bytes above), and for a
-// table that is not a field.  Lenient: a malformed table's error is the reader's.
+// before anything is read (a grid's resolution); nothing for an analytic field, for a volume (only
+// its header tells: its reader checks it against max_volume_bytes where a caller gives one, and
+// against the grid node cap always), and for a table that is not a field.  Lenient: a malformed
+// table's error is the reader's.
 std::optional<std::array<std::int64_t, 3>> field_grid_nodes(const toml::table& field);
 
 // The built-in Marschner-Lobb scene as TOML text, and parsed.

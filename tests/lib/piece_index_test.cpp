@@ -1,6 +1,7 @@
 #include "lib/piece_index.h"
 
 #include <cstdint>
+#include <set>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -36,6 +37,19 @@ TEST(PieceIndex, FindsEveryEntryOfAPieceInOrderAndNothingAfterAClear) {
   EXPECT_TRUE(entries_of(index, 0, 1).empty());
   index.add(0, 1, 7);
   EXPECT_EQ(entries_of(index, 0, 1), (std::vector<std::uint32_t>{7}));
+}
+
+// Pieces with dyadic ends (a bisected unit stretch) take as many distinct slots as random keys
+// would (64 into 128: about 128 (1 - e^-1/2) = 50); a hash of the ends' low mantissa bits put
+// every one of them in one slot, and each lookup scanned the panel's pieces as before the index.
+TEST(PieceIndex, DyadicPiecesSpreadAsRandomOnesDo) {
+  const PieceIndex index(64);
+  std::set<std::size_t> slots;
+  for (int i = 0; i < 64; ++i) slots.insert(index.home(i / 64.0, (i + 1) / 64.0));
+  EXPECT_GE(slots.size(), 40u);
+  slots.clear();
+  for (int i = 0; i < 64; ++i) slots.insert(index.home(-1 + i / 32.0, -1 + (i + 1) / 32.0));
+  EXPECT_GE(slots.size(), 40u);
 }
 
 }  // namespace
