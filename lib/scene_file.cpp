@@ -287,19 +287,6 @@ AnalyticField read_source(const Reader& r, const toml::table& t, std::string_vie
   unknown_kind(r, path, kind);
 }
 
-// A grid's node counts from its resolution (positive integers; the reader checks them).
-std::optional<std::array<std::int64_t, 3>> resolution_nodes(const toml::table& t) {
-  const toml::array* a = t.get_as<toml::array>("resolution");
-  if (!a || a->size() != 3) return std::nullopt;
-  std::array<std::int64_t, 3> n{};
-  for (std::size_t i = 0; i < 3; ++i) {
-    const auto* v = a->get_as<std::int64_t>(i);
-    if (!v || v->get() <= 0) return std::nullopt;
-    n[i] = v->get();
-  }
-  return n;
-}
-
 GridField read_grid(const Reader& r, const toml::table& t, const Box& box) {
   r.check_keys(t, "field", {"kind", "source", "resolution", "layout", "interpolation"});
   const AnalyticField source =
@@ -391,16 +378,16 @@ struct FieldContext {
 struct GridKind {
   std::string_view name;
   GridField (*read)(const Reader& r, const toml::table& t, const FieldContext& context);
-  std::optional<std::array<std::int64_t, 3>> (*nodes)(const toml::table& t);
+  std::optional<NodeCounts> (*nodes)(const toml::table& t);
 };
 constexpr GridKind kGridKinds[] = {
     {"grid", [](const Reader& r, const toml::table& t, const FieldContext& c) { return read_grid(r, t, c.box); },
-     resolution_nodes},
+     [](const toml::table& t) { return node_counts_at(t, "resolution"); }},
     {"volume",
      [](const Reader& r, const toml::table& t, const FieldContext& c) {
        return read_volume_field(r, t, c.box, c.source_name, c.files);
      },
-     [](const toml::table&) -> std::optional<std::array<std::int64_t, 3>> { return std::nullopt; }},
+     [](const toml::table&) -> std::optional<NodeCounts> { return std::nullopt; }},
 };
 
 const GridKind* grid_kind(std::string_view name) {
@@ -671,7 +658,25 @@ toml::table parse_toml(const Reader& r, std::string_view text, std::string_view 
 
 }  // namespace
 
-std::optional<std::array<std::int64_t, 3>> field_grid_nodes(const toml::table& field) {
+double grid_bytes(const NodeCounts& nodes) {
+  return static_cast<double>(nodes[0]) * static_cast<double>(nodes[1]) * static_cast<double>(nodes[2]) *
+         sizeof(double);
+}
+
+std::optional<NodeCounts> node_counts_at(const toml::table& t, std::string_view key) {
+  const toml::array* a = t.get_as<toml::array>(key);
+  if (!a || a->size() != 3) return std::nullopt;
+  NodeCounts n{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    // Whole numbers below 2^53 (any node count a machine could hold), so the cast is exact.
+    const auto v = a->get(i)->value<double>();
+    if (!v || !(*v >= 1 && *v <= 0x1p53) || *v != std::floor(*v)) return std::nullopt;
+    n[i] = static_cast<std::int64_t>(*v);
+  }
+  return n;
+}
+
+std::optional<NodeCounts> field_grid_nodes(const toml::table& field) {
   const auto* kind = field.get_as<std::string>("kind");
   if (!kind) return std::nullopt;
   const GridKind* k = grid_kind(kind->get());

@@ -59,12 +59,20 @@ std::string exported_scene_toml(std::string_view toml_text, std::string_view sou
 // "line L, column C: key nested too deeply (...)" when `text` has such a key, else nullopt.
 std::optional<std::string> toml_nesting_problem(std::string_view text);
 
+// A grid's node counts along x, y and z.
+using NodeCounts = std::array<std::int64_t, 3>;
+// What a grid of `nodes` holds at most: 8 bytes a node (a volume's narrower samples take less).
+double grid_bytes(const NodeCounts& nodes);
+// The node counts `t[key]` holds: three whole numbers, each at least 1, or nothing.  Lenient, for
+// the estimates made before a file is read: what it cannot read, the file's reader reports.
+std::optional<NodeCounts> node_counts_at(const toml::table& t, std::string_view key);
+
 // The node counts of the grid a [field] table describes, as its kind tells from the table alone
 // before anything is read (a grid's resolution); nothing for an analytic field, for a volume (only
 // its header tells: its reader checks it against max_volume_bytes where a caller gives one, and
 // against the grid node cap always), and for a table that is not a field.  Lenient: a malformed
 // table's error is the reader's.
-std::optional<std::array<std::int64_t, 3>> field_grid_nodes(const toml::table& field);
+std::optional<NodeCounts> field_grid_nodes(const toml::table& field);
 
 // The built-in Marschner-Lobb scene as TOML text, and parsed.
 std::string_view default_scene_toml();

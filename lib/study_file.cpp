@@ -116,6 +116,27 @@ std::vector<double> StudyReader::numbers(const toml::table& t, std::string_view 
   return out;
 }
 
+std::vector<long> StudyReader::whole_numbers(const toml::table& t, std::string_view key,
+                                             std::string_view path, long lo, long hi) const {
+  const std::vector<double> x = numbers(t, key, path, static_cast<double>(lo), static_cast<double>(hi));
+  std::vector<long> out;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (x[i] != std::floor(x[i]))
+      fail(fmt::format("{}[{}]", child(path, key), i), fmt::format("expected a whole number, got {}", x[i]));
+    out.push_back(static_cast<long>(x[i]));
+  }
+  return out;
+}
+
+void StudyReader::spend_memory(std::string_view key, std::string_view what, double bytes) const {
+  if (!limited_) return;
+  if (!(bytes <= memory_left_))
+    fail(key, fmt::format("{} needs {:.1f} MiB, more than the {:.1f} MiB the study has left under its memory limit "
+                          "(raise it with --max-memory GIB)",
+                          what, bytes / (1 << 20), memory_left_ / (1 << 20)));
+  memory_left_ -= bytes;
+}
+
 Vec3 StudyReader::vec3(const toml::table& t, std::string_view key, std::string_view path) const {
   const std::string at = child(path, key);
   const toml::array* a = require(t, key, path).as_array();
@@ -165,7 +186,24 @@ std::string read_study_text(const std::filesystem::path& path) {
 
 namespace {
 
+// The bytes of the grid a scene file's [field] declares, from its text before it is parsed (as the
+// study's own estimate counts its [scene] tables' grids); 0 for none, or for a file parse_scene
+// will refuse anyway.
+double declared_grid_bytes(std::string_view text) {
+  if (toml_nesting_problem(text)) return 0;
+  try {
+    const toml::table doc = toml::parse(text);
+    const toml::table* field = doc.get_as<toml::table>("field");
+    const auto nodes = field ? field_grid_nodes(*field) : std::nullopt;
+    return nodes ? grid_bytes(*nodes) : 0;
+  } catch (const toml::parse_error&) {
+    return 0;
+  }
+}
+
 // scene = "FILE": a scene file, relative to the study file's folder; its errors are quoted whole.
+// Its grid is spent from the study's memory before it is built (a study of many scene files
+// could otherwise hold more grids than its limit allows).
 Scene read_scene_file(const StudyReader& r, const std::string& at, const std::string& name,
                       std::string& toml_text) {
   const std::filesystem::path file =
@@ -175,8 +213,9 @@ Scene read_scene_file(const StudyReader& r, const std::string& at, const std::st
     r.fail(at, fmt::format("'{}' is not a scene file (a path relative to the study file: {})", name,
                            file.string()));
   toml_text = read_study_text(file);
+  r.spend_memory(at, fmt::format("the grid of {}", file.string()), declared_grid_bytes(toml_text));
   try {
-    return parse_scene(toml_text, file.string());
+    return parse_scene(toml_text, file.string(), r.volume_budget());
   } catch (const SceneFileError& e) {
     throw StudyFileError(error_line(r.source(), at, e.what()));
   }
@@ -196,7 +235,7 @@ Scene read_any_study_scene(const StudyReader& r, const toml::table& parent, std:
   toml_text = scene_to_toml(*node.as_table());
   constexpr std::string_view marker = "\x01scene\x01";
   try {
-    return parse_scene(toml_text, marker);
+    return parse_scene(toml_text, marker, r.volume_budget());
   } catch (const SceneFileError& e) {
     std::string msg = e.what();
     const std::string prefix = std::string(marker) + ": ";
@@ -211,6 +250,10 @@ Scene read_any_study_scene(const StudyReader& r, const toml::table& parent, std:
 Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
                        std::string& toml_text, bool shaded) {
   Scene scene = read_any_study_scene(r, parent, path, toml_text);
+  // A volume's reader checked its size against what was left: now it is held.
+  if (!scene.field_files.empty())
+    r.spend_memory(StudyReader::child(path, "scene"), "the volume",
+                   static_cast<double>(std::get<GridField>(scene.field).nodes().bytes()));
   if (scene.color) r.fail(StudyReader::child(path, "scene"), "the scene is RGB (three-valued points), and studies compare one channel so far");
   if (scene.shading && !shaded)
     r.fail(StudyReader::child(path, "scene"), "the scene shades ([shading]): only the shading study shades so far");

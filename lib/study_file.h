@@ -3,6 +3,7 @@
 // StudyFileError, so that `vrv study` can print it and exit 2.  Shared by every study kind: the
 // reader with path-aware errors, the [scene] table (parsed by the scene-file parser) and the one
 // way a method is written in a study ({method = "reference", tol} or a discrete configuration).
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <initializer_list>
@@ -33,8 +34,17 @@ inline constexpr double kMaxOrderTolerance = 0.5;
 
 class StudyReader {
  public:
-  explicit StudyReader(std::string_view source) : source_(source) {}
+  // memory_left: the bytes the study may still spend on grids its file's memory estimate
+  // (studies/engine/memory_budget.h) cannot see before they are read: volume files, and the grids
+  // of `scene = "FILE"` scene files; 0 for no limit but the readers' own caps.
+  explicit StudyReader(std::string_view source, double memory_left = 0)
+      : source_(source), limited_(memory_left > 0), memory_left_(memory_left) {}
   const std::string& source() const { return source_; }
+  // What a volume read now may take, as parse_scene's max_volume_bytes: 0 without a limit.
+  double volume_budget() const { return limited_ ? std::max(memory_left_, 1.0) : 0.0; }
+  // Spends `bytes` on the grid `what` at key `key`, or fails naming both when they are more than
+  // is left (nothing to do without a limit).
+  void spend_memory(std::string_view key, std::string_view what, double bytes) const;
   [[noreturn]] void fail(std::string_view key, std::string_view reason) const;
   void check_keys(const toml::table& t, std::string_view path,
                   std::initializer_list<std::string_view> allowed) const;
@@ -53,6 +63,9 @@ class StudyReader {
   // A non-empty array of finite numbers, each in [lo, hi].
   std::vector<double> numbers(const toml::table& t, std::string_view key, std::string_view path,
                               double lo, double hi) const;
+  // The same, each a whole number (written 17 or 17.0): grid sizes, node counts.
+  std::vector<long> whole_numbers(const toml::table& t, std::string_view key, std::string_view path, long lo,
+                                  long hi) const;
   Vec3 vec3(const toml::table& t, std::string_view key, std::string_view path) const;
   // A gate's band on |observed order - expected order|: in (0, kMaxOrderTolerance].  A wider band
   // cannot tell order 1 from order 2, and tolerance = 1e308 made a gate pass whatever happened.
@@ -61,6 +74,9 @@ class StudyReader {
 
  private:
   std::string source_;
+  bool limited_;
+  // Readers are passed as const everywhere; spending the budget is the one change a read makes.
+  mutable double memory_left_;
 };
 
 // The study file parsed as TOML (syntax errors as "<file>: (syntax): line L, column C: ...").

@@ -32,11 +32,10 @@ constexpr double kMaxSamplesPerRay = 1e8;  // per method and ray, as for every s
 
 std::vector<int> read_resolutions(const StudyReader& r, const toml::table& t, std::string_view key) {
   const std::string at = StudyReader::child("grid_refinement", key);
-  const std::vector<double> v = r.numbers(t, key, "grid_refinement", 2, 513);
+  const std::vector<long> v = r.whole_numbers(t, key, "grid_refinement", 2, 513);
   if (v.size() < 2) r.fail(at, "one resolution gives no order (give at least two)");
   std::vector<int> out;
   for (std::size_t i = 0; i < v.size(); ++i) {
-    if (v[i] != std::floor(v[i])) r.fail(fmt::format("{}[{}]", at, i), "expected an integer");
     if (std::find(out.begin(), out.end(), static_cast<int>(v[i])) != out.end())
       r.fail(fmt::format("{}[{}]", at, i), fmt::format("{} is listed twice", v[i]));
     out.push_back(static_cast<int>(v[i]));

@@ -63,10 +63,10 @@ StudyPlan parse_convergence(const StudyInput& in) {
 }
 
 // [grid_refinement]'s grids, built one at a time from one of its lists.
-std::vector<GridSize> convergence_grids(const toml::table& doc) {
+std::vector<NodeCounts> convergence_grids(const toml::table& doc) {
   const toml::table* g = doc.get_as<toml::table>("grid_refinement");
   if (!g) return {};
-  std::vector<GridSize> out;
+  std::vector<NodeCounts> out;
   for (std::string_view key : {"resolutions", "quick_resolutions"})
     if (const auto cube = largest_cube(*g, key); cube && (out.empty() || (*cube)[0] > out[0][0])) out = {*cube};
   return out;

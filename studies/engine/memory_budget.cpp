@@ -12,15 +12,10 @@
 namespace vrv {
 namespace {
 
-constexpr double kBytesPerNode = sizeof(double);
-
-void add_grid(StudyMemory& m, GridSize r) {
-  const double nodes = static_cast<double>(r[0]) * static_cast<double>(r[1]) * static_cast<double>(r[2]);
-  m.bytes += nodes * kBytesPerNode;
+void add_grid(StudyMemory& m, NodeCounts r) {
+  m.bytes += grid_bytes(r);
   ++m.grids;
-  const double largest = static_cast<double>(m.largest[0]) * static_cast<double>(m.largest[1]) *
-                         static_cast<double>(m.largest[2]);
-  if (nodes > largest) m.largest = r;
+  if (grid_bytes(r) > grid_bytes(m.largest)) m.largest = r;
 }
 
 // Every [field] table's grid, wherever the file holds scenes (cases, lists of them).
@@ -37,7 +32,7 @@ void walk(const toml::node& n, StudyMemory& m) {
 
 }  // namespace
 
-std::optional<GridSize> largest_cube(const toml::table& t, std::string_view key) {
+std::optional<NodeCounts> largest_cube(const toml::table& t, std::string_view key) {
   const toml::node* n = t.get(key);
   if (!n) return std::nullopt;
   double largest = 0;
@@ -51,14 +46,14 @@ std::optional<GridSize> largest_cube(const toml::table& t, std::string_view key)
   }
   if (!(largest >= 1)) return std::nullopt;
   const auto side = static_cast<std::int64_t>(largest);
-  return GridSize{side, side, side};
+  return NodeCounts{side, side, side};
 }
 
 StudyMemory estimate_study_memory(const toml::table& doc, StudyGrids own) {
   StudyMemory m;
   walk(doc, m);
   if (own)
-    for (const GridSize& g : own(doc)) add_grid(m, g);
+    for (const NodeCounts& g : own(doc)) add_grid(m, g);
   return m;
 }
 

@@ -14,23 +14,23 @@
 
 #include <toml++/toml.h>
 
-namespace vrv {
+#include "lib/scene_file.h"
 
-using GridSize = std::array<std::int64_t, 3>;
+namespace vrv {
 
 // The grids a study kind builds of its own, beyond its scenes' [field] tables, as node counts
 // from its file before the driver reads it (studies/engine/study_driver.h RegisterStudyKind).
 // Lenient: what it cannot read, the driver's reader reports.
-using StudyGrids = std::vector<GridSize> (*)(const toml::table& doc);
+using StudyGrids = std::vector<NodeCounts> (*)(const toml::table& doc);
 
 // For a StudyGrids: the n^3 grid of the largest whole number `key` holds (a number, or a list of
 // them built one at a time), or nothing.
-std::optional<GridSize> largest_cube(const toml::table& t, std::string_view key);
+std::optional<NodeCounts> largest_cube(const toml::table& t, std::string_view key);
 
 struct StudyMemory {
   double bytes = 0;
   long grids = 0;
-  GridSize largest{0, 0, 0};  // the largest grid's resolution
+  NodeCounts largest{0, 0, 0};  // the largest grid's resolution
 };
 
 StudyMemory estimate_study_memory(const toml::table& doc, StudyGrids own = nullptr);

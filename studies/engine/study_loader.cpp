@@ -33,7 +33,9 @@ LoadedStudy load_study_text(std::string text, const std::string& source, const s
     r.fail("(memory)", fmt::format("its grids need {}, more than the limit of {} (raise it with "
                                    "--max-memory GIB)", describe(memory), gibibytes(limit)));
   s.memory_bytes = memory.bytes;
-  StudyPlan plan = parse(StudyInput{doc, r, s.name});
+  // What the estimate cannot see (volumes, scene files' grids) is spent from the rest as it is read.
+  const StudyReader reader(s.source, std::max(limit - memory.bytes, 1.0));
+  StudyPlan plan = parse(StudyInput{doc, reader, s.name});
   s.job = std::move(plan.job);
   s.work = std::move(plan.work);
   return s;

@@ -94,8 +94,8 @@ OpacityStudy read_study(const StudyInput& in) {
   r.check_keys(rd, "render", {"resolution", "layout", "interpolation", "oversample", "reference_tol", "quick_width",
                               "quick_height", "error_map_quantile", "paper"});
   GridField::Index3 res{};
-  const std::vector<double> rv = r.numbers(rd, "resolution", "render", 2, 1024);
-  if (rv.size() != 3) r.fail("render.resolution", "expected three integers");
+  const std::vector<long> rv = r.whole_numbers(rd, "resolution", "render", 2, 1024);
+  if (rv.size() != 3) r.fail("render.resolution", "expected three whole numbers");
   for (int i = 0; i < 3; ++i) res[i] = static_cast<int>(rv[i]);
   const std::string layout = r.string(r.require(rd, "layout", "render"), "render.layout");
   if (layout != "node" && layout != "cell") r.fail("render.layout", "must be node or cell");
@@ -169,17 +169,11 @@ StudyPlan parse_opacity_study(const StudyInput& in) {
 }
 
 // [render]'s grid, sampled from the scene's analytic field.
-std::vector<GridSize> opacity_grids(const toml::table& doc) {
+std::vector<NodeCounts> opacity_grids(const toml::table& doc) {
   const toml::table* render = doc.get_as<toml::table>("render");
-  const toml::array* a = render ? render->get_as<toml::array>("resolution") : nullptr;
-  if (!a || a->size() != 3) return {};
-  GridSize n{};
-  for (std::size_t i = 0; i < 3; ++i) {
-    const auto v = a->get(i)->value<double>();
-    if (!v || !(*v >= 1 && *v <= 1e6)) return {};
-    n[i] = static_cast<std::int64_t>(*v);
-  }
-  return {n};
+  const auto nodes = render ? node_counts_at(*render, "resolution") : std::nullopt;
+  if (!nodes) return {};
+  return {*nodes};
 }
 
 const RegisterStudyKind kOpacityCorrection{"opacity_correction", parse_opacity_study, opacity_grids};

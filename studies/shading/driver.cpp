@@ -24,11 +24,11 @@ StudyPlan parse_shading(const StudyInput& in) {
 }
 
 // The refinement's node grids (one at a time: the largest) and the images' grid.
-std::vector<GridSize> shading_grids(const toml::table& doc) {
-  std::vector<GridSize> out;
+std::vector<NodeCounts> shading_grids(const toml::table& doc) {
+  std::vector<NodeCounts> out;
   if (const auto cube = largest_cube(doc, "grids")) out.push_back(*cube);
   const std::int64_t n = ShadingStudy{}.image_grid;
-  out.push_back(largest_cube(doc, "image_grid").value_or(GridSize{n, n, n}));
+  out.push_back(largest_cube(doc, "image_grid").value_or(NodeCounts{n, n, n}));
   return out;
 }
 

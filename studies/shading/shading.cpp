@@ -250,10 +250,7 @@ ShadingStudy read_shading_study(const StudyInput& in) {
   const RaySample sample = read_ray_sample(r, doc, {s.rays, s.quick_rays, s.seed, s.reference_tol});
   s.rays = sample.rays, s.quick_rays = sample.quick_rays, s.seed = sample.seed, s.reference_tol = sample.reference_tol;
   s.steps = read_refinement_steps(r, doc);
-  for (double n : r.numbers(doc, "grids", "", 3, 513)) {
-    if (n != std::floor(n)) r.fail("grids", fmt::format("node counts are whole numbers, got {}", n));
-    s.grids.push_back(static_cast<int>(n));
-  }
+  for (long n : r.whole_numbers(doc, "grids", "", 3, 513)) s.grids.push_back(static_cast<int>(n));
   if (s.grids.size() < 3) r.fail("grids", "at least three grids (an order and its spread)");
   s.grid_step_per_spacing = r.number_or(doc, "grid_step_per_spacing", "", s.grid_step_per_spacing);
   if (!(s.grid_step_per_spacing > 0 && s.grid_step_per_spacing <= 4))

@@ -89,7 +89,7 @@ TEST(ConvergenceStudy, BadStudyFilesGiveOneLineNamingFileAndKey) {
       {valid_study() + "[grid_refinement]\nresolutions = [9]\n",
        "bad.toml: grid_refinement.resolutions: one resolution gives no order"},
       {valid_study() + "[grid_refinement]\nresolutions = [9, 17.5]\n",
-       "bad.toml: grid_refinement.resolutions[1]: expected an integer"},
+       "bad.toml: grid_refinement.resolutions[1]: expected a whole number, got 17.5"},
       {valid_study() + "[grid_refinement]\nresolutions = [9, 17]\nsteps_per_cell = 0\n",
        "bad.toml: grid_refinement.steps_per_cell: must be in"},
       {valid_study() + "[grid_refinement]\nresolution = [9, 17]\n",

@@ -42,7 +42,7 @@ resolution = [1000, 1000, 1000]
   const StudyMemory m = estimate_study_memory(doc);
   EXPECT_EQ(m.grids, 2);
   EXPECT_EQ(m.bytes, (10 * 20 * 30 + 40 * 4 * 4) * 8.0);
-  EXPECT_EQ(m.largest, (GridSize{10, 20, 30}));
+  EXPECT_EQ(m.largest, (NodeCounts{10, 20, 30}));
 }
 
 // A malformed grid is the reader's to report: the estimate neither counts it nor fails.
@@ -64,7 +64,7 @@ TEST(StudyMemory, CountsTheGridsAStudyKindDeclares) {
   const StudyMemory m = estimate_study_memory(doc, shading);
   EXPECT_EQ(m.grids, 2);
   EXPECT_EQ(m.bytes, (65.0 * 65 * 65 + 129.0 * 129 * 129) * 8);
-  EXPECT_EQ(m.largest, (GridSize{129, 129, 129}));
+  EXPECT_EQ(m.largest, (NodeCounts{129, 129, 129}));
   // Without image_grid the study images its default grid (33^3).
   EXPECT_EQ(estimate_study_memory(parsed("grids = [17, 65]\n"), shading).bytes, (65.0 * 65 * 65 + 33.0 * 33 * 33) * 8);
 
@@ -74,7 +74,7 @@ TEST(StudyMemory, CountsTheGridsAStudyKindDeclares) {
   const StudyMemory c = estimate_study_memory(
       parsed("[grid_refinement]\nresolutions = [17, 129, 65]\nquick_resolutions = [17, 33]\n"), convergence);
   EXPECT_EQ(c.grids, 1);
-  EXPECT_EQ(c.largest, (GridSize{129, 129, 129}));
+  EXPECT_EQ(c.largest, (NodeCounts{129, 129, 129}));
 
   // opacity_correction: the render's grid of [render] resolution.
   const StudyGrids opacity = find_study_grids("opacity_correction");

@@ -254,6 +254,9 @@ TEST(OpacityCorrectionStudy, StudyFileReadsAndBadKeysAreOneLineErrors) {
   e = parse_error(std::regex_replace(text, std::regex("oversample = 5"), "oversample = 0"));
   EXPECT_NE(e.find("render.oversample"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos);
+  // A grid of 64.5 nodes was read as 64: refused, naming the entry.
+  e = parse_error(std::regex_replace(text, std::regex("resolution = \\[(\\d+),"), "resolution = [$1.5,"));
+  EXPECT_NE(e.find("render.resolution[0]: expected a whole number, got "), std::string::npos) << e;
 }
 
 }  // namespace

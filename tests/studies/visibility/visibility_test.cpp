@@ -18,7 +18,7 @@
 #include "studies/visibility/culling.h"
 
 namespace vrv {
-namespace {
+namespace visibility_test {  // named: the unity build joins test files, and helper names recur
 
 TEST(VisibilityIdentity, ScaledOpacityIsOneMinusTransparencyToTheK) {
   for (double a : {0.01, 0.05, 0.3, 0.9, 0.999})
@@ -315,5 +315,5 @@ TEST(VisibilityStudyFile, TheStudyParsesAndBadKeysGiveOneLine) {
   }
 }
 
-}  // namespace
+}  // namespace visibility_test
 }  // namespace vrv
