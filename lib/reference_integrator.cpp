@@ -9,10 +9,12 @@
 
 namespace vrv {
 
-void validate(const ReferenceOptions& options) {
-  if (!(options.tol > 0) || !std::isfinite(options.tol))
-    throw OptionError(Option::tol, fmt::format("must be a positive finite number, got {}", options.tol));
+void check_tolerance(double tol) {
+  if (!(tol > 0) || !std::isfinite(tol))
+    throw OptionError(Option::tol, fmt::format("must be a positive finite number, got {}", tol));
 }
+
+void validate(const ReferenceOptions& options) { check_tolerance(options.tol); }
 
 namespace detail {
 namespace {
@@ -184,12 +186,11 @@ void RayAccumulator::panel_cuts(const RayPanel& panel) {
   if (!weight_ || emission_done_) return;
   switches_.clear();
   weight_->append_switches(panel.a, panel.b, switches_);
-  const double transmittance = transmittance_;
   for (const WeightSwitch& w : switches_) {
     if (w.cut) cuts_.push_back(w.t);
     // The integrand takes one side's branch up to the found switch: a jump placed dt off the
     // true one is wrong by at most the weight's spread over dt (attenuated at least as here).
-    if (w.jump) error_ += charge(w.dt, shade_max_ - shade_min_, tf_.max_emission(), transmittance);
+    if (w.jump) error_ += charge(w.dt, shade_max_ - shade_min_, tf_.max_emission(), transmittance_);
   }
   std::sort(cuts_.begin(), cuts_.end());
 }
@@ -406,7 +407,7 @@ bool RayAccumulator::integrate_opaque_piece(const RayPanel& panel, double c, dou
   const double r_lo = seg.g(layer.min) / tau_lo, r_hi = seg.g(layer.max) / tau_hi;
   if (!(std::min(tau_lo, tau_hi) * (e - c) > 32)) return false;
   const double r_min = std::min(r_lo, r_hi), r_max = std::max(r_lo, r_hi);
-  const double transmittance = transmittance_;
+  const double transmittance = transmittance_;  // at the piece's start: the layer below moves transmittance_
   const double local_tol = kQuadratureShare * tol_ * (d - c) / iv_.length();
   if (!(0.5 * (r_max - r_min) * transmittance <= local_tol)) return false;
   const double phi0 = phi_, booked0 = depth_error_;
@@ -576,9 +577,8 @@ void RayAccumulator::integrate_spectral(const RayPanel& panel, double c, double 
   const bool ladder = !exact && panel.size() <= kKnownDegreeNodes;
   int n = ladder ? std::min(most, kFirstLadderPoints) : most;
   const double local_tol = kQuadratureShare * tol_ * (d - c) / iv_.length();
-  const double transmittance = transmittance_;
   const auto accepted = [&](const SpectralTry& s) {
-    const double judged = s.error + s.depth_error * transmittance * sensitivity_after(c);
+    const double judged = s.error + s.depth_error * transmittance_ * sensitivity_after(c);
     return s.converged && (judged <= local_tol || s.at_rounding);
   };
   SpectralTry s = spectral_try(panel, c, d, seg, depth_only, n);
@@ -631,11 +631,10 @@ double RayAccumulator::joint_error(double value, double other_error) const {
 void RayAccumulator::check_termination(double t) {
   if (stopped_) return;
   // Everything still to come emits at most max g per unit length, attenuated by e^-Phi.
-  const double transmittance = transmittance_;
-  const double rest = emission_done_ ? 0.0 : transmittance * max_emission() * (iv_.t1 - t);
+  const double rest = emission_done_ ? 0.0 : transmittance_ * max_emission() * (iv_.t1 - t);
   // Opaque: neither the emission to come nor the background (whose share lies in
   // [0, e^-Phi I0], reported as e^-Phi I0) can matter any more.
-  const double behind = rest + transmittance * background_;
+  const double behind = rest + transmittance_ * background_;
   if (stop_when_opaque_ && termination_booked_ + behind <= kTerminationShare * tol_) {
     emission_done_ = stopped_ = stopped_early_ = true;
     emission_done_at_ = std::min(emission_done_at_, t);
@@ -656,9 +655,8 @@ void RayAccumulator::give_up(double t) {
   if (stopped_) return;
   // The rest emits at most max g per unit length, and at most sup g / tau however long it is
   // (a box of +-1e300 gave estimates of 2e300 where I <= 2), and lets through at most e^-Phi I0.
-  const double transmittance = transmittance_;
   const double rest = std::min(tf_.max_emission() * (iv_.t1 - t), tf_.max_emission_per_extinction()) * shade_max_;
-  error_ += transmittance * ((emission_done_ ? 0.0 : rest) + background_);
+  error_ += transmittance_ * ((emission_done_ ? 0.0 : rest) + background_);
   stopped_ = capped_ = true;
   stopped_at_ = t;
 }

@@ -38,7 +38,10 @@ struct ReferenceOptions {
   bool stop_when_opaque = true;
 };
 
-// Throws OptionError (Option::tol) unless options.tol is positive and finite.
+// Throws OptionError (Option::tol) unless tol is positive and finite: the one check of every
+// reference's tolerance (grey, colour, projections, verify's, plan's and the commands').
+void check_tolerance(double tol);
+// check_tolerance(options.tol).
 void validate(const ReferenceOptions& options);
 
 struct ReferenceResult {

@@ -1,17 +1,10 @@
 #include "lib/projection/projection_reference.h"
 
-#include <stdexcept>
-
-#include <fmt/format.h>
-
-#include "lib/option_error.h"
+#include "lib/reference_integrator.h"
 
 namespace vrv {
 
-void validate(const ProjectionOptions& options) {
-  if (!(options.tol > 0) || !std::isfinite(options.tol))
-    throw OptionError(Option::tol, fmt::format("must be a positive finite number, got {}", options.tol));
-}
+void validate(const ProjectionOptions& options) { check_tolerance(options.tol); }
 
 ProjectionResult projection_reference(const Scene& scene, const Ray& ray, ProjectionMode mode,
                                       const ProjectionOptions& options) {

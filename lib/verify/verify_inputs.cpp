@@ -10,6 +10,7 @@
 #include <fmt/ranges.h>
 
 #include "lib/option_error.h"
+#include "lib/reference_integrator.h"
 #include "lib/transfer_table.h"
 
 namespace vrv {
@@ -40,8 +41,7 @@ void check_image(const ImageWithStep& im, const std::vector<ImageWithStep>& imag
 
 void check_options(const VerifyOptions& opt) {
   if (!(opt.threshold >= 0)) throw OptionError(Option::threshold, "must be >= 0");
-  if (!(opt.reference_tol > 0) || !std::isfinite(opt.reference_tol))
-    throw OptionError(Option::tol, "must be positive and finite");
+  check_tolerance(opt.reference_tol);
   if (opt.expected_order && !std::isfinite(*opt.expected_order))
     throw OptionError(Option::expected_order, "must be finite");
   for (int n : opt.table_sizes)

@@ -69,7 +69,6 @@ nlohmann::ordered_json to_json(const ReferenceResult& r) {
   return j;
 }
 
-void check_tolerance(double tol) { validate(ReferenceOptions{tol}); }
 
 void check_threads(int threads) {
   if (threads < 0)

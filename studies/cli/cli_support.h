@@ -42,8 +42,6 @@ Scene load_scene_or_default(const std::string& path, double max_volume_bytes);
 std::string scene_text_or_default(const std::string& path);
 // Every field of the result; value and error estimate are null when not finite.
 nlohmann::ordered_json to_json(const ReferenceResult& r);
-// Validates --tol: positive and finite.
-void check_tolerance(double tol);
 // Validates --threads: 0 (the default) is every core; negative values are refused, as by study.
 void check_threads(int threads);
 

@@ -18,6 +18,7 @@
 #include "lib/reference_integrator.h"
 #include "lib/util/parallel.h"
 #include "studies/cli/cli_support.h"
+#include "studies/cli/discrete_flags.h"
 #include "studies/cli/commands.h"
 #include "studies/engine/study_rays.h"
 
@@ -165,7 +166,7 @@ void add_demo_command(CLI::App& app) {
       "demo", "Start here: every segment rule's error and order against the reference, in seconds");
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
   cmd->add_option("--rays", opt->rays, "Number of rays")->capture_default_str();
-  cmd->add_option("--tol", opt->tol, "The reference's absolute tolerance on I")->capture_default_str();
+  add_shared_option(*cmd, Option::tol, opt->tol);
   cmd->add_option("--step", opt->step, "Coarsest step (world units)")->capture_default_str();
   cmd->add_option("--halvings", opt->halvings, "Number of times the step is halved")->capture_default_str();
   cmd->callback([opt] { run_demo(*opt); });

@@ -15,6 +15,7 @@
 #include "lib/metrics.h"
 #include "lib/vrv.h"
 #include "studies/cli/cli_support.h"
+#include "studies/cli/discrete_flags.h"
 #include "studies/cli/commands.h"
 
 namespace vrv::cli {
@@ -50,7 +51,7 @@ Check check_plan(const Scene& scene, const Camera& camera, const PlannedRule& ch
 
 void run_plan(const PlanCommandOptions& o) {
   const PlanOptions p = plan_options(o.target, o.metric, o.rules, o.strategy, o.max_work);
-  if (!(o.tol > 0) || !std::isfinite(o.tol)) throw std::invalid_argument(fmt::format("--tol: must be a positive finite number, got {}", o.tol));
+  check_tolerance(o.tol);
   const Scene scene = load_scene_or_default(o.scene);
   require_unshaded(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv plan");
   require_grey(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv plan");
@@ -107,11 +108,11 @@ void add_plan_command(CLI::App& app) {
   cmd->add_option("--metric", opt->metric, "Over the pixels: max or rms")->capture_default_str();
   cmd->add_option("--rules", opt->rules, "Rules to plan, comma-separated")->capture_default_str();
   cmd->add_option("--strategy", opt->strategy, "A step-based placement: step, vtk or inviwo")->capture_default_str();
-  cmd->add_option("--width", opt->width, "Camera width (pixels)")->capture_default_str();
-  cmd->add_option("--height", opt->height, "Camera height (pixels)")->capture_default_str();
+  add_shared_option(*cmd, Option::width, opt->width);
+  add_shared_option(*cmd, Option::height, opt->height);
   cmd->add_option("--max-work", opt->max_work, "Field evaluations one image estimate may take")->capture_default_str();
   cmd->add_flag("--check", opt->check, "Render the chosen configuration and its reference; compare the errors");
-  cmd->add_option("--tol", opt->tol, "The reference's tolerance for --check")->capture_default_str();
+  add_shared_option(*cmd, Option::tol, opt->tol, "(--check's reference image)");
   cmd->add_flag("--json", opt->json, "One JSON line");
   cmd->callback([opt] { run_plan(*opt); });
 }

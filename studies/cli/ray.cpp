@@ -339,7 +339,7 @@ void add_ray_command(CLI::App& app) {
   cmd->add_option("--direction", opt->direction, "Ray direction x,y,z (any length but zero)");
   cmd->add_option("--rays", opt->rays, "JSON-lines file of rays, or - for standard input");
   opt->tol_option =
-      cmd->add_option("--tol", opt->tol, "Absolute tolerance on I (the reference)")->capture_default_str();
+      add_shared_option(*cmd, Option::tol, opt->tol, "(the reference; not with --method)");
   cmd->add_flag("--json", opt->json, "One JSON line per ray, values to full double precision");
   opt->threads_option = cmd->add_option(
       "--threads", opt->threads, "Threads for --rays (default: all cores); results do not depend on it");

@@ -544,7 +544,7 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
   cmd->add_flag("--reference", opt->reference, "Render with the reference integrator");
   opt->tol_option =
-      cmd->add_option("--tol", opt->tol, "Absolute tolerance on I per pixel (--reference)")
+      add_shared_option(*cmd, Option::tol, opt->tol, "(--reference)")
           ->capture_default_str();
   add_discrete_options(*cmd, opt->discrete);
   add_mode_option(*cmd, opt->mode);
@@ -552,8 +552,8 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--error-against", opt->error_against,
                   "Reference EXR of the same scene and camera (checked by its provenance; its .f64.tiff is "
                   "used when beside it): also write OUT_error.exr/.png and print error statistics in double");
-  cmd->add_option("--width", opt->width, "Override the camera's width (pixels; rays of a fan)");
-  cmd->add_option("--height", opt->height, "Override the camera's height (pixels; 1 for a fan)");
+  add_shared_option(*cmd, Option::width, opt->width);
+  add_shared_option(*cmd, Option::height, opt->height);
   cmd->add_option("--threads", opt->threads, "Threads (default: all cores); results do not depend on it");
   cmd->add_flag("--quiet", opt->quiet, "No progress bar on stderr");
   cmd->add_flag("--alpha", opt->alpha,

@@ -19,6 +19,7 @@
 #include "lib/util/ranks.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
+#include "studies/cli/memory_limit.h"
 #include "studies/engine/checkpoint.h"
 #include "studies/engine/interrupt.h"
 #include "studies/engine/memory_budget.h"
@@ -39,9 +40,7 @@ struct StudyOptions {
   StudyRunOptions run;
 };
 
-double memory_limit(const StudyOptions& opt) {
-  return opt.max_memory_gib > 0 ? opt.max_memory_gib * double(1 << 30) : default_memory_limit();
-}
+double memory_limit(const StudyOptions& opt) { return memory_limit_bytes(opt.max_memory_gib); }
 
 LoadedStudy load(const std::filesystem::path& path, const StudyOptions& opt) {
   return load_study_file(path, {.memory_limit = memory_limit(opt)});
@@ -109,8 +108,7 @@ int run_study(const StudyOptions& opt) {
   }
   if (opt.run.threads < 0)
     throw std::invalid_argument(fmt::format("--threads: must not be negative, got {}", opt.run.threads));
-  if (opt.max_memory_gib < 0 || !std::isfinite(opt.max_memory_gib))
-    throw std::invalid_argument(fmt::format("--max-memory: must be a positive number of GiB, got {}", opt.max_memory_gib));
+  memory_limit(opt);  // --max-memory checked before any file is read
   if (!(opt.max_work > 0) || !std::isfinite(opt.max_work))
     throw std::invalid_argument(fmt::format("--max-work: must be a positive number of field evaluations, got {}", opt.max_work));
   if (opt.run.resume && rank_count() > 1)

@@ -18,6 +18,7 @@
 #include "studies/cli/verify_run.h"
 #include "studies/engine/interrupt.h"
 #include "studies/cli/cli_support.h"
+#include "studies/cli/discrete_flags.h"
 #include "studies/cli/commands.h"
 
 namespace vrv::cli {
@@ -165,7 +166,7 @@ void add_verify_command(CLI::App& app) {
   cmd->add_option("--alpha", o->alpha, "Colour channels with an alpha channel: auto (straight where the file declares it, as PNG does; else "
                   "premultiplied), premultiplied or straight")->capture_default_str();
   cmd->add_option("--threshold", o->threshold, "Count pixels with |error| above this (default 1e-3)");
-  cmd->add_option("--tol", o->tol, "Absolute tolerance of the reference per pixel")->capture_default_str();
+  add_shared_option(*cmd, Option::tol, o->tol);
   cmd->add_option("--cache-dir", o->cache_dir, "Reference cache (default $XDG_CACHE_HOME/vrv or ~/.cache/vrv)");
   cmd->add_flag("--no-cache", o->no_cache, "Do not read or write the reference cache");
   cmd->add_flag("--no-diagnosis", o->no_diagnosis, "Skip casting vrv's own models");

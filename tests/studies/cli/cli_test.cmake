@@ -90,6 +90,16 @@ endif()
 expect_success(help_ray ray --help)
 expect_success(help_demo demo --help)
 
+# --tol means one thing in every command that takes it (lib/shared_options.h), each with its own
+# default shown; and plan's and verify's --tol are refused with the same words as the others'.
+foreach(cmd ray demo render plan verify)
+  expect_success(help_tol_${cmd} ${cmd} --help)
+  if(NOT LAST_OUT MATCHES "--tol[^\n]*The reference's absolute tolerance on I, per ray")
+    message(FATAL_ERROR "${cmd} --help does not give --tol the shared help:\n${LAST_OUT}")
+  endif()
+endforeach()
+expect_failure(plan_bad_tol "--tol: must be a positive finite number, got -1$" plan --target 1e-3 --tol -1)
+
 # vrv --help lists the subcommands in a newcomer's order: demo, ray, render, study.
 expect_success(help --help)
 string(REGEX MATCH "demo[^\n]*\n[ ]*ray[^\n]*\n[ ]*render[^\n]*\n[ ]*study" help_order "${LAST_OUT}")
