@@ -1,7 +1,7 @@
 #pragma once
 // The options several commands share, each documented once here: the reference's tolerance
 // (vrv render, ray, demo, plan, verify) and an image's size (render, plan).  The command line adds
-// their flags from here (studies/cli/cli_support.h add_shared_option), and their checks are the
+// their flags from here (studies/cli/discrete_flags.h add_shared_option), and their checks are the
 // library's: check_tolerance (lib/reference_integrator.h) and the camera's sides (lib/camera.h).
 // Each command keeps its own default, which its help shows: a reference for one image or ray is a
 // truth at 1e-12; verify and plan, made for many images, take 1e-10.

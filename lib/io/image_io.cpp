@@ -114,10 +114,12 @@ std::vector<std::string> channel_names(int channels) {
   }
 }
 
-Image::Image(int w, int h, float fill, int c) : width(w), height(h), channels(c) {
+void check_image_shape(int w, int h, int c, std::optional<std::size_t> values) {
   if (w < 0 || h < 0) throw std::invalid_argument(fmt::format("image size {} x {}", w, h));
   if (c < 1 || c > 4) throw std::invalid_argument(fmt::format("image of {} channels (1 to 4)", c));
-  pixels.assign(static_cast<std::size_t>(w) * h * c, fill);
+  const std::size_t expected = static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * static_cast<std::size_t>(c);
+  if (values && *values != expected)
+    throw std::invalid_argument(fmt::format("image of {} x {} x {} channels given {} values", w, h, c, *values));
 }
 
 void write_exr(const Image& image, const fs::path& path, const ImageProvenance* provenance) {

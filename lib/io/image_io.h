@@ -1,16 +1,18 @@
 #pragma once
-// Float images of one channel (grey, "Y") or three (RGB, "R", "G", "B", interleaved), each with
-// alpha ("A") after them or not, and their
-// files, all through OpenImageIO: float OpenEXR for the numbers, 8-bit PNG for looking at them.
+// Images of one channel (grey, "Y") or three (RGB, "R", "G", "B", interleaved), each with alpha
+// ("A") after them or not, in float or double, and their files, all through OpenImageIO: float
+// OpenEXR for the numbers, 64-bit TIFF for every bit of a double, 8-bit PNG for looking at them.
 //
 // Every writer is atomic: it writes `<path>.tmp` in the same directory and renames it onto
 // `path`, so an interrupted run never leaves a half-written file under the final name (the
 // temporary is removed when writing fails).  Failures throw std::runtime_error, one line,
 // naming the file.
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace vrv {
@@ -18,18 +20,35 @@ namespace vrv {
 // The channels' names for a count: "Y"; "Y", "A"; "R", "G", "B"; "R", "G", "B", "A".
 std::vector<std::string> channel_names(int channels);
 
-struct Image {
-  int width = 0, height = 0;
-  std::vector<float> pixels;  // row-major, row 0 = top, `channels` values a pixel
-  int channels = 1;           // 1 (grey), 3 (RGB), 2 or 4 (the same and alpha)
+// Throws std::invalid_argument for a negative side, a channel count other than 1 to 4, or (when
+// given) a pixel count other than w h channels values.
+void check_image_shape(int w, int h, int channels, std::optional<std::size_t> values = std::nullopt);
 
-  Image() = default;
+// An image whose pixels are `channels` values of type T: float (Image) for EXR and the PNG
+// previews, double (ImageF64) for the exact values a 64-bit TIFF keeps.
+template <class T>
+struct PixelImage {
+  int width = 0, height = 0;
+  std::vector<T> pixels;  // row-major, row 0 = top, `channels` values a pixel
+  int channels = 1;       // 1 (grey), 3 (RGB), 2 or 4 (the same and alpha)
+
+  PixelImage() = default;
   // Throws std::invalid_argument for a negative side or a channel count other than 1 to 4.
-  Image(int w, int h, float fill = 0, int channels = 1);
+  PixelImage(int w, int h, T fill = 0, int channels = 1) : width(w), height(h), channels(channels) {
+    check_image_shape(w, h, channels);
+    pixels.assign(static_cast<std::size_t>(w) * h * channels, fill);
+  }
+  // The given pixels; throws std::invalid_argument as above, or when they are not w h channels values.
+  PixelImage(int w, int h, std::vector<T> given, int channels = 1)
+      : width(w), height(h), pixels(std::move(given)), channels(channels) {
+    check_image_shape(w, h, channels, pixels.size());
+  }
   // A one-channel image's pixel.
-  float& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
-  float at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
+  T& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
+  T at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
 };
+using Image = PixelImage<float>;
+using ImageF64 = PixelImage<double>;
 
 // Where an image came from, so that a verification can refuse a reference of another scene or
 // camera.  Written into the image's metadata by the writers below when given: as the string
@@ -53,13 +72,6 @@ std::optional<ImageProvenance> read_provenance(const std::filesystem::path& path
 // 32-bit float, channels named by channel_names, lossless (zip) compression: bit-exact round trip.
 void write_exr(const Image& image, const std::filesystem::path& path,
                const ImageProvenance* provenance = nullptr);
-
-// An image in double precision, channels as Image's.
-struct ImageF64 {
-  int width = 0, height = 0;
-  std::vector<double> pixels;  // row-major, row 0 = top, `channels` values a pixel
-  int channels = 1;
-};
 
 // 64-bit float TIFF, its channels as write_exr names them, zip compression: every double bit for
 // bit (the EXR beside it rounds to float, one float ulp = 6e-8 near 1, which would hide smaller errors).

@@ -96,37 +96,43 @@ std::optional<std::uint64_t> exr_value_extent(std::string_view type, std::string
   return fixed ? fixed : declared;
 }
 
-namespace {
-
 // An EXR's header(s): after magic and version, attributes (name, type, int32 size, value) until an
-// empty name; a multipart file repeats that, an empty header last.  `bytes` may be the file's
-// first part only (`size` is the whole file's): what is cut off is left to OpenEXR.  The walk
-// steps from attribute to attribute as OpenEXR does (exr_value_extent), not by the declared
-// sizes: where a size is wrong they part ways, and OpenEXR would then take text for a size.
-std::string walk_exr(std::string_view bytes, std::uint64_t size) {
-  if (bytes.size() < 8) return {};
+// empty name; a multipart file repeats that, an empty header last.  What is cut off is left to
+// OpenEXR.  The walk steps from attribute to attribute as OpenEXR does (exr_value_extent), not by
+// the declared sizes: where a size is wrong they part ways, and OpenEXR would then take text for a size.
+void walk_exr_attributes(std::string_view bytes, std::uint64_t size,
+                         const std::function<bool(const ExrAttribute&)>& visit) {
+  if (bytes.size() < 8 || bytes.substr(0, kExr.size()) != kExr) return;
   const bool multipart = u32(bytes.substr(4, 4), false) & kExrMultipart;
   std::size_t at = 8;
   while (at < bytes.size() && bytes[at] != 0) {
     while (at < bytes.size() && bytes[at] != 0) {
       const std::size_t name_end = bytes.find('\0', at);
       const std::size_t type_end = name_end == std::string_view::npos ? name_end : bytes.find('\0', name_end + 1);
-      if (type_end == std::string_view::npos || type_end + 5 > bytes.size()) return {};
-      const std::uint64_t length = u32(bytes.substr(type_end + 1, 4), false);
-      const std::uint64_t value = type_end + 5;
-      if (length > size - value)
-        return fmt::format("EXR attribute '{}' at byte {} claims {} bytes, {} are left (damaged or truncated)",
-                           printable(bytes.substr(at, name_end - at)), at, static_cast<std::int32_t>(length),
-                           size - value);
-      const std::optional<std::uint64_t> extent =
-          exr_value_extent(bytes.substr(name_end + 1, type_end - name_end - 1), bytes, value, length);
-      if (!extent) return {};  // a channel list running off the end: OpenEXR says so, allocating nothing
-      at = value + *extent;
+      if (type_end == std::string_view::npos || type_end + 5 > bytes.size()) return;
+      const ExrAttribute a{bytes.substr(at, name_end - at), bytes.substr(name_end + 1, type_end - name_end - 1), at,
+                           type_end + 5, u32(bytes.substr(type_end + 1, 4), false)};
+      if (!visit(a) || a.length > size - a.value) return;
+      const std::optional<std::uint64_t> extent = exr_value_extent(a.type, bytes, a.value, a.length);
+      if (!extent) return;  // a channel list running off the end: OpenEXR says so, allocating nothing
+      at = a.value + *extent;
     }
     ++at;  // the header's terminating empty name
     if (!multipart) break;
   }
-  return {};
+}
+
+namespace {
+
+std::string walk_exr(std::string_view bytes, std::uint64_t size) {
+  std::string problem;
+  walk_exr_attributes(bytes, size, [&](const ExrAttribute& a) {
+    if (a.length > size - a.value)
+      problem = fmt::format("EXR attribute '{}' at byte {} claims {} bytes, {} are left (damaged or truncated)",
+                            printable(a.name), a.at, static_cast<std::int32_t>(a.length), size - a.value);
+    return problem.empty();
+  });
+  return problem;
 }
 
 }  // namespace

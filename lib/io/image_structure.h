@@ -13,6 +13,7 @@
 // and CRCs are the libraries' business: this is what they do not bound cheaply themselves.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -33,5 +34,19 @@ std::string image_file_structure_problem(const std::filesystem::path& file);
 // floats, an ID manifest's declared size + 4 (OpenEXR 3.1.5 reads that much), else the declared size.
 std::optional<std::uint64_t> exr_value_extent(std::string_view type, std::string_view bytes, std::uint64_t value,
                                               std::uint64_t declared);
+
+// One attribute of an EXR header: its name and type, where it starts, where its value starts and
+// the length it declares (offsets into the bytes walked).
+struct ExrAttribute {
+  std::string_view name, type;
+  std::uint64_t at = 0, value = 0, length = 0;
+};
+// Visits the header attributes of the EXR `bytes` (the file's first part: `size` is the whole
+// file's) in order, stepping from one to the next as OpenEXR does (exr_value_extent; a multipart
+// file's headers in turn).  Stops where `visit` returns false, after visiting an attribute whose
+// declared length runs past `size`, or where the headers end or the bytes are cut off.  What is
+// not EXR has no attributes.
+void walk_exr_attributes(std::string_view bytes, std::uint64_t size,
+                         const std::function<bool(const ExrAttribute&)>& visit);
 
 }  // namespace vrv

@@ -2,11 +2,15 @@
 // EXR attribute claiming more than the file holds is refused in one line naming it (the message is
 // the walk's, so libpng and OpenEXR never saw the file), the EXR's attributes stepped over as
 // OpenEXR reads them; images vrv writes pass.
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -87,6 +91,38 @@ TEST(ImageStructure, TheReaderRefusesItBeforeTheLibraries) {
     EXPECT_EQ(read_channel_image(dir / name).width, 5) << name;
   }
   fs::remove_all(dir);
+}
+
+// The walk the reader's check and the image fuzzer's size limit share: every attribute of an EXR
+// vrv writes, in order, its dataWindow the image's box (x0, y0, x1, y1) = (0, 0, 4, 2).
+TEST(ImageStructure, TheWalkVisitsEveryAttributeAsOpenExrReadsIt) {
+  const fs::path file = fs::temp_directory_path() / "vrv_image_structure_walk.exr";
+  write_exr(Image(5, 3, 0.5f), file);
+  std::ifstream in(file, std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  fs::remove(file);
+  std::vector<std::string> names;
+  std::string window;
+  walk_exr_attributes(bytes, bytes.size(), [&](const ExrAttribute& a) {
+    names.emplace_back(a.name);
+    if (a.name == "dataWindow") window = bytes.substr(a.value, 16);
+    return true;
+  });
+  for (const char* required : {"channels", "compression", "dataWindow", "displayWindow", "lineOrder"})
+    EXPECT_NE(std::find(names.begin(), names.end(), required), names.end()) << required;
+  ASSERT_EQ(window.size(), 16u);
+  std::int32_t box[4];
+  std::memcpy(box, window.data(), sizeof box);  // little-endian, as this machine
+  EXPECT_EQ(box[0], 0);
+  EXPECT_EQ(box[1], 0);
+  EXPECT_EQ(box[2], 4);
+  EXPECT_EQ(box[3], 2);
+  // Stopped where the visitor says so; nothing for bytes that are not EXR.
+  int visited = 0;
+  walk_exr_attributes(bytes, bytes.size(), [&](const ExrAttribute&) { return ++visited < 2; });
+  EXPECT_EQ(visited, 2);
+  walk_exr_attributes("not an image at all", 19, [&](const ExrAttribute&) { return ++visited, true; });
+  EXPECT_EQ(visited, 2);
 }
 
 }  // namespace
