@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "lib/camera.h"
 #include "lib/study_file.h"
 
 namespace vrv {
@@ -116,8 +117,8 @@ GateCase read_case(const StudyReader& r, const toml::table& t, std::string_view 
   if (const auto* n = t.get("expected_order")) c.expected_order = r.number(*n, StudyReader::child(path, "expected_order"));
   if (const auto* n = t.get("render")) {
     c.render = read_render(r, *n, StudyReader::child(path, "render"));
-    if (t.contains("width")) c.width = static_cast<int>(r.integer(*t.get("width"), StudyReader::child(path, "width"), 1, 16384));
-    if (t.contains("height")) c.height = static_cast<int>(r.integer(*t.get("height"), StudyReader::child(path, "height"), 1, 16384));
+    if (t.contains("width")) c.width = static_cast<int>(r.integer(*t.get("width"), StudyReader::child(path, "width"), 1, kMaxImageSide));
+    if (t.contains("height")) c.height = static_cast<int>(r.integer(*t.get("height"), StudyReader::child(path, "height"), 1, kMaxImageSide));
   } else {
     const toml::array& a = r.array(*t.get("images"), StudyReader::child(path, "images"));
     if (a.empty()) r.fail(StudyReader::child(path, "images"), "empty");

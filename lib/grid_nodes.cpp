@@ -62,10 +62,12 @@ void GridNodes::point_at(std::shared_ptr<const VolumeSamples> samples,
   table_ = table_owner_ ? table_owner_->data() : nullptr;
 }
 
-std::size_t GridNodes::bytes() const {
-  return size_ * scalar_bytes(static_cast<ScalarType>(samples_->index())) +
-         (table_owner_ ? table_owner_->size() * sizeof(double) : 0);
+std::size_t grid_nodes_bytes(ScalarType t, std::size_t count) {
+  const std::size_t width = scalar_bytes(t);
+  return count * width + (width <= 2 ? (std::size_t{1} << (8 * width)) * sizeof(double) : 0);
 }
+
+std::size_t GridNodes::bytes() const { return grid_nodes_bytes(static_cast<ScalarType>(samples_->index()), size_); }
 
 std::string_view GridNodes::stored_bytes() const {
   return {static_cast<const char*>(data_), size_ * scalar_bytes(static_cast<ScalarType>(samples_->index()))};

@@ -34,6 +34,10 @@ struct SampleMap {
   }
 };
 
+// What GridNodes of `count` samples of type `t` hold: the samples and, for 8/16-bit ones, the table
+// of every code's value (2^8 or 2^16 doubles).
+std::size_t grid_nodes_bytes(ScalarType t, std::size_t count);
+
 class GridNodes {
  public:
   enum class Kind { f64, code8, code16, u32, i32, f32 };
@@ -46,7 +50,7 @@ class GridNodes {
 
   Kind kind() const { return kind_; }
   std::size_t size() const { return size_; }
-  // Bytes held: the samples and, for 8/16-bit ones, the table.
+  // Bytes held: the samples and, for 8/16-bit ones, the table (grid_nodes_bytes).
   std::size_t bytes() const;
   double operator[](std::size_t n) const;
   // f(fetch) with fetch(n) the value of node n, fetch's type fixed per kind (the interpolation

@@ -152,6 +152,13 @@ std::optional<Strategy> parse_strategy(std::string_view name) { return parse_nam
 
 std::string_view strategy_name(Strategy s) { return name_of(kStrategyNames, s); }
 
+std::vector<Strategy> strategies_where(bool (*keep)(Strategy)) {
+  std::vector<Strategy> out;
+  for (const auto& [s, name] : kStrategyNames)
+    if (keep(s)) out.push_back(s);
+  return out;
+}
+
 void check_sampling(const SamplingConfig& config) {
   if (rate_based(config.strategy)) check_positive(config.rate, Option::rate);
   else check_positive(config.step, Option::step);

@@ -4,6 +4,7 @@
 // corners, what VTK and Inviwo actually do) and docs/discrete-raycasts.md.
 #include <array>
 #include <optional>
+#include <vector>
 #include <string_view>
 
 #include "lib/geometry.h"
@@ -28,6 +29,10 @@ enum class Strategy {
 // "exit_anchored".
 std::optional<Strategy> parse_strategy(std::string_view name);
 std::string_view strategy_name(Strategy s);
+// The strategies `keep` picks, in the order above (what a study or command takes, for its errors).
+std::vector<Strategy> strategies_where(bool (*keep)(Strategy));
+// The step-based strategies without a partial step (partial and exit_anchored sample one at an end).
+inline constexpr Strategy kWholeStepStrategies[] = {Strategy::step, Strategy::vtk, Strategy::inviwo};
 
 // Whether the strategy places samples by a world step (SamplingConfig::step) rather than a rate.
 bool step_based(Strategy st);

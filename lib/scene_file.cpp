@@ -347,6 +347,11 @@ GridField read_volume_field(const Reader& r, const toml::table& t, const Box& bo
     if (r.volume_budget() > 0 && r.volume_budget() < static_cast<double>(options.max_bytes))
       options.max_bytes = static_cast<std::int64_t>(r.volume_budget());
     Volume v = read_volume(file, options);
+    // The reader checked the samples; their 8/16-bit code table is built next, beside them.
+    const double held = static_cast<double>(grid_nodes_bytes(v.type(), v.count()));
+    if (r.volume_budget() > 0 && held > r.volume_budget())
+      r.fail("field.file", fmt::format("{}: its samples and their table of values take {} bytes, more than the {} "
+                                       "allowed (--max-memory)", file.string(), held, r.volume_budget()));
     files = files_digest(v.files);
     return volume_grid(std::move(v), mapping, placement, box, layout, interpolation, file);
   } catch (const VolumeFileError& e) {

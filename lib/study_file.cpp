@@ -128,13 +128,20 @@ std::vector<long> StudyReader::whole_numbers(const toml::table& t, std::string_v
   return out;
 }
 
+void StudyReader::fail_choice(std::string_view path, std::string_view text, bool known,
+                              std::span<const std::string_view> names) const {
+  const std::string list = fmt::format("{}", fmt::join(names, ", "));
+  fail(path, known ? fmt::format("'{}' is not taken here (one of {})", text, list)
+                   : fmt::format("unknown value '{}' (one of {})", text, list));
+}
+
 void StudyReader::spend_memory(std::string_view key, std::string_view what, double bytes) const {
-  if (!limited_) return;
-  if (!(bytes <= memory_left_))
+  if (limited_ && !(bytes <= memory_left_))
     fail(key, fmt::format("{} needs {:.1f} MiB, more than the {:.1f} MiB the study has left under its memory limit "
                           "(raise it with --max-memory GIB)",
                           what, bytes / (1 << 20), memory_left_ / (1 << 20)));
   memory_left_ -= bytes;
+  memory_spent_ += bytes;
 }
 
 Vec3 StudyReader::vec3(const toml::table& t, std::string_view key, std::string_view path) const {

@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
@@ -43,8 +44,10 @@ class StudyReader {
   // What a volume read now may take, as parse_scene's max_volume_bytes: 0 without a limit.
   double volume_budget() const { return limited_ ? std::max(memory_left_, 1.0) : 0.0; }
   // Spends `bytes` on the grid `what` at key `key`, or fails naming both when they are more than
-  // is left (nothing to do without a limit).
+  // is left (without a limit, only counts them).
   void spend_memory(std::string_view key, std::string_view what, double bytes) const;
+  // What spend_memory has spent: the grids the file's estimate could not see.
+  double memory_spent() const { return memory_spent_; }
   [[noreturn]] void fail(std::string_view key, std::string_view reason) const;
   void check_keys(const toml::table& t, std::string_view path,
                   std::initializer_list<std::string_view> allowed) const;
@@ -67,6 +70,11 @@ class StudyReader {
   std::vector<long> whole_numbers(const toml::table& t, std::string_view key, std::string_view path, long lo,
                                   long hi) const;
   Vec3 vec3(const toml::table& t, std::string_view key, std::string_view path) const;
+  // Fails at `path` for `text`, which should have been one of `names`: "unknown value 'X' (one of
+  // a, b)", or, when `known` (X names something this key does not take here), "'X' is not taken
+  // here (one of a, b)".
+  [[noreturn]] void fail_choice(std::string_view path, std::string_view text, bool known,
+                                std::span<const std::string_view> names) const;
   // A gate's band on |observed order - expected order|: in (0, kMaxOrderTolerance].  A wider band
   // cannot tell order 1 from order 2, and tolerance = 1e308 made a gate pass whatever happened.
   double order_tolerance(const toml::node& n, std::string_view path) const;
@@ -77,12 +85,37 @@ class StudyReader {
   bool limited_;
   // Readers are passed as const everywhere; spending the budget is the one change a read makes.
   mutable double memory_left_;
+  mutable double memory_spent_ = 0;
 };
 
 // The study file parsed as TOML (syntax errors as "<file>: (syntax): line L, column C: ...").
 toml::table parse_study_toml(std::string_view text, std::string_view source_name);
 // Reads the file (must exist, at most 16 MiB) into `text`.
 std::string read_study_text(const std::filesystem::path& path);
+
+// The value of an enum E named by the string `n` at `path`, one of `allowed` (`parse` and `name`
+// are E's name table's, lib/util/enum_names.h); else fail_choice, naming the allowed ones.
+template <class E>
+E read_choice(const StudyReader& r, const toml::node& n, std::string_view path, std::span<const E> allowed,
+              std::optional<E> (*parse)(std::string_view), std::string_view (*name)(E)) {
+  const std::string text = r.string(n, path);
+  const std::optional<E> value = parse(text);
+  if (value && std::find(allowed.begin(), allowed.end(), *value) != allowed.end()) return *value;
+  std::vector<std::string_view> names;
+  for (E e : allowed) names.push_back(name(e));
+  r.fail_choice(path, text, value.has_value(), names);
+}
+
+// The same check of a value already read (a method's strategy, read with the method's other keys):
+// "'X' is not taken here (one of a, b)" at `path` unless `value` is one of `allowed`.
+template <class E>
+void require_choice(const StudyReader& r, std::string_view path, E value, std::span<const E> allowed,
+                    std::string_view (*name)(E)) {
+  if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return;
+  std::vector<std::string_view> names;
+  for (E e : allowed) names.push_back(name(e));
+  r.fail_choice(path, name(value), true, names);
+}
 
 // The [scene] table under `parent` (at `path`): the usual scene tables, parsed by parse_scene, its
 // keys reported as <path>.scene.<key>; its TOML text goes to `toml_text`.  Or `scene = "FILE"`:

@@ -25,9 +25,11 @@ CLI::Option* add_shared_option(CLI::App& cmd, Option option, T& value, std::stri
   std::string help(shared_option_help(option));
   if (!note.empty()) help += " " + std::string(note);
   CLI::Option* o = cmd.add_option(std::string(option_name(option, Spelling::flag)), value, help);
-  bool has_default = true;
-  if constexpr (requires { value.has_value(); }) has_default = value.has_value();
-  if (has_default) o->capture_default_str();
+  if constexpr (requires { value.has_value(); }) {
+    if (value) o->default_str(std::to_string(*value));  // CLI11 cannot print an optional's default
+  } else {
+    o->capture_default_str();
+  }
   return o;
 }
 

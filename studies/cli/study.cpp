@@ -93,6 +93,7 @@ int run_one(const LoadedStudy& study, const StudyOptions& opt) {
 }
 
 int run_study(const StudyOptions& opt) {
+  memory_limit(opt);  // --max-memory checked before any file is read, --list's too
   if (opt.list) {
     if (!opt.study.empty()) throw std::invalid_argument("--list: takes no study name");
     for (const auto& [name, path] : find_studies()) {
@@ -108,7 +109,6 @@ int run_study(const StudyOptions& opt) {
   }
   if (opt.run.threads < 0)
     throw std::invalid_argument(fmt::format("--threads: must not be negative, got {}", opt.run.threads));
-  memory_limit(opt);  // --max-memory checked before any file is read
   if (!(opt.max_work > 0) || !std::isfinite(opt.max_work))
     throw std::invalid_argument(fmt::format("--max-work: must be a positive number of field evaluations, got {}", opt.max_work));
   if (opt.run.resume && rank_count() > 1)

@@ -100,12 +100,9 @@ StudyDefinition read_convergence_study(const StudyInput& in) {
   // [sampling]: strategy and steps.
   const toml::table& sampling = r.table(r.require(doc, "sampling", ""), "sampling");
   r.check_keys(sampling, "sampling", {"strategy", "steps"});
-  const std::string strategy = r.string(r.require(sampling, "strategy", "sampling"), "sampling.strategy");
-  const auto st = parse_strategy(strategy);
-  if (!st || (*st != Strategy::step && *st != Strategy::inviwo))
-    r.fail("sampling.strategy",
-           fmt::format("unknown or unsupported strategy '{}' (step or inviwo)", strategy));
-  s.strategy = *st;
+  constexpr Strategy kStrategies[] = {Strategy::step, Strategy::inviwo};
+  s.strategy = read_choice<Strategy>(r, r.require(sampling, "strategy", "sampling"), "sampling.strategy", kStrategies,
+                                     parse_strategy, strategy_name);
   const toml::node& steps = r.require(sampling, "steps", "sampling");
   const toml::array* sa = steps.as_array();
   if (!sa) r.fail("sampling.steps", "expected an array of numbers");

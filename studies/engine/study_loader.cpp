@@ -36,6 +36,7 @@ LoadedStudy load_study_text(std::string text, const std::string& source, const s
   // What the estimate cannot see (volumes, scene files' grids) is spent from the rest as it is read.
   const StudyReader reader(s.source, std::max(limit - memory.bytes, 1.0));
   StudyPlan plan = parse(StudyInput{doc, reader, s.name});
+  s.memory_bytes += reader.memory_spent();  // --all adds the studies up
   s.job = std::move(plan.job);
   s.work = std::move(plan.work);
   return s;

@@ -18,7 +18,7 @@ struct LoadedStudy {
   std::string name, kind, description, text, source;
   StudyJob job;
   StudyWorkEstimate work;   // its field evaluations, full or --quick (study_work.h)
-  double memory_bytes = 0;  // the estimate of its grids (memory_budget.h)
+  double memory_bytes = 0;  // its grids: the file's estimate (memory_budget.h) and what was read beyond it
 };
 
 // `source` names the file in messages and anchors relative paths (scene = "FILE"); `default_name`

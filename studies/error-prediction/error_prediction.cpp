@@ -104,9 +104,7 @@ PredictionMethod read_variant(const StudyReader& r, const toml::table& t, const 
   with_step.insert_or_assign("step", 1.0);  // replaced by each case's steps
   const StudyMethodSpec spec = read_study_method(r, with_step, path, scene);
   if (spec.reference) r.fail(path + ".method", "a discrete method (the reference is the truth)");
-  if (!step_based(spec.config.sampling.strategy) || spec.config.sampling.strategy == Strategy::partial ||
-      spec.config.sampling.strategy == Strategy::exit_anchored)
-    r.fail(path + ".strategy", "a step-based placement without a partial step (step, vtk, inviwo)");
+  require_choice<Strategy>(r, path + ".strategy", spec.config.sampling.strategy, kWholeStepStrategies, strategy_name);
   return {spec.label, spec.config};
 }
 
@@ -125,10 +123,12 @@ ErrorPredictionStudy read_error_prediction_study(const StudyInput& in) {
   s.separation = r.number_or(doc, "separation", "", s.separation);
   if (!(s.separation > 0)) r.fail("separation", "must be positive");
   const auto rules = read_names<SegmentRule>(r, doc, "rules", parse_segment_rule, "riemann, alpha, trapezoid, exact_linear, moreland");
-  const auto strategies = read_names<Strategy>(r, doc, "strategies", parse_strategy, "step, vtk, inviwo");
-  for (std::size_t i = 0; i < strategies.size(); ++i)
-    if (!step_based(strategies[i]) || strategies[i] == Strategy::partial || strategies[i] == Strategy::exit_anchored)
-      r.fail(fmt::format("strategies[{}]", i), "a step-based placement without a partial step (step, vtk, inviwo)");
+  std::vector<Strategy> strategies;
+  const toml::array& listed = r.array(r.require(doc, "strategies", ""), "strategies");
+  for (std::size_t i = 0; i < listed.size(); ++i)
+    strategies.push_back(read_choice<Strategy>(r, *listed.get(i), fmt::format("strategies[{}]", i),
+                                               kWholeStepStrategies, parse_strategy, strategy_name));
+  if (strategies.empty()) r.fail("strategies", "at least one");
   const toml::array& cases = r.array(r.require(doc, "case", ""), "case");
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const std::string path = fmt::format("case[{}]", i);

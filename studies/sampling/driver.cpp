@@ -38,14 +38,13 @@ std::vector<Strategy> read_strategies(const StudyReader& r, const toml::table& t
   const std::string at = StudyReader::child(path, key);
   const toml::array& a = r.array(r.require(t, key, path), at);
   if (a.empty()) r.fail(at, "empty");
+  const std::vector<Strategy> rate_based = strategies_where([](Strategy s) { return !step_based(s); });
   std::vector<Strategy> out;
   for (std::size_t i = 0; i < a.size(); ++i) {
     const std::string p = fmt::format("{}[{}]", at, i);
-    const auto s = parse_strategy(r.string(*a.get(i), p));
-    if (!s || step_based(*s))
-      r.fail(p, "expected a rate-based strategy (eye, entry, entry_exit, entry_exit_corner)");
-    if (std::find(out.begin(), out.end(), *s) != out.end()) r.fail(p, "listed twice");
-    out.push_back(*s);
+    const Strategy s = read_choice<Strategy>(r, *a.get(i), p, rate_based, parse_strategy, strategy_name);
+    if (std::find(out.begin(), out.end(), s) != out.end()) r.fail(p, "listed twice");
+    out.push_back(s);
   }
   return out;
 }

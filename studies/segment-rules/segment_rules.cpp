@@ -111,10 +111,8 @@ ImageSettings read_images(const StudyReader& r, const toml::table& doc) {
   ImageSettings st;
   const toml::table& images = r.table(r.require(doc, "images", ""), "images");
   r.check_keys(images, "images", {"strategy", "reference_tol", "order_tolerance", "rule"});
-  const std::string strategy = r.string(r.require(images, "strategy", "images"), "images.strategy");
-  const auto parsed = parse_strategy(strategy);
-  if (!parsed || !step_based(*parsed)) r.fail("images.strategy", "must be a step strategy (step, vtk, inviwo)");
-  st.strategy = *parsed;
+  st.strategy = read_choice<Strategy>(r, r.require(images, "strategy", "images"), "images.strategy",
+                                      strategies_where(step_based), parse_strategy, strategy_name);
   st.reference_tol = read_reference_tol(r, images, "images");
   st.order_tolerance = read_order_tolerance(r, images, "images");
   st.rules = read_rules(r, images);

@@ -114,10 +114,9 @@ void read_method(const StudyReader& r, const toml::table& m, const std::string& 
   for (double v : all) {
     Level level{series, one_level(r, m, path, d.scene, reference ? "tol" : "step", v),
                 std::find(quick.begin(), quick.end(), v) != quick.end()};
-    if (!reference && level.spec.config.sampling.strategy != Strategy::step &&
-        level.spec.config.sampling.strategy != Strategy::inviwo &&
-        level.spec.config.sampling.strategy != Strategy::vtk)
-      r.fail(path + ".strategy", "must be step-based (step, vtk or inviwo)");
+    if (!reference)
+      require_choice<Strategy>(r, path + ".strategy", level.spec.config.sampling.strategy, kWholeStepStrategies,
+                               strategy_name);
     d.levels.push_back(level);
   }
 }

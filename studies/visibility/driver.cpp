@@ -36,15 +36,9 @@ PiecewiseLinear read_points(const StudyReader& r, const toml::table& t, std::str
 // A list of `count` whole numbers in [lo, hi].
 std::vector<int> read_ints(const StudyReader& r, const toml::table& t, std::string_view key,
                            std::string_view path, std::size_t count, int lo, int hi) {
-  const std::vector<double> x = r.numbers(t, key, path, lo, hi);
-  const std::string p = StudyReader::child(path, key);
-  if (x.size() != count) r.fail(p, fmt::format("expected {} whole numbers", count));
-  std::vector<int> out;
-  for (double v : x) {
-    if (v != std::floor(v)) r.fail(p, fmt::format("{} is not a whole number", v));
-    out.push_back(static_cast<int>(v));
-  }
-  return out;
+  const std::vector<long> x = r.whole_numbers(t, key, path, lo, hi);
+  if (x.size() != count) r.fail(StudyReader::child(path, key), fmt::format("expected {} whole numbers", count));
+  return std::vector<int>(x.begin(), x.end());
 }
 
 double open_unit(const StudyReader& r, const toml::table& t, std::string_view key, std::string_view path) {

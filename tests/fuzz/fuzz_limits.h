@@ -3,6 +3,7 @@
 // memory; a fine step takes its time).  Those are the work and memory budgets' business (tested
 // elsewhere); a fuzzer that stopped at each would find nothing else.  Everything else a harness
 // is given must parse or be refused with the reader's own error, never crash, hang or leak.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -18,22 +19,15 @@ namespace vrv::fuzz {
 inline constexpr std::int64_t kMaxGridNodes = std::int64_t{1} << 18;  // 64^3
 inline constexpr std::size_t kMaxInputBytes = std::size_t{1} << 16;
 
-// The product of every `resolution = [a, b, c]` array anywhere in the document (the scene
-// file's [field] and a study's [scene.field]) stays under kMaxGridNodes.
+// Every `resolution = [a, b, c]` array anywhere in the document (the scene file's [field] and a
+// study's [scene.field] or [render]), read as the memory estimates read it (node_counts_at), holds
+// at most kMaxGridNodes nodes.
 inline bool grids_are_small(const toml::node& n) {
   if (const auto* t = n.as_table()) {
-    for (const auto& [key, value] : *t) {
-      if (key.str() == "resolution" && value.is_array()) {
-        std::int64_t nodes = 1;
-        for (const auto& e : *value.as_array()) {
-          const auto* i = e.as_integer();
-          if (!i) continue;  // the reader refuses it
-          if (i->get() <= 0) return true;
-          if (i->get() > kMaxGridNodes || (nodes *= i->get()) > kMaxGridNodes) return false;
-        }
-      }
+    const auto nodes = vrv::node_counts_at(*t, "resolution");
+    if (nodes && vrv::grid_bytes(*nodes) > static_cast<double>(kMaxGridNodes) * sizeof(double)) return false;
+    for (const auto& [key, value] : *t)
       if (!grids_are_small(value)) return false;
-    }
   } else if (const auto* a = n.as_array()) {
     for (const auto& e : *a)
       if (!grids_are_small(e)) return false;
@@ -56,13 +50,13 @@ inline std::int64_t claimed_image_pixels(std::string_view b) {
   };
   if (b.size() >= 24 && b.substr(0, 8) == std::string_view("\x89PNG\r\n\x1a\n", 8) && b.substr(12, 4) == "IHDR")
     return std::int64_t{u32(16, true)} * std::int64_t{u32(20, true)};
-  // EXR: the dataWindow attribute (16 bytes whatever it declares, as OpenEXR reads a box2i).
+  // EXR: the largest dataWindow of its parts (16 bytes whatever it declares, as OpenEXR reads a box2i).
   std::int64_t pixels = -1;
   vrv::walk_exr_attributes(b, b.size(), [&](const vrv::ExrAttribute& a) {
     if (a.name != "dataWindow" || a.value + 16 > b.size()) return true;
     const auto i32 = [&](std::size_t k) { return static_cast<std::int64_t>(static_cast<std::int32_t>(u32(a.value + 4 * k, false))); };
-    pixels = (i32(2) - i32(0) + 1) * (i32(3) - i32(1) + 1);
-    return false;
+    pixels = std::max(pixels, (i32(2) - i32(0) + 1) * (i32(3) - i32(1) + 1));
+    return true;
   });
   return pixels;
 }

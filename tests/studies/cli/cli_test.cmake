@@ -91,7 +91,7 @@ expect_success(help_ray ray --help)
 expect_success(help_demo demo --help)
 
 # --tol means one thing in every command that takes it (lib/shared_options.h), each with its own
-# default shown; and plan's and verify's --tol are refused with the same words as the others'.
+# default shown; and plan's --tol, which had its own check, is refused with the same words as the others'.
 foreach(cmd ray demo render plan verify)
   expect_success(help_tol_${cmd} ${cmd} --help)
   if(NOT LAST_OUT MATCHES "--tol[^\n]*The reference's absolute tolerance on I, per ray")

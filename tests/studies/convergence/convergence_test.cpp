@@ -80,6 +80,11 @@ TEST(ConvergenceStudy, BadStudyFilesGiveOneLineNamingFileAndKey) {
   };
   const study_test::BadFile cases[] = {
       {replace(valid_study(), "\"riemann\"", "\"simpson\""), "bad.toml: method[0].rule: unknown method 'simpson'"},
+      // A strategy this study does not take is told apart from a name that is none (StudyReader::fail_choice).
+      {replace(valid_study(), "\"inviwo\"", "\"bogus\""),
+       "bad.toml: sampling.strategy: unknown value 'bogus' (one of step, inviwo)"},
+      {replace(valid_study(), "\"inviwo\"", "\"eye\""),
+       "bad.toml: sampling.strategy: 'eye' is not taken here (one of step, inviwo)"},
       {replace(valid_study(), "[0.1, 0.05]", "[]"), "bad.toml: sampling.steps: empty"},
       {replace(valid_study(), "[0.1, 0.05]", "[0.1, -0.05]"), "bad.toml: sampling.steps[1]: must be positive"},
       {replace(valid_study(), "[rays]\ncount = 2\n", ""), "bad.toml: rays: missing"},

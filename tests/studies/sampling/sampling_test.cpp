@@ -194,7 +194,7 @@ void expect_rejected(const std::string& from, const std::string& to, const std::
 TEST(SamplingStudy, StudyFileIsValidatedKeyByKey) {
   EXPECT_NO_THROW(parse_text(study_text()));
   expect_rejected("rays = 120", "rays = 120\nbogus = 1", "test.toml: setup.bogus: unknown key");
-  expect_rejected("\"entry_exit_corner\"]\n\n", "\"vtk\"]\n\n", "strategies[3]: expected a rate-based");
+  expect_rejected("\"entry_exit_corner\"]\n\n", "\"vtk\"]\n\n", "strategies[3]: 'vtk' is not taken here (one of eye, entry, entry_exit, entry_exit_corner)");
   expect_rejected("rates = [1.0, 4.0, 16.0]", "rates = [1.0, 3.0]", "curves.rates: rate 3 is not among");
   expect_rejected("rates = [1.0, 2.0, 4.0", "rates = [2.0, 1.0, 4.0", "orders.rates: must be strictly");
   expect_rejected("eye = [-9.0, 0.0]", "eye = [-9.0, 0.0, 1.0]", "setup.eye: expected two numbers");

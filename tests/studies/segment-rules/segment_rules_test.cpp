@@ -193,6 +193,9 @@ TEST(SegmentRules, BadFilesNameTheKey) {
             "bad.toml: unit_segment.alpha_top: must be in (0, 1)");
   EXPECT_EQ(parse_error("rule = \"moreland\"", "rule = \"simpson\""),
             "bad.toml: images.rule[4].rule: unknown rule 'simpson'");
+  // It said "must be a step strategy (step, vtk, inviwo)", leaving out two it takes.
+  EXPECT_EQ(parse_error("strategy = \"inviwo\"", "strategy = \"entry\""),
+            "bad.toml: images.strategy: 'entry' is not taken here (one of step, vtk, inviwo, partial, exit_anchored)");
   EXPECT_NE(parse_error("quick_points = 21", "quick_point = 21").find("bad.toml: unit_segment"), std::string::npos);
 }
 
