@@ -350,8 +350,8 @@ GridField read_volume_field(const Reader& r, const toml::table& t, const Box& bo
     // The reader checked the samples; their 8/16-bit code table is built next, beside them.
     const double held = static_cast<double>(grid_nodes_bytes(v.type(), v.count()));
     if (r.volume_budget() > 0 && held > r.volume_budget())
-      r.fail("field.file", fmt::format("{}: its samples and their table of values take {} bytes, more than the {} "
-                                       "allowed (--max-memory)", file.string(), held, r.volume_budget()));
+      r.fail("field.file", fmt::format("{}: its samples and their table of values take {:.0f} bytes, more than the "
+                                       "{:.0f} allowed (--max-memory)", file.string(), held, r.volume_budget()));
     files = files_digest(v.files);
     return volume_grid(std::move(v), mapping, placement, box, layout, interpolation, file);
   } catch (const VolumeFileError& e) {

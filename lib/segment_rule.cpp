@@ -1,5 +1,7 @@
 #include "lib/segment_rule.h"
 
+#include <array>
+
 #include "lib/util/enum_names.h"
 
 namespace vrv {
@@ -17,5 +19,14 @@ static_assert(names_complete(kSegmentRuleNames));
 std::optional<SegmentRule> parse_segment_rule(std::string_view name) { return parse_name(kSegmentRuleNames, name); }
 
 std::string_view segment_rule_name(SegmentRule r) { return name_of(kSegmentRuleNames, r); }
+
+std::span<const SegmentRule> all_segment_rules() {
+  static const auto rules = [] {
+    std::array<SegmentRule, kSegmentRuleNames.size()> out{};
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = kSegmentRuleNames[i].first;
+    return out;
+  }();
+  return rules;
+}
 
 }  // namespace vrv

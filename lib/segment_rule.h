@@ -5,6 +5,7 @@
 // so rules and compositing order stay independent.  See docs/discrete-raycasts.md.
 #include <cmath>
 #include <optional>
+#include <span>
 #include <string_view>
 
 #include "analytic/piece_integrals.h"
@@ -21,6 +22,8 @@ enum class SegmentRule {
 
 std::optional<SegmentRule> parse_segment_rule(std::string_view name);
 std::string_view segment_rule_name(SegmentRule r);
+// Every rule, in the order above.
+std::span<const SegmentRule> all_segment_rules();
 // Sample rules (riemann, alpha) give each sample a step of its own; segment rules integrate
 // between consecutive nodes, with the entry and exit points as first and last nodes.
 inline bool is_segment_rule(SegmentRule r) {

@@ -106,16 +106,24 @@ E read_choice(const StudyReader& r, const toml::node& n, std::string_view path, 
   r.fail_choice(path, text, value.has_value(), names);
 }
 
-// The same check of a value already read (a method's strategy, read with the method's other keys):
-// "'X' is not taken here (one of a, b)" at `path` unless `value` is one of `allowed`.
+// A non-empty list of them at `t[key]` (under `path`), none twice.
 template <class E>
-void require_choice(const StudyReader& r, std::string_view path, E value, std::span<const E> allowed,
-                    std::string_view (*name)(E)) {
-  if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return;
-  std::vector<std::string_view> names;
-  for (E e : allowed) names.push_back(name(e));
-  r.fail_choice(path, name(value), true, names);
+std::vector<E> read_choices(const StudyReader& r, const toml::table& t, std::string_view key, std::string_view path,
+                            std::span<const E> allowed, std::optional<E> (*parse)(std::string_view),
+                            std::string_view (*name)(E)) {
+  const std::string at = StudyReader::child(path, key);
+  const toml::array& a = r.array(r.require(t, key, path), at);
+  if (a.empty()) r.fail(at, "empty");
+  std::vector<E> out;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::string item = at + "[" + std::to_string(i) + "]";
+    const E value = read_choice(r, *a.get(i), item, allowed, parse, name);
+    if (std::find(out.begin(), out.end(), value) != out.end()) r.fail(item, "listed twice");
+    out.push_back(value);
+  }
+  return out;
 }
+
 
 // The [scene] table under `parent` (at `path`): the usual scene tables, parsed by parse_scene, its
 // keys reported as <path>.scene.<key>; its TOML text goes to `toml_text`.  Or `scene = "FILE"`:

@@ -85,16 +85,14 @@ StudyDefinition read_convergence_study(const StudyInput& in) {
     const std::string path = fmt::format("method[{}]", i);
     const toml::table& m = r.table(*arr->get(i), path);
     r.check_keys(m, path, {"rule", "expected_order"});
-    const std::string name = r.string(r.require(m, "rule", path), path + ".rule");
-    const auto rule = parse_segment_rule(name);
-    if (!rule)
-      r.fail(path + ".rule", fmt::format("unknown method '{}' (one of riemann, alpha, trapezoid, "
-                                         "exact_linear, moreland)", name));
+    const SegmentRule rule = read_choice(r, r.require(m, "rule", path), path + ".rule", all_segment_rules(),
+                                         parse_segment_rule, segment_rule_name);
     for (const StudyMethod& earlier : s.methods)
-      if (earlier.rule == *rule) r.fail(path + ".rule", fmt::format("'{}' is listed twice", name));
+      if (earlier.rule == rule)
+        r.fail(path + ".rule", fmt::format("'{}' is listed twice", segment_rule_name(rule)));
     const double order = r.number(r.require(m, "expected_order", path), path + ".expected_order");
     if (!(order > 0)) r.fail(path + ".expected_order", fmt::format("must be positive, got {}", order));
-    s.methods.push_back({*rule, order});
+    s.methods.push_back({rule, order});
   }
 
   // [sampling]: strategy and steps.

@@ -37,22 +37,6 @@ ErrorPredictionCase read_case(const StudyReader& r, const toml::table& t, const 
   return c;
 }
 
-template <class T, class Parse>
-std::vector<T> read_names(const StudyReader& r, const toml::table& doc, const std::string& key, Parse parse,
-                          std::string_view allowed) {
-  std::vector<T> out;
-  const toml::array& a = r.array(r.require(doc, key, ""), key);
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const std::string path = fmt::format("{}[{}]", key, i);
-    const std::string name = r.string(*a.get(i), path);
-    const auto v = parse(name);
-    if (!v) r.fail(path, fmt::format("unknown value '{}' ({})", name, allowed));
-    out.push_back(*v);
-  }
-  if (out.empty()) r.fail(key, "at least one");
-  return out;
-}
-
 DiscreteConfig config_of(const ErrorPredictionCase& c, SegmentRule rule, Strategy strategy, double step) {
   DiscreteConfig config;
   config.rule = rule;
@@ -100,11 +84,13 @@ PredictionMethod read_variant(const StudyReader& r, const toml::table& t, const 
   for (const char* key : {"step", "rate", "tol", "max_error"})
     if (t.contains(key)) r.fail(path + "." + key, "not a variant's: the cases' steps are used, the truth is the reference's");
   if (!t.contains("label")) r.fail(path + ".label", "required: names the variant in the tables");
+  // Read first, so that a strategy this study does not take is named as such (not as a missing rate).
+  if (t.contains("strategy"))
+    read_choice<Strategy>(r, *t.get("strategy"), path + ".strategy", kWholeStepStrategies, parse_strategy, strategy_name);
   toml::table with_step = t;
   with_step.insert_or_assign("step", 1.0);  // replaced by each case's steps
   const StudyMethodSpec spec = read_study_method(r, with_step, path, scene);
   if (spec.reference) r.fail(path + ".method", "a discrete method (the reference is the truth)");
-  require_choice<Strategy>(r, path + ".strategy", spec.config.sampling.strategy, kWholeStepStrategies, strategy_name);
   return {spec.label, spec.config};
 }
 
@@ -122,13 +108,9 @@ ErrorPredictionStudy read_error_prediction_study(const StudyInput& in) {
   if (!(s.asymptotic_miss > 0)) r.fail("asymptotic_miss", "must be positive");
   s.separation = r.number_or(doc, "separation", "", s.separation);
   if (!(s.separation > 0)) r.fail("separation", "must be positive");
-  const auto rules = read_names<SegmentRule>(r, doc, "rules", parse_segment_rule, "riemann, alpha, trapezoid, exact_linear, moreland");
-  std::vector<Strategy> strategies;
-  const toml::array& listed = r.array(r.require(doc, "strategies", ""), "strategies");
-  for (std::size_t i = 0; i < listed.size(); ++i)
-    strategies.push_back(read_choice<Strategy>(r, *listed.get(i), fmt::format("strategies[{}]", i),
-                                               kWholeStepStrategies, parse_strategy, strategy_name));
-  if (strategies.empty()) r.fail("strategies", "at least one");
+  const auto rules = read_choices(r, doc, "rules", "", all_segment_rules(), parse_segment_rule, segment_rule_name);
+  const auto strategies =
+      read_choices<Strategy>(r, doc, "strategies", "", kWholeStepStrategies, parse_strategy, strategy_name);
   const toml::array& cases = r.array(r.require(doc, "case", ""), "case");
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const std::string path = fmt::format("case[{}]", i);

@@ -35,18 +35,8 @@ FanSetup read_setup(const StudyReader& r, const toml::table& doc) {
 
 std::vector<Strategy> read_strategies(const StudyReader& r, const toml::table& t, std::string_view key,
                                       std::string_view path) {
-  const std::string at = StudyReader::child(path, key);
-  const toml::array& a = r.array(r.require(t, key, path), at);
-  if (a.empty()) r.fail(at, "empty");
   const std::vector<Strategy> rate_based = strategies_where([](Strategy s) { return !step_based(s); });
-  std::vector<Strategy> out;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const std::string p = fmt::format("{}[{}]", at, i);
-    const Strategy s = read_choice<Strategy>(r, *a.get(i), p, rate_based, parse_strategy, strategy_name);
-    if (std::find(out.begin(), out.end(), s) != out.end()) r.fail(p, "listed twice");
-    out.push_back(s);
-  }
-  return out;
+  return read_choices<Strategy>(r, t, key, path, rate_based, parse_strategy, strategy_name);
 }
 
 // Strategies named under [checks] must be among the study's strategies.

@@ -74,10 +74,9 @@ std::vector<RuleSpec> read_rules(const StudyReader& r, const toml::table& images
     const std::string at = fmt::format("images.rule[{}]", i);
     const toml::table& t = r.table(arr[i], at);
     r.check_keys(t, at, {"rule", "expected_order"});
-    const std::string name = r.string(r.require(t, "rule", at), at + ".rule");
-    const auto rule = parse_segment_rule(name);
-    if (!rule) r.fail(at + ".rule", fmt::format("unknown rule '{}'", name));
-    rules.push_back({*rule, r.number(r.require(t, "expected_order", at), at + ".expected_order")});
+    const SegmentRule rule = read_choice(r, r.require(t, "rule", at), at + ".rule", all_segment_rules(),
+                                         parse_segment_rule, segment_rule_name);
+    rules.push_back({rule, r.number(r.require(t, "expected_order", at), at + ".expected_order")});
   }
   if (rules.empty()) r.fail("images.rule", "needs at least one rule");
   return rules;

@@ -263,10 +263,7 @@ ShadingStudy read_shading_study(const StudyInput& in) {
     r.fail("image_step", fmt::format("must be a positive finite length, got {}", s.image_step));
   s.image_grid = static_cast<int>(r.integer_or(doc, "image_grid", "", 3, 513, s.image_grid));
   if (doc.contains("method")) {
-    const std::string m = r.string(*doc.get("method"), "method");
-    const auto rule = parse_segment_rule(m);
-    if (!rule) r.fail("method", fmt::format("unknown method '{}' (riemann, alpha, trapezoid, exact_linear, moreland)", m));
-    s.rule = *rule;
+    s.rule = read_choice(r, *doc.get("method"), "method", all_segment_rules(), parse_segment_rule, segment_rule_name);
   }
   s.expected_order = r.number_or(doc, "expected_order", "", s.expected_order);
   std::string scene_toml;

@@ -101,6 +101,9 @@ void read_method(const StudyReader& r, const toml::table& m, const std::string& 
     if (m.contains(wrong))
       r.fail(StudyReader::child(path, wrong),
              reference ? "the reference takes tols (a list)" : "discrete methods take steps (a list)");
+  // Read first, so that a strategy this study does not take is named as such (not as a missing rate).
+  if (!reference && m.contains("strategy"))
+    read_choice<Strategy>(r, *m.get("strategy"), path + ".strategy", kWholeStepStrategies, parse_strategy, strategy_name);
   const std::vector<double> all = r.numbers(m, list, path, 1e-15, 10);
   std::vector<double> quick = m.contains(quick_list) ? r.numbers(m, quick_list, path, 1e-15, 10) : all;
   for (std::size_t i = 0; i < quick.size(); ++i)
@@ -114,9 +117,6 @@ void read_method(const StudyReader& r, const toml::table& m, const std::string& 
   for (double v : all) {
     Level level{series, one_level(r, m, path, d.scene, reference ? "tol" : "step", v),
                 std::find(quick.begin(), quick.end(), v) != quick.end()};
-    if (!reference)
-      require_choice<Strategy>(r, path + ".strategy", level.spec.config.sampling.strategy, kWholeStepStrategies,
-                               strategy_name);
     d.levels.push_back(level);
   }
 }

@@ -40,8 +40,9 @@ inline bool grids_are_small(const toml::node& n) {
 // minutes of a shard), which is the cost of a large image, as a large grid's is its memory.
 inline constexpr std::int64_t kMaxImagePixels = std::int64_t{1} << 20;
 
-// The pixels an EXR's dataWindow or a PNG's IHDR claims (-1: neither, or no such header found).
-inline std::int64_t claimed_image_pixels(std::string_view b) {
+// The pixels an EXR's dataWindow or a PNG's IHDR claims (-1: neither, or no such header found), in
+// double: two sides of up to 2^32 overflow a 64-bit integer.
+inline double claimed_image_pixels(std::string_view b) {
   const auto u32 = [&](std::size_t at, bool big) {
     std::uint32_t v = 0;
     for (int i = 0; i < 4; ++i)
@@ -49,13 +50,17 @@ inline std::int64_t claimed_image_pixels(std::string_view b) {
     return v;
   };
   if (b.size() >= 24 && b.substr(0, 8) == std::string_view("\x89PNG\r\n\x1a\n", 8) && b.substr(12, 4) == "IHDR")
-    return std::int64_t{u32(16, true)} * std::int64_t{u32(20, true)};
+    return static_cast<double>(u32(16, true)) * static_cast<double>(u32(20, true));
   // EXR: the largest dataWindow of its parts (16 bytes whatever it declares, as OpenEXR reads a box2i).
-  std::int64_t pixels = -1;
+  double pixels = -1;
   vrv::walk_exr_attributes(b, b.size(), [&](const vrv::ExrAttribute& a) {
     if (a.name != "dataWindow" || a.value + 16 > b.size()) return true;
-    const auto i32 = [&](std::size_t k) { return static_cast<std::int64_t>(static_cast<std::int32_t>(u32(a.value + 4 * k, false))); };
-    pixels = std::max(pixels, (i32(2) - i32(0) + 1) * (i32(3) - i32(1) + 1));
+    // A side of the box (max - min + 1; at most 2^32, none below 0: an inverted box holds nothing).
+    const auto side = [&](std::size_t lo, std::size_t hi) {
+      const auto i32 = [&](std::size_t k) { return static_cast<double>(static_cast<std::int32_t>(u32(a.value + 4 * k, false))); };
+      return std::max(0.0, i32(hi) - i32(lo) + 1);
+    };
+    pixels = std::max(pixels, side(0, 2) * side(1, 3));
     return true;
   });
   return pixels;

@@ -99,6 +99,11 @@ foreach(cmd ray demo render plan verify)
   endif()
 endforeach()
 expect_failure(plan_bad_tol "--tol: must be a positive finite number, got -1$" plan --target 1e-3 --tol -1)
+# An optional size with a default of its own shows it (plan's 32 x 32; render's has none: the scene's).
+expect_success(help_plan_size plan --help)
+if(NOT LAST_OUT MATCHES "--width INT=32 " OR NOT LAST_OUT MATCHES "--height INT=32 ")
+  message(FATAL_ERROR "plan --help does not show its 32 x 32 default:\n${LAST_OUT}")
+endif()
 
 # vrv --help lists the subcommands in a newcomer's order: demo, ray, render, study.
 expect_success(help --help)
@@ -342,7 +347,7 @@ foreach(f errors.csv orders.csv orders.md orders.tex meta.json)
   endif()
 endforeach()
 file(WRITE ${OUT}/bad_study.toml "kind = \"convergence\"\n[scene.volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[scene.field]\nkind = \"marschner_lobb\"\n[scene.transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[[method]]\nrule = \"simpson\"\nexpected_order = 2\n[sampling]\nstrategy = \"inviwo\"\nsteps = [0.1, 0.05]\n[rays]\ncount = 2\n")
-expect_failure(bad_study "bad_study.toml: method\\[0\\]\\.rule: unknown method" study ${OUT}/bad_study.toml --quiet)
+expect_failure(bad_study "bad_study.toml: method\\[0\\]\\.rule: unknown value 'simpson'" study ${OUT}/bad_study.toml --quiet)
 file(WRITE ${OUT}/bad_kind.toml "kind = \"no_such_kind\"\n")
 expect_failure(bad_study_kind "bad_kind.toml: kind: unknown kind" study ${OUT}/bad_kind.toml)
 expect_failure(unknown_study "no study named 'nope'" study nope)
@@ -357,7 +362,9 @@ file(WRITE ${OUT}/bad_sve_quick.toml "${sve_quick}")
 expect_failure(bad_sve_quick "bad_sve_quick.toml: method\\[1\\]\\.quick_steps\\[0\\]: 0.07 is not in steps" study ${OUT}/bad_sve_quick.toml --quiet)
 string(REPLACE "strategy = \"inviwo\"" "strategy = \"entry\"" sve_strategy "${sve}")
 file(WRITE ${OUT}/bad_sve_strategy.toml "${sve_strategy}")
-expect_failure(bad_sve_strategy "bad_sve_strategy.toml: method\\[1\\]" study ${OUT}/bad_sve_strategy.toml --quiet)
+# Named as a strategy the study does not take (it was "method[1].rate: missing").
+expect_failure(bad_sve_strategy "bad_sve_strategy.toml: method\\[1\\]\\.strategy: 'entry' is not taken here \\(one of step, vtk, inviwo\\)"
+  study ${OUT}/bad_sve_strategy.toml --quiet)
 # The CI gate: a method missing its expected order exits 1 with one line on stderr.
 file(READ ${SRC}/studies/convergence/convergence.toml gate)
 string(REPLACE "expected_order = 1" "expected_order = 3" gate "${gate}")

@@ -79,7 +79,7 @@ TEST(ConvergenceStudy, BadStudyFilesGiveOneLineNamingFileAndKey) {
     return s.replace(at, from.size(), to);
   };
   const study_test::BadFile cases[] = {
-      {replace(valid_study(), "\"riemann\"", "\"simpson\""), "bad.toml: method[0].rule: unknown method 'simpson'"},
+      {replace(valid_study(), "\"riemann\"", "\"simpson\""), "bad.toml: method[0].rule: unknown value 'simpson' (one of riemann, alpha, trapezoid, exact_linear, moreland)"},
       // A strategy this study does not take is told apart from a name that is none (StudyReader::fail_choice).
       {replace(valid_study(), "\"inviwo\"", "\"bogus\""),
        "bad.toml: sampling.strategy: unknown value 'bogus' (one of step, inviwo)"},

@@ -192,7 +192,7 @@ TEST(SegmentRules, BadFilesNameTheKey) {
   EXPECT_EQ(parse_error("alpha_top = 0.9990234375", "alpha_top = 1.0"),
             "bad.toml: unit_segment.alpha_top: must be in (0, 1)");
   EXPECT_EQ(parse_error("rule = \"moreland\"", "rule = \"simpson\""),
-            "bad.toml: images.rule[4].rule: unknown rule 'simpson'");
+            "bad.toml: images.rule[4].rule: unknown value 'simpson' (one of riemann, alpha, trapezoid, exact_linear, moreland)");
   // It said "must be a step strategy (step, vtk, inviwo)", leaving out two it takes.
   EXPECT_EQ(parse_error("strategy = \"inviwo\"", "strategy = \"entry\""),
             "bad.toml: images.strategy: 'entry' is not taken here (one of step, vtk, inviwo, partial, exit_anchored)");
