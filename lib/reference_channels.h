@@ -2,10 +2,10 @@
 // The reference of several channels under the one optical depth they share, from one set of
 // panels of the field: an RGB scene's three colours, and alpha (A = 1 - e^-Phi) where asked.
 //
-// Each channel keeps its own RayAccumulator (its own crossings, bands and error estimate, so each
-// channel's promise is the grey integrator's); the panels are fitted once and refined until every
-// channel still integrating accepts them, so a field is evaluated once for all of them.  A channel
-// given the same transfer function as a grey scene gets the grey scene's value bit for bit.
+// One RayAccumulator carries the channels in lockstep (lib/ray_accumulator.h): the panels, cuts,
+// depth and routes are shared, each channel keeps its own value and honest estimate, and a piece
+// is split until every channel still integrating accepts it.  Channels that all have a grey
+// scene's transfer function and background get the grey scene's value bit for bit.
 #include <array>
 #include <memory>
 #include <span>
@@ -15,12 +15,6 @@
 #include "lib/scene.h"
 
 namespace vrv {
-
-// One channel of a reference: its transfer function (not owned) and background.
-struct ReferenceChannel {
-  const TransferFunction* transfer = nullptr;
-  double background = 0;
-};
 
 // A scene's colour channels: one grey, or red, green and blue.  `over_nothing` gives each a
 // background of 0 (premultiplied colour, as an image with alpha has: see ImageChannels).
@@ -61,36 +55,8 @@ struct ChannelsReferenceResult {
 
 namespace detail {
 
-// Throws std::invalid_argument for more channels than a ChannelsReferenceResult holds.
+// Throws std::invalid_argument for no channel, or more than a ChannelsReferenceResult holds.
 void require_channel_count(std::size_t channels);
-
-// The channels' accumulators behind RayAccumulator's interface, as walk_ray drives it.  Not
-// copyable or movable: the accumulators hold the address of the depths they share.
-class ChannelAccumulators {
- public:
-  ChannelAccumulators(std::span<const ReferenceChannel> channels, const ReferenceOptions& options, Interval iv,
-                      double position_error, const EmissionWeight* weight = nullptr);
-  ChannelAccumulators(const ChannelAccumulators&) = delete;
-  ChannelAccumulators& operator=(const ChannelAccumulators&) = delete;
-
-  // The tightest of the channels still integrating: a panel good for it is good for all.
-  double field_tolerance() const;
-  // Every channel still integrating has its jumps located (each one asked: it keeps its bands).
-  bool jumps_located(const RayPanel& panel);
-  void consume(const RayPanel& panel);
-  bool stopped() const;
-  void give_up(double t);
-  void note_cap();
-  double position_error() const { return accumulators_[0].position_error(); }
-  ReferenceResult finish(int c) const { return accumulators_[c].finish(); }
-
- private:
-  std::vector<RayAccumulator> accumulators_;
-  SpectralDepthShare depths_;  // the pieces' optical depth, done once for the channels
-};
-
-// The channels that emit (alpha's does not): those that weigh their emission with a shading weight.
-int emitting_channels(std::span<const ReferenceChannel> channels);
 
 // A stretch is empty only where every channel is transparent.
 struct AllChannelsTransparent {
@@ -109,25 +75,37 @@ struct AllChannelsTransparent {
   }
 };
 
-template <ScalarField F>
+template <int N, ScalarField F>
 ChannelsReferenceResult integrate_channels_pass(const F& field, const RayFrame& frame,
-                                                std::span<const ReferenceChannel> channels,
+                                                std::span<const ReferenceChannel, N> channels,
                                                 const ReferenceOptions& options, const Shading* shading) {
-  const auto weight = shading_on(field, frame, shading, emitting_channels(channels));
-  ChannelAccumulators acc(channels, options, frame.iv, field_change_within(field, frame.position_error),
-                          weight.get());
+  const auto weight = shading_on(field, frame, shading);
+  RayAccumulator<N> acc(channels, options, frame.iv, field_change_within(field, frame.position_error), weight.get());
   const long evaluations = walk_ray(field, frame, AllChannelsTransparent{channels}, options, acc);
   ChannelsReferenceResult result;
   result.evaluations = evaluations;
-  result.count = static_cast<int>(channels.size());
-  for (std::size_t c = 0; c < channels.size(); ++c) {
+  result.count = N;
+  for (int c = 0; c < N; ++c) {
     ReferenceResult& r = result.channel[c];
-    r = acc.finish(static_cast<int>(c));
+    r = acc.finish(c);
     r.t_entry = frame.t_entry();
     r.t_exit = frame.t_exit();
     r.evaluations = evaluations;
   }
   return result;
+}
+
+// The pass with the accumulator of the channels' count.
+template <ScalarField F>
+ChannelsReferenceResult integrate_channels_pass(const F& field, const RayFrame& frame,
+                                                std::span<const ReferenceChannel> channels,
+                                                const ReferenceOptions& options, const Shading* shading) {
+  switch (channels.size()) {
+    case 1: return integrate_channels_pass<1>(field, frame, channels.first<1>(), options, shading);
+    case 2: return integrate_channels_pass<2>(field, frame, channels.first<2>(), options, shading);
+    case 3: return integrate_channels_pass<3>(field, frame, channels.first<3>(), options, shading);
+    default: return integrate_channels_pass<4>(field, frame, channels.first<4>(), options, shading);
+  }
 }
 
 }  // namespace detail
@@ -136,13 +114,15 @@ ChannelsReferenceResult integrate_channels_pass(const F& field, const RayFrame& 
 // missed its tolerance by a little, all are integrated once more at the tighter tolerance (the
 // panels are shared) and each keeps its smaller estimate.
 // shading: a factor on every channel's emission (lib/shading.h), or none.
-// Throws std::invalid_argument for more than kMaxChannels channels.
+// Throws std::invalid_argument for none or more than kMaxChannels channels, or channels whose
+// extinctions differ (require_shared_extinction).
 template <ScalarField F>
 ChannelsReferenceResult integrate_channels_reference(const F& field, const Box& box,
                                                      std::span<const ReferenceChannel> channels, const Ray& ray,
                                                      const ReferenceOptions& options = {},
                                                      const Shading* shading = nullptr) {
   detail::require_channel_count(channels.size());
+  require_shared_extinction(channels);
   const auto frame = clip_in_frame(ray, box);
   if (!frame) {
     ChannelsReferenceResult miss;

@@ -22,21 +22,13 @@
 #include "lib/chebyshev.h"
 #include "lib/field.h"
 #include "lib/geometry.h"
+#include "lib/ray_accumulator.h"
 #include "lib/ray_panel.h"
 #include "lib/scene.h"
 #include "lib/shading_weight.h"
-#include "lib/spectral_depth.h"
 #include "lib/transfer_function.h"
 
 namespace vrv {
-
-struct ReferenceOptions {
-  double tol = 1e-12;  // absolute tolerance on I
-  // Stop a ray once e^-Phi (max g x the length still to come + background) is below the
-  // termination share of tol: nothing behind can matter (the bound joins the estimate), and
-  // optical_depth is then the depth up to there.  False: Phi is carried to the exit.
-  bool stop_when_opaque = true;
-};
 
 // Throws OptionError (Option::tol) unless tol is positive and finite: the one check of every
 // reference's tolerance (grey, colour, projections, verify's, plan's and the commands').
@@ -44,164 +36,7 @@ void check_tolerance(double tol);
 // check_tolerance(options.tol).
 void validate(const ReferenceOptions& options);
 
-struct ReferenceResult {
-  double value = 0;           // I
-  double error_estimate = 0;  // bound on |I - value| (absolute)
-  long evaluations = 0;       // field evaluations
-  bool hit = false;           // the ray meets the box
-  double t_entry = 0;         // clipped parameter range (world length along the unit direction)
-  double t_exit = 0;
-  double optical_depth = 0;   // int tau over [t_entry, t_exit], or up to where an opaque ray stopped
-  // Stopped where nothing behind could matter any more (stop_when_opaque; the ray became
-  // opaque, or emits nothing and has no background): optical_depth is then a lower bound.
-  bool stopped_early = false;
-  // The estimate is within the tolerance and no work cap was reached (a capped ray still
-  // reports an honest, large estimate).  False also for a non-finite value or estimate.
-  bool tolerance_met = true;
-  // A work cap (evaluations, spectral pieces, halvings) ended the ray or accepted a piece unresolved.
-  bool capped = false;
-};
-
 namespace detail {
-
-// Accumulates one ray front to back: optical depth so far (log transmittance), value, error.
-class RayAccumulator {
- public:
-  // position_error: a field error every panel carries on top of its own (the rounding of a
-  // far ray's entry point, field_change_within(RayFrame::position_error)).  weight: a factor on
-  // the emission (shading, lib/shading_weight.h), or none; it must outlive the accumulator.
-  RayAccumulator(const TransferFunction& tf, double background, const ReferenceOptions& options,
-                 Interval iv, double position_error = 0, const EmissionWeight* weight = nullptr);
-
-  // Field error allowed on a panel starting now, so that its effect on I stays in budget.
-  double field_tolerance() const;
-  // Integrates g e^-Phi over the panel (cut at transfer-function crossings) and adds the
-  // panel's own proxy error to the estimate.
-  void consume(const RayPanel& panel);
-  // False where the proxy comes within its error of a jump of the transfer function without
-  // crossing it there: the field may cross where the proxy does not, so the panel should be
-  // refined (if it cannot be, consume() charges the jump over the whole stretch).
-  bool jumps_located(const RayPanel& panel);
-  ReferenceResult finish() const;
-  // Nothing after this point can matter (opaque), or the work cap ended the ray.
-  bool stopped() const { return stopped_; }
-  // The work cap is reached at t: the rest of the ray is bounded, not integrated.
-  void give_up(double t);
-  // A piece or panel was accepted unresolved at a work limit.
-  void note_cap() { capped_ = true; }
-  // The field error every panel carries (a far ray's rounded entry point).
-  double position_error() const { return position_error_; }
-  // Depth halves of pieces shared with the other channels of a walk (lib/spectral_depth.h); it
-  // must outlive the accumulator and be cleared before each panel.
-  void share_depth(SpectralDepthShare* share) { depth_share_ = share; }
-
- private:
-  void integrate_piece(const RayPanel& panel, double c, double d, const TransferSegment& seg);
-  // Replaces a closed-form piece's joint charge (the last one) by one per part of it.
-  void split_closed_form_joint(const RayPanel& panel, double c, double d, const TransferSegment& seg,
-                               double phi0, double value0);
-  // A piece that absorbs (nearly) everything, from Phi alone; false when it does not apply.
-  bool integrate_opaque_piece(const RayPanel& panel, double c, double d, const TransferSegment& seg);
-  // Adaptive Clenshaw-Curtis on [c, d]; `depth_only` skips the emission.
-  void integrate_spectral(const RayPanel& panel, double c, double d, const TransferSegment& seg,
-                          bool depth_only, int level);
-  // One Clenshaw-Curtis rule of n points on [c, d]: the piece's depth, emission and their errors.
-  struct SpectralTry {
-    double dphi = 0;
-    double depth_error = 0;
-    double error = 0;
-    double emission = 0;
-    bool converged = false;
-    bool at_rounding = false;
-  };
-  SpectralTry spectral_try(const RayPanel& panel, double c, double d, const TransferSegment& seg,
-                           bool depth_only, int n) const;
-  // spectral_try's depth half, computed (into `out`, or a slot of the share) or read from the
-  // share; the reference is valid until the share's next slot().
-  SpectralDepth& spectral_depth(const RayPanel& panel, double c, double d, const TransferSegment& seg,
-                                bool with_phi, const ChebyshevRule& rule, SpectralDepth& out) const;
-  void add(const PieceIntegral& piece);
-  // Where a field error of the panel's size could put a jump's crossings (JumpBand), from
-  // crossings_ (found first); returns whether each band holds exactly one located crossing.
-  bool find_jump_bands(const RayPanel& panel);
-  // The emission error of the bands from `first` on that start at or before c (reached by the
-  // integration), each attenuated at least as much as from its start; returns the next band.
-  std::size_t charge_bands(std::size_t first, double c, double panel_transmittance);
-  void check_termination(double t);
-  // The cuts of a panel: the transfer function's crossings and, with a weight, its switches
-  // (a misplaced jump of the weight charged over its uncertainty), sorted, into cuts_.
-  void panel_cuts(const RayPanel& panel);
-  // max g, max |dg/dv| over all values, times the weight's largest value.
-  double max_emission() const { return tf_.max_emission() * shade_max_; }
-  double sensitivity_after(double t) const;  // a priori bound on |dI / dPhi| at t
-  // An uncertainty dPhi in the optical depth here scales everything behind by e^-dPhi, so it
-  // costs dPhi times the part of I that comes after this point: known once the ray is done.
-  void book_depth_error(double dphi);
-  // Phi += dphi, booking the sum's rounding.
-  void advance_depth(double dphi);
-
-  const TransferFunction& tf_;
-  const EmissionWeight* weight_;
-  SpectralDepthShare* depth_share_ = nullptr;
-  double shade_max_ = 1, shade_min_ = 1;  // the weight's range (1 without one)
-  std::vector<WeightSwitch> switches_;    // scratch: a panel's switches
-  std::vector<double> cuts_;              // scratch: a panel's cuts
-  double background_;
-  double tol_;
-  bool stop_when_opaque_;
-  Interval iv_;
-  double position_error_;
-  double phi_ = 0;
-  double transmittance_ = 1;  // e^-Phi, kept with Phi (advance_depth): every piece asks for it several times
-  double value_ = 0;
-  double error_ = 0;
-  bool emission_done_ = false;
-  double emission_done_at_ = std::numeric_limits<double>::infinity();  // where it became done
-  double stopped_at_ = std::numeric_limits<double>::infinity();        // where the state froze
-  bool stopped_ = false;
-  bool stopped_early_ = false;
-  bool capped_ = false;
-  double termination_booked_ = 0;  // error booked by early termination so far
-  long spectral_pieces_ = 0;
-  double max_extinction_ = 0;        // max tau over all values
-  // The least size of v whose rounding the spectral rule charges through the slopes: 1, or the
-  // transfer function's largest level where that is below 1 (and then at least the field's
-  // noise).  v's rounding is a few ulps of the values it was computed at; a field of 1e-181 with
-  // its levels in the same units was charged ulps of 1 times slopes of 1e180 (an estimate of 1e165).
-  double value_floor_ = 1;
-  // A stretch [u, u + ...] of the current panel where a jump at `level` may be crossed: dt is
-  // how far the field's crossing can lie from the one integrated (the stretch's length where
-  // none was located).
-  struct JumpBand {
-    double u = 0;
-    double dt = 0;
-    double level = 0;
-  };
-  std::vector<double> jump_levels_;  // the transfer function's breakpoints that are jumps
-  std::vector<JumpBand> bands_;
-  std::vector<double> breaks_;       // scratch: the panel's monotone parts
-  double piece_depth_error_ = 0;     // the field-error part of dPhi booked for the current piece
-  TransferFunction::Slopes branch_slopes_;  // |dg/dv|, |dtau/dv| on the current piece's branch
-  double depth_error_ = 0;           // sum of dPhi_i
-  double depth_error_weighted_ = 0;  // sum of dPhi_i * (value before i)
-  std::vector<Crossing> crossings_;
-  // A field error at a point changes g there and tau for everything after it: per unit of error
-  // I moves by dg T - dtau R (T the transmittance there, R the light still to come, background
-  // included).  The two terms cancel where g and tau rise together (a thick medium of constant
-  // g / tau does not care where it starts; charged apart, they made estimates 10^3 x the
-  // error), so pieces of affine branches and jumps' bands are charged jointly, in finish(), once
-  // R is known: over the ranges T and R can take there.
-  struct JointCharge {
-    double size = 0;                      // field error x length (a piece), the band's width (a jump)
-    double dg = 0, dtau = 0;              // signed slopes (a piece), signed jumps (a band)
-    double t_lo = 0, t_hi = 0;            // transmittance where it applies
-    double before_lo = 0, before_hi = 0;  // the emission accumulated before that point
-    double s_lo = 1, s_hi = 1;            // the range of the emission's weight there
-  };
-  std::vector<JointCharge> joint_;
-  JointCharge* piece_joint_ = nullptr;  // the current piece's, while it is integrated
-  double joint_error(double value, double other_error) const;
-};
 
 // Work cap per ray: past it the rest of the ray is bounded (RayAccumulator::give_up).
 inline constexpr long kMaxEvaluations = 1'000'000;
@@ -332,7 +167,7 @@ namespace detail {
 // at no value its nodes reach (widened as below), so no cell or brick need be looked at (a scene
 // without empty space pays nothing for the search).  `tf`: anything with transparent_on(lo, hi)
 // and transparent_somewhere(lo, hi) (a transfer function, or every channel of an RGB one); `acc`:
-// a RayAccumulator or anything with its interface (ChannelAccumulators).
+// a RayAccumulator<N> or anything with its interface.
 template <ScalarField F, class Transparency, class Accumulator>
 bool may_hold_empty_space(const F& field, const Transparency& tf, const Accumulator& acc) {
   if constexpr (requires { field.node_range(); }) {
@@ -441,12 +276,11 @@ long walk_ray(const F& field, const RayFrame& frame, const Transparency& tf, con
 }
 
 // The emission's weight for `shading` on this ray, or none when the scene does not shade (one
-// allocation per shaded ray; a field without a gradient cannot shade); `channels` weigh with it.
+// allocation per shaded ray; a field without a gradient cannot shade).
 template <ScalarField F>
-std::unique_ptr<EmissionWeight> shading_on(const F& field, const RayFrame& frame, const Shading* shading,
-                                           int channels = 1) {
+std::unique_ptr<EmissionWeight> shading_on(const F& field, const RayFrame& frame, const Shading* shading) {
   if (!shading) return nullptr;
-  if constexpr (GradientField<F>) return std::make_unique<FieldShading<F>>(field, frame.local, *shading, channels);
+  if constexpr (GradientField<F>) return std::make_unique<FieldShading<F>>(field, frame.local, *shading);
   else throw std::invalid_argument("shading: this field has no gradient to shade with");
 }
 
@@ -454,8 +288,8 @@ template <ScalarField F>
 ReferenceResult integrate_pass(const F& field, const RayFrame& frame, const TransferFunction& tf,
                                double background, const ReferenceOptions& options, const Shading* shading = nullptr) {
   const auto weight = shading_on(field, frame, shading);
-  RayAccumulator acc(tf, background, options, frame.iv, field_change_within(field, frame.position_error),
-                     weight.get());
+  const std::array<ReferenceChannel, 1> channel{{{&tf, background}}};
+  RayAccumulator<1> acc(channel, options, frame.iv, field_change_within(field, frame.position_error), weight.get());
   const long evaluations = walk_ray(field, frame, tf, options, acc);
   ReferenceResult result = acc.finish();
   result.t_entry = frame.t_entry();

@@ -15,7 +15,6 @@
 #include "lib/field.h"
 #include "lib/ray_panel.h"
 #include "lib/shading.h"
-#include "lib/shading_memo.h"
 #include "lib/weight_switch.h"
 
 namespace vrv {
@@ -50,23 +49,17 @@ template <GradientField F>
 class FieldShading final : public EmissionWeight {
  public:
   // `local`: the ray in its own frame (lib/geometry.h, RayFrame::local), as the panels are fitted.
-  // `channels`: how many channels weigh their emission with it (more than one keeps S for the
-  // others: detail::ShadingMemo; an alpha channel emits nothing and does not count).
-  FieldShading(const F& field, const Ray& local, const Shading& shading, int channels = 1)
-      : field_(field), ray_(local), factor_(shading, local.direction), memo_(channels > 1) {}
+  // The channels of a walk ask for S once for all of them (lib/ray_accumulator.h).
+  FieldShading(const F& field, const Ray& local, const Shading& shading)
+      : field_(field), ray_(local), factor_(shading, local.direction) {}
 
   void values(double c, double d, std::span<const double> ts, std::span<double> s,
               std::span<double> noise) const override {
-    if (memo_.read(c, d, ts, s, noise)) return;
     compute_values(c, d, ts, s, noise);
-    memo_.keep(c, d, ts, s, noise);
   }
 
   void append_switches(double a, double b, std::vector<WeightSwitch>& out) const override {
-    if (memo_.read_switches(a, b, out)) return;
-    const std::size_t first = out.size();
     compute_switches(a, b, out);
-    memo_.keep_switches(a, b, std::span(out).subspan(first));
   }
 
   double max() const override { return factor_.max(); }
@@ -204,7 +197,6 @@ class FieldShading final : public EmissionWeight {
   mutable RayPanel panel_;               // scratch for append_switches
   mutable std::vector<Crossing> crossings_;
   mutable std::vector<double> breaks_;     // scratch: the proxy's monotone parts
-  mutable detail::ShadingMemo memo_;       // S for the other channels of an RGB walk
 };
 
 }  // namespace vrv

@@ -169,12 +169,11 @@ TEST(ShadedReference, EqualChannelsAreTheGreyShadedRayBitwise) {
   }
 }
 
-// Channels of different emission, breakpoints and jumps under one extinction, on a grid (whose
-// panels are its cells for any channel): each RGB channel is its own transfer function's grey
-// shaded ray, bit for bit.  S and its switches are computed by the first channel to reach a piece
-// and read by the others (detail::ShadingMemo): this holds only if what they read is what each
-// would compute, piece by piece, including where the channels cut differently.
-TEST(ShadedReference, DistinctChannelsAreEachChannelsGreyShadedRayBitwise) {
+// Channels of different emission, breakpoints and jumps under one extinction, on a grid: the RGB
+// walk computes S once for the three and cuts every channel at all their crossings, so a channel
+// is not its own grey shaded ray bit for bit, but the same integral: within both estimates, each
+// meeting the tolerance (a channel given another's S or cuts wrongly would be far outside).
+TEST(ShadedReference, DistinctChannelsAreEachChannelsGreyShadedRay) {
   Shading s;
   s.light = Vec3(0.3, -0.5, 0.8);
   s.specular = 0.3, s.shininess = 12;
@@ -194,8 +193,41 @@ TEST(ShadedReference, DistinctChannelsAreEachChannelsGreyShadedRayBitwise) {
     for (int c = 0; c < 3; ++c) {
       grey.transfer = rgb.color->transfer[c];
       const ReferenceResult one = integrate_reference(grey, ray, {1e-11});
-      EXPECT_EQ(three.channel[c].value, one.value) << c << " " << d.transpose();
-      EXPECT_EQ(three.channel[c].error_estimate, one.error_estimate) << c << " " << d.transpose();
+      EXPECT_TRUE(three.channel[c].tolerance_met && one.tolerance_met) << c << " " << d.transpose();
+      EXPECT_LE(std::abs(three.channel[c].value - one.value), three.channel[c].error_estimate + one.error_estimate)
+          << c << " " << d.transpose();
+    }
+  }
+}
+
+// Where the normal turns fast (n.v and n.l pass through 0 within 2e-4 of each other) or a narrow
+// highlight rides on a cell, S puts a small, slowly decaying part on a piece's coefficients; a short
+// rule's last two could be small by chance.  These rays' estimates at tol 1e-9 were 15x (the
+// analytic field) and 1.07x (its 17^3 grid) below their errors; each is now within its estimate of
+// the same ray at tol 1e-14.
+TEST(ShadedReference, ATurningNormalOrANarrowHighlightIsCharged) {
+  Shading s;
+  s.light = Vec3(0.3, -0.5, 0.8);
+  s.specular = 0.3, s.shininess = 12;
+  Scene analytic = default_with(s);
+  analytic.transfer = TransferFunction::emission_extinction(
+      PiecewiseLinear({{0, 0}, {1, 2}}), PiecewiseLinear({{0.2, 0}, {0.45, 300}, {0.45, 30}, {0.8, 600}}));
+  Scene grid = default_with(s);
+  grid.field = make_grid(grid.box, MarschnerLobb{}, {17, 17, 17}, GridLayout::node, Interpolation::trilinear);
+  grid.transfer = TransferFunction::emission_extinction(PiecewiseLinear({{0, 0}, {1, 2}}),
+                                                        PiecewiseLinear({{0, 0.3}, {0.45, 2.5}, {0.45, 0.8}, {1, 1.6}}));
+  grid.background = 0;
+  const Ray grid_ray = make_ray(Vec3(-0.023636461594730734, -1.5968094411505112, -2.7189964313381663),
+                                Vec3(0.081879274480551517, 0.51065861195368401, 0.85587590598642005));
+  const Ray analytic_ray = make_ray(Vec3(1.7321290038616448, -0.45580335551669998, -2.0380299497020422),
+                                    Vec3(-0.63636602635486217, 0.13193348147528305, 0.76002094508449825));
+  for (const auto& [scene, ray] : {std::pair{&analytic, analytic_ray}, std::pair{&grid, grid_ray}}) {
+    const ReferenceResult tight = integrate_reference(*scene, ray, {1e-14});
+    for (double tol : {1e-9, 1e-6}) {
+      const ReferenceResult r = integrate_reference(*scene, ray, {tol});
+      EXPECT_TRUE(r.tolerance_met) << tol;
+      EXPECT_LE(std::abs(r.value - tight.value), r.error_estimate + tight.error_estimate)
+          << "tol " << tol << " estimate " << r.error_estimate;
     }
   }
 }
