@@ -58,61 +58,32 @@ namespace detail {
 // Throws std::invalid_argument for no channel, or more than a ChannelsReferenceResult holds.
 void require_channel_count(std::size_t channels);
 
-// A stretch is empty only where every channel is transparent.
-struct AllChannelsTransparent {
-  std::span<const ReferenceChannel> channels;
-  bool transparent_on(double lo, double hi) const {
-    for (const ReferenceChannel& c : channels)
-      if (!c.transfer->transparent_on(lo, hi)) return false;
-    return true;
-  }
-  // Every channel transparent somewhere in [lo, hi] (not necessarily at one value: a gate may say
-  // yes where no stretch is empty, never no where one is).
-  bool transparent_somewhere(double lo, double hi) const {
-    for (const ReferenceChannel& c : channels)
-      if (!c.transfer->transparent_somewhere(lo, hi)) return false;
-    return true;
-  }
-};
-
-template <int N, ScalarField F>
-ChannelsReferenceResult integrate_channels_pass(const F& field, const RayFrame& frame,
-                                                std::span<const ReferenceChannel, N> channels,
-                                                const ReferenceOptions& options, const Shading* shading) {
-  const auto weight = shading_on(field, frame, shading);
-  RayAccumulator<N> acc(channels, options, frame.iv, field_change_within(field, frame.position_error), weight.get());
-  const long evaluations = walk_ray(field, frame, AllChannelsTransparent{channels}, options, acc);
-  ChannelsReferenceResult result;
-  result.evaluations = evaluations;
-  result.count = N;
-  for (int c = 0; c < N; ++c) {
-    ReferenceResult& r = result.channel[c];
-    r = acc.finish(c);
-    r.t_entry = frame.t_entry();
-    r.t_exit = frame.t_exit();
-    r.evaluations = evaluations;
-  }
-  return result;
+template <int N>
+ChannelsReferenceResult channels_result(const std::array<ReferenceResult, N>& results) {
+  ChannelsReferenceResult out;
+  out.count = N;
+  out.evaluations = results[0].evaluations;
+  std::copy(results.begin(), results.end(), out.channel.begin());
+  return out;
 }
 
-// The pass with the accumulator of the channels' count.
+// integrate_passes with the accumulator of the channels' count.
 template <ScalarField F>
-ChannelsReferenceResult integrate_channels_pass(const F& field, const RayFrame& frame,
-                                                std::span<const ReferenceChannel> channels,
-                                                const ReferenceOptions& options, const Shading* shading) {
+ChannelsReferenceResult integrate_channels_passes(const F& field, const RayFrame& frame,
+                                                  std::span<const ReferenceChannel> channels,
+                                                  const ReferenceOptions& options, const Shading* shading) {
   switch (channels.size()) {
-    case 1: return integrate_channels_pass<1>(field, frame, channels.first<1>(), options, shading);
-    case 2: return integrate_channels_pass<2>(field, frame, channels.first<2>(), options, shading);
-    case 3: return integrate_channels_pass<3>(field, frame, channels.first<3>(), options, shading);
-    default: return integrate_channels_pass<4>(field, frame, channels.first<4>(), options, shading);
+    case 1: return channels_result<1>(integrate_passes<1>(field, frame, channels.first<1>(), options, shading));
+    case 2: return channels_result<2>(integrate_passes<2>(field, frame, channels.first<2>(), options, shading));
+    case 3: return channels_result<3>(integrate_passes<3>(field, frame, channels.first<3>(), options, shading));
+    default: return channels_result<4>(integrate_passes<4>(field, frame, channels.first<4>(), options, shading));
   }
 }
 
 }  // namespace detail
 
-// The grey integrate_reference's contract per channel, with the same retry: when any channel
-// missed its tolerance by a little, all are integrated once more at the tighter tolerance (the
-// panels are shared) and each keeps its smaller estimate.
+// The grey integrate_reference's contract per channel, with the same walk and retry
+// (detail::integrate_passes).
 // shading: a factor on every channel's emission (lib/shading.h), or none.
 // Throws std::invalid_argument for none or more than kMaxChannels channels, or channels whose
 // extinctions differ (require_shared_extinction).
@@ -130,16 +101,7 @@ ChannelsReferenceResult integrate_channels_reference(const F& field, const Box& 
     for (int c = 0; c < miss.count; ++c) miss.channel[c].value = channels[c].background;
     return miss;
   }
-  ChannelsReferenceResult first = detail::integrate_channels_pass(field, *frame, channels, options, shading);
-  bool retry = false;
-  for (const ReferenceResult& r : first.channels()) retry = retry || detail::worth_retry(r, options.tol);
-  if (!retry) return first;
-  const ChannelsReferenceResult second =
-      detail::integrate_channels_pass(field, *frame, channels, detail::retry_options(options), shading);
-  ChannelsReferenceResult kept = first;
-  kept.evaluations = first.evaluations + second.evaluations;
-  for (int c = 0; c < kept.count; ++c) kept.channel[c] = detail::better_pass(first.channel[c], second.channel[c], options.tol);
-  return kept;
+  return detail::integrate_channels_passes(field, *frame, channels, options, shading);
 }
 
 // The channels of an image (ImageChannels), alpha as A = 1 - e^-Phi: its channel's transmittance

@@ -11,10 +11,12 @@
 // pieces, I = kappa (1 - e^-Phi) when g = kappa tau, else adaptive Clenshaw-Curtis on
 // g e^-Phi with Phi integrated spectrally.  Transmittance is kept as the optical depth Phi.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -284,18 +286,41 @@ std::unique_ptr<EmissionWeight> shading_on(const F& field, const RayFrame& frame
   else throw std::invalid_argument("shading: this field has no gradient to shade with");
 }
 
-template <ScalarField F>
-ReferenceResult integrate_pass(const F& field, const RayFrame& frame, const TransferFunction& tf,
-                               double background, const ReferenceOptions& options, const Shading* shading = nullptr) {
+// A stretch is empty only where every channel is transparent.
+template <std::size_t N>
+struct AllChannelsTransparent {
+  std::span<const ReferenceChannel, N> channels;
+  bool transparent_on(double lo, double hi) const {
+    for (const ReferenceChannel& c : channels)
+      if (!c.transfer->transparent_on(lo, hi)) return false;
+    return true;
+  }
+  // Every channel transparent somewhere in [lo, hi] (not necessarily at one value: a gate may say
+  // yes where no stretch is empty, never no where one is).
+  bool transparent_somewhere(double lo, double hi) const {
+    for (const ReferenceChannel& c : channels)
+      if (!c.transfer->transparent_somewhere(lo, hi)) return false;
+    return true;
+  }
+};
+
+// One walk along the ray for N channels sharing one extinction: each channel's result, each
+// counting the walk's evaluations.
+template <int N, ScalarField F>
+std::array<ReferenceResult, N> integrate_pass(const F& field, const RayFrame& frame,
+                                              std::span<const ReferenceChannel, N> channels,
+                                              const ReferenceOptions& options, const Shading* shading) {
   const auto weight = shading_on(field, frame, shading);
-  const std::array<ReferenceChannel, 1> channel{{{&tf, background}}};
-  RayAccumulator<1> acc(channel, options, frame.iv, field_change_within(field, frame.position_error), weight.get());
-  const long evaluations = walk_ray(field, frame, tf, options, acc);
-  ReferenceResult result = acc.finish();
-  result.t_entry = frame.t_entry();
-  result.t_exit = frame.t_exit();
-  result.evaluations = evaluations;
-  return result;
+  RayAccumulator<N> acc(channels, options, frame.iv, field_change_within(field, frame.position_error), weight.get());
+  const long evaluations = walk_ray(field, frame, AllChannelsTransparent<N>{channels}, options, acc);
+  std::array<ReferenceResult, N> results;
+  for (int c = 0; c < N; ++c) {
+    results[c] = acc.finish(c);
+    results[c].t_entry = frame.t_entry();
+    results[c].t_exit = frame.t_exit();
+    results[c].evaluations = evaluations;
+  }
+  return results;
 }
 
 // A tolerance missed by at most kRetryWithin x is retried once at kRetryTolerance x it.  The
@@ -323,6 +348,23 @@ inline ReferenceResult better_pass(const ReferenceResult& first, const Reference
   return kept;
 }
 
+// integrate_pass with the retry: when any channel missed its tolerance by a little, all are
+// integrated once more at the tighter tolerance (the panels are shared) and each keeps its
+// smaller estimate.
+template <int N, ScalarField F>
+std::array<ReferenceResult, N> integrate_passes(const F& field, const RayFrame& frame,
+                                                std::span<const ReferenceChannel, N> channels,
+                                                const ReferenceOptions& options, const Shading* shading) {
+  std::array<ReferenceResult, N> first = integrate_pass<N>(field, frame, channels, options, shading);
+  bool retry = false;
+  for (const ReferenceResult& r : first) retry = retry || worth_retry(r, options.tol);
+  if (!retry) return first;
+  const std::array<ReferenceResult, N> second =
+      integrate_pass<N>(field, frame, channels, retry_options(options), shading);
+  for (int c = 0; c < N; ++c) first[c] = better_pass(first[c], second[c], options.tol);
+  return first;
+}
+
 }  // namespace detail
 
 // shading: a factor on the emission (lib/shading.h), or none.
@@ -337,11 +379,8 @@ ReferenceResult integrate_reference(const F& field, const Box& box, const Transf
     miss.value = background;
     return miss;
   }
-  const ReferenceResult first = detail::integrate_pass(field, *frame, tf, background, options, shading);
-  if (!detail::worth_retry(first, options.tol)) return first;
-  const ReferenceResult second =
-      detail::integrate_pass(field, *frame, tf, background, detail::retry_options(options), shading);
-  return detail::better_pass(first, second, options.tol);
+  const std::array<ReferenceChannel, 1> channel{{{&tf, background}}};
+  return detail::integrate_passes<1>(field, *frame, std::span(channel), options, shading)[0];
 }
 
 // The scene's field, dispatched to its concrete type.
