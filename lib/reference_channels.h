@@ -105,13 +105,20 @@ ChannelsReferenceResult integrate_channels_reference(const F& field, const Box& 
 }
 
 // The channels of an image (ImageChannels), alpha as A = 1 - e^-Phi: its channel's transmittance
-// turned over, with the same estimate (and optical depth).
+// turned over, with the same optical depth and the transmittance's estimate plus the rounding of
+// the subtraction (half an ulp of A, taken as a whole ulp: where T is tiny its estimate is far
+// below an ulp of 1, and that rounding is most of A's error).
 template <ScalarField F>
 ChannelsReferenceResult integrate_image_channels(const F& field, const Box& box, const ImageChannels& channels,
                                                  const Ray& ray, const ReferenceOptions& options = {},
                                                  const Shading* shading = nullptr) {
   ChannelsReferenceResult r = integrate_channels_reference(field, box, channels.channels(), ray, options, shading);
-  if (channels.alpha()) r.channel[r.count - 1].value = 1 - r.channel[r.count - 1].value;
+  if (channels.alpha()) {
+    ReferenceResult& a = r.channel[r.count - 1];
+    a.value = 1 - a.value;
+    a.error_estimate += std::numeric_limits<double>::epsilon() * std::abs(a.value);
+    a.tolerance_met = a.tolerance_met && a.error_estimate <= options.tol;
+  }
   return r;
 }
 

@@ -153,6 +153,36 @@ unit_length = 0.05
   EXPECT_EQ(checked, 12);
 }
 
+// A homogeneous medium along an axis (opacity alpha per unit length over a chord of length 2, so
+// T = (1 - alpha)^2) where T is small has T's estimate far below an ulp of 1: then the rounding
+// of A = 1 - T itself (up to half an ulp of A, not of T) is most of A's error and must be in its
+// estimate.  The truth: 1 - (1 - alpha)^2 in long double.
+TEST(AlphaReference, TheTurningOverIsInTheEstimate) {
+  int checked = 0;
+  for (double alpha : {0.3, 0.9, 0.99, 0.999, 0.99999, 0.9999999, 1 - 1e-9}) {
+    const Scene scene = parse_scene(test::unit_box_scene("kind = \"linear_ramp\"\ngradient = [0.0, 0.0, 0.0]\noffset = 0.5",
+                                                         fmt::format("[transfer]\nopacity = [[0.0, {0:.17g}], [1.0, {0:.17g}]]\n"
+                                                                     "color = [[0.0, 0.4], [1.0, 0.4]]\n", alpha)),
+                                    "homogeneous");
+    for (double x : {-0.31, 0.0, 0.27}) {
+      const Ray ray = make_ray(Vec3(x, 0.13, -3), Vec3(0, 0, 1));
+      const ImageChannels channels(scene, true);
+      const ChannelsReferenceResult r = visit_field(scene, [&](const auto& field) {
+        return integrate_image_channels(field, scene.box, channels, ray, {1e-12});
+      });
+      ASSERT_EQ(r.count, 2);
+      const ReferenceResult& a = r.channel[1];
+      const long double truth = 1 - (1 - static_cast<long double>(alpha)) * (1 - static_cast<long double>(alpha));
+      const double distance = static_cast<double>(std::fabs(static_cast<long double>(a.value) - truth));
+      EXPECT_LE(distance, a.error_estimate) << fmt::format("alpha {} x {}: A {:.17g}, truth {:.20Lg}, estimate {:.3e}",
+                                                           alpha, x, a.value, truth, a.error_estimate);
+      EXPECT_TRUE(a.tolerance_met);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 21);
+}
+
 // With alpha the colour is over nothing: the channels' background is 0, whatever the scene's.
 TEST(AlphaReference, ColourIsOverNothing) {
   Scene scene = default_scene();
