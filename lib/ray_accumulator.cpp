@@ -112,9 +112,6 @@ double weighted_sum(const ChebyshevRule& rule, const Noise& noise) {
 // dg/dv and dtau/dv, signed, on an affine branch whose lines stay >= 0 over its values [lo, hi]
 // (a line clamped at 0 has slope 0 on one side); none otherwise.  A field error that takes a
 // value past lo or hi moves a crossing: the bands' and kinks' business, not the slopes'.
-struct SignedSlopes {
-  double emission = 0, extinction = 0;
-};
 std::optional<SignedSlopes> signed_slopes(const TransferSegment& seg, double lo, double hi) {
   if (seg.convention != Convention::emission_extinction) return std::nullopt;
   for (const Line& line : {seg.first, seg.second})
@@ -322,7 +319,7 @@ void RayAccumulator<N>::consume(const RayPanel& panel) {
       ch.piece_joint = -1;
       if (joint && !ch.emission_done && !weight_ && field_error > 0) {
         value0[i] = ch.value;
-        ch.joint.push_back({field_error * (t - c), (*joint)[0], (*joint)[1], 0, transmittance_, ch.value, 0});
+        ch.joint.push_back({field_error * (t - c), joint->emission, joint->extinction, 0, transmittance_, ch.value, 0});
         ch.piece_depth_error = 0;
         ch.piece_joint = static_cast<int>(ch.joint.size()) - 1;
       } else {
@@ -352,9 +349,7 @@ void RayAccumulator<N>::find_branch(Channel& ch, double v) {
   double lo = 0, hi = 0;
   ch.seg = ch.tf->segment(v, lo, hi);
   ch.branch_slopes = ch.tf->slope_bounds(v, v);
-  const auto joint = signed_slopes(ch.seg, lo, hi);
-  ch.joint_slopes.reset();
-  if (joint) ch.joint_slopes = std::array<double, 2>{joint->emission, joint->extinction};
+  ch.joint_slopes = signed_slopes(ch.seg, lo, hi);
   // At a breakpoint the slopes are both sides' (slope_bounds): kept for this piece only.
   if (v > lo) ch.branch_lo = lo, ch.branch_hi = hi;
   else ch.branch_lo = std::numeric_limits<double>::infinity(), ch.branch_hi = -std::numeric_limits<double>::infinity();

@@ -62,6 +62,11 @@ void require_shared_extinction(std::span<const ReferenceChannel> channels);
 
 namespace detail {
 
+// Signed dg/dv and dtau/dv on a branch of the transfer function.
+struct SignedSlopes {
+  double emission = 0, extinction = 0;
+};
+
 template <int N>
 class RayAccumulator {
  public:
@@ -119,7 +124,7 @@ class RayAccumulator {
     // joint_slopes stay as they are (the next piece is mostly on the same branch); empty at first.
     double branch_lo = std::numeric_limits<double>::infinity();
     double branch_hi = -std::numeric_limits<double>::infinity();
-    std::optional<std::array<double, 2>> joint_slopes;  // signed dg/dv, dtau/dv where jointly charged
+    std::optional<SignedSlopes> joint_slopes;  // where jointly charged
     double piece_depth_error = 0;
     int piece_joint = -1;  // the piece's joint charge (an index into joint), while it is integrated
     std::size_t next_band = 0;
@@ -140,8 +145,6 @@ class RayAccumulator {
 
     // max g, max |dg/dv| over all values, times the weight's largest value.
     double max_emission(double shade_max) const { return tf->max_emission() * shade_max; }
-    // Integrating: not stopped.  Emitting: integrating with its emission still to come.
-    bool emitting() const { return !emission_done; }
   };
   // One Clenshaw-Curtis rule of n points on [c, d]: the piece's depth and its error (shared), and
   // each emitting channel's emission and error.
