@@ -253,7 +253,8 @@ Scene read_any_study_scene(const StudyReader& r, const toml::table& parent, std:
 
 }  // namespace
 
-// Studies compare one channel so far: an RGB scene is refused by name.
+// An RGB scene is read as one of its channels (the reader's, else red) and noted: the loader then
+// studies each channel (studies/engine/channel_study.h).
 Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
                        std::string& toml_text, bool shaded) {
   Scene scene = read_any_study_scene(r, parent, path, toml_text);
@@ -261,10 +262,11 @@ Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::str
   if (!scene.field_files.empty())
     r.spend_memory(StudyReader::child(path, "scene"), "the volume",
                    static_cast<double>(std::get<GridField>(scene.field).nodes().bytes()));
-  if (scene.color) r.fail(StudyReader::child(path, "scene"), "the scene is RGB (three-valued points), and studies compare one channel so far");
   if (scene.shading && !shaded)
     r.fail(StudyReader::child(path, "scene"), "the scene shades ([shading]): only the shading study shades so far");
-  return scene;
+  if (!scene.color) return scene;
+  r.note_rgb_scene();
+  return channel_scene(scene, r.channel().value_or(0));
 }
 
 std::string method_label(const StudyMethodSpec& m) {

@@ -79,6 +79,13 @@ class StudyReader {
   // cannot tell order 1 from order 2, and tolerance = 1e308 made a gate pass whatever happened.
   double order_tolerance(const toml::node& n, std::string_view path) const;
   static std::string child(std::string_view path, std::string_view key);
+  // The channel of an RGB scene this read is for (studies/engine/channel_study.h): read_study_scene
+  // then gives that channel's grey scene.  Every RGB scene read is noted (saw_rgb_scene), so a
+  // read without a channel tells the loader to study each channel.
+  void set_channel(int channel) { channel_ = channel; }
+  std::optional<int> channel() const { return channel_; }
+  bool saw_rgb_scene() const { return saw_rgb_scene_; }
+  void note_rgb_scene() const { saw_rgb_scene_ = true; }
 
  private:
   std::string source_;
@@ -86,6 +93,8 @@ class StudyReader {
   // Readers are passed as const everywhere; spending the budget is the one change a read makes.
   mutable double memory_left_;
   mutable double memory_spent_ = 0;
+  std::optional<int> channel_;
+  mutable bool saw_rgb_scene_ = false;
 };
 
 // The study file parsed as TOML (syntax errors as "<file>: (syntax): line L, column C: ...").
@@ -129,7 +138,8 @@ std::vector<E> read_choices(const StudyReader& r, const toml::table& t, std::str
 // keys reported as <path>.scene.<key>; its TOML text goes to `toml_text`.  Or `scene = "FILE"`:
 // a scene file, relative to the study file's folder (its own errors name it); its text goes to
 // `toml_text`.
-// A shaded scene ([shading]) is refused unless `shaded` (the studies whose raycasts shade).
+// A shaded scene ([shading]) is refused unless `shaded` (the studies whose raycasts shade).  An RGB
+// scene is its channel r.channel() (red without one), noted on the reader (saw_rgb_scene).
 Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
                        std::string& toml_text, bool shaded = false);
 

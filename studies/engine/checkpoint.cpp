@@ -113,8 +113,9 @@ std::string Checkpoints::reused_non_finite() const {
   return reused_non_finite_;
 }
 
-std::vector<double> Checkpoints::get(const std::string& key, const std::function<std::vector<double>()>& compute,
+std::vector<double> Checkpoints::get(const std::string& unprefixed, const std::function<std::vector<double>()>& compute,
                                      std::optional<std::size_t> expected) {
+  const std::string key = key_prefix_ + unprefixed;
   for (const char c : key)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
       throw std::logic_error("checkpoint key '" + key + "' has a character other than [A-Za-z0-9_.-]");

@@ -40,6 +40,10 @@ class Checkpoints {
   std::vector<double> get(const std::string& key, const std::function<std::vector<double>()>& compute,
                           std::optional<std::size_t> expected = std::nullopt);
 
+  // Every key from now on is `prefix` + key: a study of an RGB scene runs its kind's study once per
+  // channel (channel_study.h), whose keys would otherwise collide.  Not while a get() runs.
+  void set_key_prefix(std::string prefix) { key_prefix_ = std::move(prefix); }
+
   long reused() const { return reused_; }    // configurations taken from the interrupted run
   long computed() const { return computed_; }
 
@@ -63,6 +67,7 @@ class Checkpoints {
   void note_non_finite(const std::string& key, const std::vector<double>& values);
 
   std::filesystem::path dir_;
+  std::string key_prefix_;
   std::function<void(const std::filesystem::path&)> before_store_;
   bool found_stored_ = false;
   mutable std::mutex reused_non_finite_mutex_;

@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 #include <toml++/toml.h>
 
+#include "studies/engine/channel_study.h"
 #include "studies/engine/memory_budget.h"
 #include "lib/work_estimate.h"
 #include "studies/engine/study_work.h"
@@ -34,9 +35,23 @@ LoadedStudy load_study_text(std::string text, const std::string& source, const s
                                    "--max-memory GIB)", describe(memory), gibibytes(limit)));
   s.memory_bytes = memory.bytes;
   // What the estimate cannot see (volumes, scene files' grids) is spent from the rest as it is read.
-  const StudyReader reader(s.source, std::max(limit - memory.bytes, 1.0));
+  const double left = std::max(limit - memory.bytes, 1.0);
+  const StudyReader reader(s.source, left);
   StudyPlan plan = parse(StudyInput{doc, reader, s.name});
   s.memory_bytes += reader.memory_spent();  // --all adds the studies up
+  if (reader.saw_rgb_scene()) {
+    ChannelPlan plan_channel = [doc, source = s.source, name = s.name, parse, left](int channel) {
+      StudyReader channel_reader(source, left);
+      channel_reader.set_channel(channel);
+      try {
+        return parse(StudyInput{doc, channel_reader, channel_study_name(name, channel)});
+      } catch (const StudyFileError& e) {  // a check that holds for red may not for green
+        throw StudyFileError(fmt::format("{} (the scene's {} channel)", e.what(), channel_name(channel)));
+      }
+    };
+    for (int channel = 1; channel < 3; ++channel) plan_channel(channel);  // every channel's errors before any runs
+    plan = per_channel_plan(std::move(plan), std::move(plan_channel));
+  }
   s.job = std::move(plan.job);
   s.work = std::move(plan.work);
   return s;

@@ -68,6 +68,10 @@ ProjectionsStudy read_projections_study(const StudyInput& in) {
   s.steps = read_refinement_steps(r, doc);
   std::string scene_toml;
   s.scene = read_study_scene(r, doc, "", scene_toml);
+  // X-ray and MIP see the extinction and the field, which an RGB scene's channels share: a study
+  // per channel would be one study three times.
+  if (r.saw_rgb_scene())
+    r.fail("scene", "the scene is RGB (three-valued points), and a projection has one channel: give it a grey scene");
   const toml::node& methods = r.require(doc, "method", "");
   const toml::array* arr = methods.as_array();
   if (!arr || arr->empty()) r.fail("method", "expected a non-empty array of tables ([[method]])");
