@@ -144,6 +144,19 @@ void StudyReader::spend_memory(std::string_view key, std::string_view what, doub
   memory_spent_ += bytes;
 }
 
+void StudyReader::note_scene(std::string_view key, bool rgb) const {
+  if (rgb ? saw_grey_ : saw_rgb_)
+    fail(key, fmt::format("the scene is {} and an earlier one {}: a study's scenes are all grey or all RGB (an RGB "
+                          "study is one study per channel)", rgb ? "RGB" : "grey", rgb ? "grey" : "RGB"));
+  (rgb ? saw_rgb_ : saw_grey_) = true;
+}
+
+void StudyReader::require_grey_scenes() const {
+  if (saw_rgb_)
+    fail("scene", "the scene is RGB (three-valued points), which this reader takes one channel of: run it with vrv "
+                  "study (one study per channel)");
+}
+
 Vec3 StudyReader::vec3(const toml::table& t, std::string_view key, std::string_view path) const {
   const std::string at = child(path, key);
   const toml::array* a = require(t, key, path).as_array();
@@ -264,8 +277,8 @@ Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::str
                    static_cast<double>(std::get<GridField>(scene.field).nodes().bytes()));
   if (scene.shading && !shaded)
     r.fail(StudyReader::child(path, "scene"), "the scene shades ([shading]): only the shading study shades so far");
+  r.note_scene(StudyReader::child(path, "scene"), scene.color.has_value());
   if (!scene.color) return scene;
-  r.note_rgb_scene();
   return channel_scene(scene, r.channel().value_or(0));
 }
 

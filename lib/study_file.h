@@ -80,12 +80,18 @@ class StudyReader {
   double order_tolerance(const toml::node& n, std::string_view path) const;
   static std::string child(std::string_view path, std::string_view key);
   // The channel of an RGB scene this read is for (studies/engine/channel_study.h): read_study_scene
-  // then gives that channel's grey scene.  Every RGB scene read is noted (saw_rgb_scene), so a
-  // read without a channel tells the loader to study each channel.
+  // then gives that channel's grey scene.  Every scene read is noted, so a read without a channel
+  // tells the loader to study each channel (saw_rgb_scene), and a file mixing grey and RGB scenes
+  // is refused (note_scene).
   void set_channel(int channel) { channel_ = channel; }
   std::optional<int> channel() const { return channel_; }
-  bool saw_rgb_scene() const { return saw_rgb_scene_; }
-  void note_rgb_scene() const { saw_rgb_scene_ = true; }
+  bool saw_rgb_scene() const { return saw_rgb_; }
+  // Fails at `key` when the scene is RGB and an earlier one grey, or the other way round: an RGB
+  // study is one study per channel, of which a grey scene would be three copies.
+  void note_scene(std::string_view key, bool rgb) const;
+  // Fails at "scene" when an RGB scene was read: for the readers that parse a study file outside
+  // `vrv study` (which alone runs one study per channel), so that none is reduced to red.
+  void require_grey_scenes() const;
 
  private:
   std::string source_;
@@ -94,7 +100,7 @@ class StudyReader {
   mutable double memory_left_;
   mutable double memory_spent_ = 0;
   std::optional<int> channel_;
-  mutable bool saw_rgb_scene_ = false;
+  mutable bool saw_rgb_ = false, saw_grey_ = false;
 };
 
 // The study file parsed as TOML (syntax errors as "<file>: (syntax): line L, column C: ...").

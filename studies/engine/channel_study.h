@@ -22,9 +22,11 @@ std::string_view channel_name(int channel);
 // "NAME-red" and so on.
 std::string channel_study_name(std::string_view study, int channel);
 
-// One plan that runs plan_channel(0), (1), (2) in turn (each parsed when its turn comes, so one
-// channel's grids are held at a time).  `red`: plan_channel(0), already made, whose work estimate
-// stands for each channel's (the estimates do not depend on the transfer function).
+// One plan that runs plan_channel(0), (1), (2) in turn, each made when its turn comes (so one
+// channel's grids are held at a time).  `red`: the red channel's plan, already made, whose work
+// estimates (full and --quick, taken now; it is then released) stand for each channel's (they do
+// not depend on the transfer function).  Channels 1 and 2 are planned once now and released, so
+// that a file error of theirs comes before anything runs.
 StudyPlan per_channel_plan(StudyPlan red, ChannelPlan plan_channel);
 
 }  // namespace vrv

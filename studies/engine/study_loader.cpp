@@ -10,6 +10,13 @@
 #include "studies/engine/study_work.h"
 
 namespace vrv {
+namespace {
+
+std::string naming_channel(const StudyFileError& e, int channel) {
+  return fmt::format("{} (studying the scene's {} channel)", e.what(), channel_name(channel));
+}
+
+}  // namespace
 
 LoadedStudy load_study_text(std::string text, const std::string& source, const std::string& default_name,
                             const StudyLoadOptions& options) {
@@ -37,21 +44,24 @@ LoadedStudy load_study_text(std::string text, const std::string& source, const s
   // What the estimate cannot see (volumes, scene files' grids) is spent from the rest as it is read.
   const double left = std::max(limit - memory.bytes, 1.0);
   const StudyReader reader(s.source, left);
-  StudyPlan plan = parse(StudyInput{doc, reader, s.name});
+  StudyPlan plan;
+  try {
+    plan = parse(StudyInput{doc, reader, s.name});
+  } catch (const StudyFileError& e) {
+    if (!reader.saw_rgb_scene()) throw;
+    throw StudyFileError(naming_channel(e, 0));  // the study of an RGB scene's red channel
+  }
   s.memory_bytes += reader.memory_spent();  // --all adds the studies up
-  if (reader.saw_rgb_scene()) {
-    ChannelPlan plan_channel = [doc, source = s.source, name = s.name, parse, left](int channel) {
+  if (reader.saw_rgb_scene())
+    plan = per_channel_plan(std::move(plan), [doc, source = s.source, name = s.name, parse, left](int channel) {
       StudyReader channel_reader(source, left);
       channel_reader.set_channel(channel);
       try {
         return parse(StudyInput{doc, channel_reader, channel_study_name(name, channel)});
       } catch (const StudyFileError& e) {  // a check that holds for red may not for green
-        throw StudyFileError(fmt::format("{} (the scene's {} channel)", e.what(), channel_name(channel)));
+        throw StudyFileError(naming_channel(e, channel));
       }
-    };
-    for (int channel = 1; channel < 3; ++channel) plan_channel(channel);  // every channel's errors before any runs
-    plan = per_channel_plan(std::move(plan), std::move(plan_channel));
-  }
+    });
   s.job = std::move(plan.job);
   s.work = std::move(plan.work);
   return s;

@@ -79,7 +79,9 @@ HardCasesStudy parse_hard_cases_study(std::string_view text, std::string_view so
                                       std::string_view default_name) {
   const StudyReader r(source_name);
   const toml::table doc = parse_study_toml(text, source_name);
-  return read_hard_cases_study(StudyInput{doc, r, std::string(default_name)});
+  HardCasesStudy study = read_hard_cases_study(StudyInput{doc, r, std::string(default_name)});
+  r.require_grey_scenes();
+  return study;
 }
 
 HardCasesStudy load_hard_cases_study(const std::filesystem::path& path) {

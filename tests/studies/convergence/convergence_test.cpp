@@ -103,6 +103,10 @@ TEST(ConvergenceStudy, BadStudyFilesGiveOneLineNamingFileAndKey) {
                "kind = \"grid\"\nresolution = [5, 5, 5]\n[scene.field.source]\nkind = \"marschner_lobb\"\n") +
            "[grid_refinement]\nresolutions = [9, 17]\n",
        "bad.toml: grid_refinement: needs an analytic field"},
+      // Outside vrv study (which runs one study per channel) an RGB scene is refused, not made red.
+      {replace(valid_study(), "emission = [[-1, 1.5], [2, 0]]", "emission = [[-1, 1.5, 0.5, 0], [2, 0, 1, 0.25]]"),
+       "bad.toml: scene: the scene is RGB (three-valued points), which this reader takes one channel of: run it with "
+       "vrv study (one study per channel)"},
   };
   study_test::expect_one_line_errors(kParseConvergence, cases);
 }

@@ -9,7 +9,7 @@
   times the grey study's.
 - A projections study of an RGB scene is refused in one line (exit 2), nothing written; so is a
   study whose checks hold for the red channel but not the green one, before anything runs, naming
-  the channel.
+  the channel (and one whose red channel fails them), and a file mixing grey and RGB scenes.
 
     channel_study_test.py VRV SRC OUT_DIR
 """
@@ -75,6 +75,8 @@ for c, name in enumerate(CHANNELS):
     theirs = [r for r in grey_checks if r["check"] != "reference_within_tolerance"]
     assert [r["check"] for r in mine] == [f"{name}: {r['check']}" for r in theirs], (mine, theirs)
     assert [r["value"] for r in mine] == [r["value"] for r in theirs], name
+meta = json.load(open(os.path.join(rgb, "meta.json")))
+assert [meta["parameters"]["run"]["channels"][n]["channel"] for n in CHANNELS] == [0, 1, 2], meta["parameters"]["run"]
 # the three channels differ (else the test above shows nothing)
 errors = [open(os.path.join(rgb, n, "errors.csv")).read() for n in CHANNELS]
 assert len(set(errors)) == 3, "the channels' tables should differ"
@@ -110,6 +112,23 @@ sampling = sampling.replace("emission = [[0.0, 0.0], [1.0, 1.0]]\n", "emission =
 bad = os.path.join(out, "rgb-sampling.toml")
 open(bad, "w").write(sampling)
 r = run("study", bad, "--quick", "--out", out, expect=2)
-assert r.stderr.count("\n") == 1 and "checks.closed_form_kappa" in r.stderr and "(the scene's green channel)" in r.stderr, r.stderr
+assert r.stderr.count("\n") == 1 and "checks.closed_form_kappa" in r.stderr and "(studying the scene's green channel)" in r.stderr, r.stderr
 assert not os.path.exists(os.path.join(out, "rgb-sampling")) and not os.path.exists(os.path.join(out, ".rgb-sampling.partial"))
+# ... and the red channel's own errors name it too.
+open(bad, "w").write(sampling.replace("[1.0, 1.0, 0.5, 0.25]", "[1.0, 1.5, 1.0, 1.0]"))
+r = run("study", bad, "--quick", "--out", out, expect=2)
+assert r.stderr.count("\n") == 1 and "checks.closed_form_kappa" in r.stderr and "(studying the scene's red channel)" in r.stderr, r.stderr
+
+# Grey and RGB scenes in one file (hard-cases' second case RGB): refused naming the case.
+hard = open(os.path.join(src, "studies/hard-cases/hard-cases.toml")).read()
+grey_points = "emission = [[0.0, 0.0], [0.3, 0.1], [0.5, 1.0], [0.7, 0.2], [1.0, 0.5]]"
+first = hard.index(grey_points)
+second = hard.index(grey_points, first + 1)
+hard = hard[:second] + "emission = [[0.0, 0.0, 0.0, 0.0], [0.3, 0.1, 0.2, 0.1], [0.5, 1.0, 0.5, 0.2], " \
+    "[0.7, 0.2, 0.1, 0.4], [1.0, 0.5, 0.5, 0.5]]" + hard[second + len(grey_points):]
+bad = os.path.join(out, "mixed-hard-cases.toml")
+open(bad, "w").write(hard)
+r = run("study", bad, "--quick", "--out", out, expect=2)
+assert r.stderr.count("\n") == 1 and "case[1].scene: the scene is RGB and an earlier one grey" in r.stderr, r.stderr
+assert not os.path.exists(os.path.join(out, "mixed-hard-cases"))
 print(f"channel study: {checked} tables equal to the grey studies' byte for byte; {len(plots)} plots; work x3")
