@@ -59,7 +59,7 @@ const std::array<DiscreteOptionField, 20> kFields{{
 }};
 
 template <class T, class Parse>
-T parse_choice(const std::string& text, Option option, Parse&& parse, const char* choices) {
+T parse_choice(const std::string& text, Option option, Parse&& parse, const std::string& choices) {
   const auto value = parse(text);
   if (!value) throw OptionError(option, fmt::format("unknown value '{}' (one of {})", text, choices));
   return *value;
@@ -75,13 +75,13 @@ std::optional<Option> first_given(const DiscreteOptions& opt, Refused&& refused)
 
 // The renderer conventions of DiscreteConfig (defaults documented there).
 void set_conventions(const DiscreteOptions& opt, DiscreteConfig& c) {
-  c.opacity_unit = parse_choice<OpacityUnit>(opt.opacity_unit, Option::opacity_unit, parse_opacity_unit, "sample, distance");
-  c.color = parse_choice<ColorConvention>(opt.color, Option::color, parse_color_convention, "straight, premultiplied");
+  c.opacity_unit = parse_choice<OpacityUnit>(opt.opacity_unit, Option::opacity_unit, parse_opacity_unit, opacity_unit_list());
+  c.color = parse_choice<ColorConvention>(opt.color, Option::color, parse_color_convention, color_convention_list());
   c.table_size = opt.table_size;
-  c.table_lookup = parse_choice<TableLookup>(opt.table_lookup, Option::table_lookup, parse_table_lookup, "centred, uncentred");
-  c.gradient = parse_choice<GradientScheme>(opt.gradient, Option::gradient, parse_gradient_scheme, "analytic, central, nodes");
+  c.table_lookup = parse_choice<TableLookup>(opt.table_lookup, Option::table_lookup, parse_table_lookup, table_lookup_list());
+  c.gradient = parse_choice<GradientScheme>(opt.gradient, Option::gradient, parse_gradient_scheme, gradient_scheme_list());
   c.gradient_offset = opt.gradient_offset;
-  c.shade_at = parse_choice<ShadeAt>(opt.shade_at, Option::shade_at, parse_shade_at, "samples, nodes");
+  c.shade_at = parse_choice<ShadeAt>(opt.shade_at, Option::shade_at, parse_shade_at, shade_at_list());
 }
 
 }  // namespace
@@ -114,9 +114,7 @@ const DiscreteOptionField* discrete_option_field(Option option) {
 SamplingConfig sampling_config(const DiscreteOptions& opt, const Scene& scene) {
   SamplingConfig c;
   const std::string strategy = opt.strategy.value_or(opt.step ? "step" : "entry_exit_corner");
-  c.strategy = parse_choice<Strategy>(strategy, Option::strategy, parse_strategy,
-                                      "eye, entry, entry_exit, entry_exit_corner, step, vtk, inviwo, "
-                                      "partial, exit_anchored");
+  c.strategy = parse_choice<Strategy>(strategy, Option::strategy, parse_strategy, strategy_list());
   const bool step_based = vrv::step_based(c.strategy);
   if (step_based && !opt.step)
     throw OptionError(Option::step, fmt::format("strategy {} needs {{0}} H", strategy), {Option::step});
@@ -144,13 +142,11 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
     return std::nullopt;
   }
   DiscreteConfig c;
-  c.rule = parse_choice<SegmentRule>(opt.method, Option::method, parse_segment_rule,
-                                     "riemann, alpha, trapezoid, exact_linear, moreland");
+  c.rule = parse_choice<SegmentRule>(opt.method, Option::method, parse_segment_rule, segment_rule_list());
   c.sampling = sampling_config(opt, scene);
   c.oversample = opt.oversample;
   c.centred_oversamples = opt.centred_oversamples;
-  c.correction = parse_choice<Correction>(opt.correction, Option::correction, parse_correction,
-                                          "none, lacroute, schulze, lee_newman, lee_newman_quadratic");
+  c.correction = parse_choice<Correction>(opt.correction, Option::correction, parse_correction, correction_list());
   c.termination = opt.termination;
   c.skip_below = opt.skip;
   if (opt.compositing == "front_to_back") c.compositing = Compositing::front_to_back;

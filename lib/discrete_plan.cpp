@@ -45,7 +45,7 @@ PlanOptions plan_options(double target, std::string_view metric, std::string_vie
     const auto rule = parse_segment_rule(name);
     if (!rule)
       throw OptionError(Option::rules,
-                        fmt::format("unknown rule '{}' (riemann, alpha, trapezoid, exact_linear, moreland)", name));
+                        fmt::format("unknown rule '{}' ({})", name, segment_rule_list()));
     p.rules.push_back(*rule);
     start = comma + 1;
   }

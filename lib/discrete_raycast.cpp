@@ -20,8 +20,10 @@ static_assert(names_complete(kColors));
 }  // namespace
 
 std::optional<OpacityUnit> parse_opacity_unit(std::string_view name) { return parse_name(kOpacityUnits, name); }
+std::string opacity_unit_list() { return name_list(kOpacityUnits); }
 std::string_view opacity_unit_name(OpacityUnit u) { return name_of(kOpacityUnits, u); }
 std::optional<ColorConvention> parse_color_convention(std::string_view name) { return parse_name(kColors, name); }
+std::string color_convention_list() { return name_list(kColors); }
 std::string_view color_convention_name(ColorConvention c) { return name_of(kColors, c); }
 
 void validate(const DiscreteConfig& c, bool grid_field) {

@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <type_traits>
 #include <vector>
@@ -47,8 +48,10 @@ enum class OpacityUnit { per_sample, per_unit_distance };
 enum class ColorConvention { straight, premultiplied };
 
 std::optional<OpacityUnit> parse_opacity_unit(std::string_view name);  // "sample", "distance"
+std::string opacity_unit_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view opacity_unit_name(OpacityUnit u);
 std::optional<ColorConvention> parse_color_convention(std::string_view name);  // "straight", "premultiplied"
+std::string color_convention_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view color_convention_name(ColorConvention c);
 
 struct DiscreteConfig {

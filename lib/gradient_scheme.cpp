@@ -46,8 +46,10 @@ GridField node_derivative(const GridField& g, int a) {
 }  // namespace
 
 std::optional<GradientScheme> parse_gradient_scheme(std::string_view name) { return parse_name(kSchemes, name); }
+std::string gradient_scheme_list() { return name_list(kSchemes); }
 std::string_view gradient_scheme_name(GradientScheme s) { return name_of(kSchemes, s); }
 std::optional<ShadeAt> parse_shade_at(std::string_view name) { return parse_name(kShadeAt, name); }
+std::string shade_at_list() { return name_list(kShadeAt); }
 std::string_view shade_at_name(ShadeAt s) { return name_of(kShadeAt, s); }
 
 Vec3 central_offsets(const std::optional<double>& offset, const GridField* grid, const Box& box,

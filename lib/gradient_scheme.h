@@ -6,6 +6,7 @@
 //   nodes     central differences at the grid's nodes, interpolated trilinearly to the sample
 //             (Lee & Newman's scheme; one-sided at the grid's faces): grids only.
 #include <optional>
+#include <string>
 #include <string_view>
 
 #include "lib/geometry.h"
@@ -16,6 +17,7 @@ namespace vrv {
 enum class GradientScheme { analytic, central, nodes };
 
 std::optional<GradientScheme> parse_gradient_scheme(std::string_view name);  // "analytic", "central", "nodes"
+std::string gradient_scheme_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view gradient_scheme_name(GradientScheme s);
 
 // A scheme with its offset, as a configuration holds them (DiscreteConfig::gradient, gradient_offset).
@@ -33,6 +35,7 @@ struct GradientChoice {
 //            the 8 nodes around each sample.
 enum class ShadeAt { samples, nodes };
 std::optional<ShadeAt> parse_shade_at(std::string_view name);  // "samples", "nodes"
+std::string shade_at_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view shade_at_name(ShadeAt s);
 
 // The offsets of `central` per axis: `offset` where given, else one node spacing of a grid, or the

@@ -171,6 +171,7 @@ constexpr NameTable<Correction, 5> kCorrectionNames{{
 static_assert(names_complete(kCorrectionNames));
 
 std::optional<Correction> parse_correction(std::string_view name) { return parse_name(kCorrectionNames, name); }
+std::string correction_list() { return name_list(kCorrectionNames); }
 
 std::string_view correction_name(Correction c) { return name_of(kCorrectionNames, c); }
 

@@ -8,6 +8,7 @@
 // so every output opacity is finite and in [0, 1].
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace vrv {
@@ -16,6 +17,7 @@ enum class Correction { none, lacroute, schulze, lee_newman, lee_newman_quadrati
 
 // "none", "lacroute", "schulze", "lee_newman", "lee_newman_quadratic"; nullopt otherwise.
 std::optional<Correction> parse_correction(std::string_view name);
+std::string correction_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view correction_name(Correction c);
 
 // Lacroute / Lichtenbelt (eq. 5): alpha' = 1 - (1 - alpha)^(1/N), as -expm1(log1p(-alpha) / N).

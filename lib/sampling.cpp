@@ -149,6 +149,7 @@ SamplePlan plan_with_partial_step(bool from_exit, double h, Interval iv, double 
 }  // namespace
 
 std::optional<Strategy> parse_strategy(std::string_view name) { return parse_name(kStrategyNames, name); }
+std::string strategy_list() { return name_list(kStrategyNames); }
 
 std::string_view strategy_name(Strategy s) { return name_of(kStrategyNames, s); }
 

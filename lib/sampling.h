@@ -5,6 +5,7 @@
 #include <array>
 #include <optional>
 #include <vector>
+#include <string>
 #include <string_view>
 
 #include "lib/geometry.h"
@@ -28,6 +29,7 @@ enum class Strategy {
 // Names: "eye", "entry", "entry_exit", "entry_exit_corner", "step", "vtk", "inviwo", "partial",
 // "exit_anchored".
 std::optional<Strategy> parse_strategy(std::string_view name);
+std::string strategy_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view strategy_name(Strategy s);
 // The strategies `keep` picks, in the order above (what a study or command takes, for its errors).
 std::vector<Strategy> strategies_where(bool (*keep)(Strategy));

@@ -17,6 +17,7 @@ static_assert(names_complete(kSegmentRuleNames));
 }  // namespace
 
 std::optional<SegmentRule> parse_segment_rule(std::string_view name) { return parse_name(kSegmentRuleNames, name); }
+std::string segment_rule_list() { return name_list(kSegmentRuleNames); }
 
 std::string_view segment_rule_name(SegmentRule r) { return name_of(kSegmentRuleNames, r); }
 

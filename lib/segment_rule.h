@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "analytic/piece_integrals.h"
@@ -21,6 +22,7 @@ enum class SegmentRule {
 };
 
 std::optional<SegmentRule> parse_segment_rule(std::string_view name);
+std::string segment_rule_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view segment_rule_name(SegmentRule r);
 // Every rule, in the order above.
 std::span<const SegmentRule> all_segment_rules();

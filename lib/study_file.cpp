@@ -369,8 +369,7 @@ StudyMethodSpec read_study_method(const StudyReader& r, const toml::table& m, co
       r.fail(path + ".tol", fmt::format("must be in [1e-15, 1], got {}", out.tol));
   } else {
     if (!parse_segment_rule(name))
-      r.fail(path + ".method", fmt::format("unknown method '{}' (one of reference, riemann, alpha, "
-                                           "trapezoid, exact_linear, moreland)", name));
+      r.fail(path + ".method", fmt::format("unknown method '{}' (one of reference, {})", name, segment_rule_list()));
     if (m.contains("tol")) r.fail(path + ".tol", "only the reference method takes tol");
     out.config = read_discrete_method(r, m, path, name, scene);
     const DiscreteConfig& c = out.config;

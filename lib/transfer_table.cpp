@@ -19,6 +19,7 @@ static_assert(names_complete(kTableLookupNames));
 }  // namespace
 
 std::optional<TableLookup> parse_table_lookup(std::string_view name) { return parse_name(kTableLookupNames, name); }
+std::string table_lookup_list() { return name_list(kTableLookupNames); }
 std::string_view table_lookup_name(TableLookup t) { return name_of(kTableLookupNames, t); }
 
 TransferTable::TransferTable(const PiecewiseLinear& curve, double lo, double hi, int n, TableLookup lookup)

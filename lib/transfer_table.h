@@ -14,6 +14,7 @@
 // x is clamped to [0, N - 1] (clamp-to-edge), so values outside the range get the end entries,
 // as the continuous transfer function is constant beyond its ends.
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -24,6 +25,7 @@ namespace vrv {
 enum class TableLookup { centred, uncentred };
 
 std::optional<TableLookup> parse_table_lookup(std::string_view name);  // "centred", "uncentred"
+std::string table_lookup_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view table_lookup_name(TableLookup t);
 
 inline constexpr int kMaxTableSize = 1 << 20;

@@ -18,11 +18,7 @@ static_assert(names_complete(kModes));
 std::optional<ProjectionMode> parse_projection_mode(std::string_view name) { return parse_name(kModes, name); }
 std::string_view projection_mode_name(ProjectionMode m) { return name_of(kModes, m); }
 
-std::string projection_mode_list() {
-  std::string s;
-  for (const auto& [mode, name] : kModes) s += (s.empty() ? "" : ", ") + std::string(name);
-  return s;
-}
+std::string projection_mode_list() { return name_list(kModes); }
 
 bool is_mip(ProjectionMode m) { return m == ProjectionMode::mip || m == ProjectionMode::mip_classified; }
 bool is_classified(ProjectionMode m) {

@@ -3,6 +3,7 @@
 // up both ways, so a name can never be parsed one way and printed another.
 #include <array>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <utility>
 
@@ -29,6 +30,14 @@ std::optional<E> parse_name(const NameTable<E, N>& table, std::string_view name)
   for (const auto& [value, n] : table)
     if (n == name) return value;
   return std::nullopt;
+}
+
+// Every name, in the table's order, joined by ", ": the choices an error message offers.
+template <class E, std::size_t N>
+std::string name_list(const NameTable<E, N>& table) {
+  std::string s;
+  for (const auto& [value, name] : table) s.append(s.empty() ? "" : ", ").append(name);
+  return s;
 }
 
 template <class E, std::size_t N>

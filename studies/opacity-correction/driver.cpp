@@ -16,7 +16,7 @@ bool has(const OpacityStudy& s, Correction c) {
 
 Correction correction_at(const StudyReader& r, const toml::node& n, const std::string& path) {
   const auto c = parse_correction(r.string(n, path));
-  if (!c) r.fail(path, "unknown correction (none, lacroute, schulze, lee_newman, lee_newman_quadratic)");
+  if (!c) r.fail(path, fmt::format("unknown correction ({})", correction_list()));
   return *c;
 }
 

@@ -336,7 +336,7 @@ py::dict discrete(const Scene& scene, const Points& origins, const Points& direc
   if (mode) return discrete_projection(scene, origins, directions, *mode, kw);
   const auto keywords = discrete_keywords(scene, kw);
   const auto& config = keywords->config;
-  if (!config) throw std::invalid_argument("--method: required (riemann, alpha, trapezoid, exact_linear, moreland)");
+  if (!config) throw std::invalid_argument(fmt::format("--method: required ({})", segment_rule_list()));
   if (bound)
     if (const std::string why = why_no_error_bound(scene, *config); !why.empty())
       throw std::invalid_argument(fmt::format("bound: no a-priori bound is derived for {} (docs/error-bounds.md)", why));
