@@ -149,15 +149,10 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
   c.correction = parse_choice<Correction>(opt.correction, Option::correction, parse_correction, correction_list());
   c.termination = opt.termination;
   c.skip_below = opt.skip;
-  if (opt.compositing == "front_to_back") c.compositing = Compositing::front_to_back;
-  else if (opt.compositing == "back_to_front") c.compositing = Compositing::back_to_front;
-  else throw OptionError(Option::compositing, fmt::format("unknown value '{}' (front_to_back or back_to_front)", opt.compositing));
-  if (opt.classification == "post") c.classification = Classification::post;
-  else if (opt.classification == "pre") c.classification = Classification::pre;
-  else throw OptionError(Option::classification, fmt::format("unknown value '{}' (post or pre)", opt.classification));
-  if (opt.precision == "double") c.precision = Precision::double_precision;
-  else if (opt.precision == "float") c.precision = Precision::single_precision;
-  else throw OptionError(Option::precision, fmt::format("unknown value '{}' (double or float)", opt.precision));
+  c.compositing = parse_choice<Compositing>(opt.compositing, Option::compositing, parse_compositing, compositing_list());
+  c.classification =
+      parse_choice<Classification>(opt.classification, Option::classification, parse_classification, classification_list());
+  c.precision = parse_choice<Precision>(opt.precision, Option::precision, parse_precision, precision_list());
   set_conventions(opt, c);
   if (!scene.shading)
     if (const auto o = first_given(opt, [](Option o) {

@@ -16,6 +16,14 @@ static_assert(names_complete(kOpacityUnits));
 constexpr NameTable<ColorConvention, 2> kColors{
     {{ColorConvention::straight, "straight"}, {ColorConvention::premultiplied, "premultiplied"}}};
 static_assert(names_complete(kColors));
+constexpr NameTable<Compositing, 2> kCompositing{
+    {{Compositing::front_to_back, "front_to_back"}, {Compositing::back_to_front, "back_to_front"}}};
+static_assert(names_complete(kCompositing));
+constexpr NameTable<Classification, 2> kClassification{{{Classification::post, "post"}, {Classification::pre, "pre"}}};
+static_assert(names_complete(kClassification));
+constexpr NameTable<Precision, 2> kPrecision{
+    {{Precision::double_precision, "double"}, {Precision::single_precision, "float"}}};
+static_assert(names_complete(kPrecision));
 
 }  // namespace
 
@@ -25,6 +33,15 @@ std::string_view opacity_unit_name(OpacityUnit u) { return name_of(kOpacityUnits
 std::optional<ColorConvention> parse_color_convention(std::string_view name) { return parse_name(kColors, name); }
 std::string color_convention_list() { return name_list(kColors); }
 std::string_view color_convention_name(ColorConvention c) { return name_of(kColors, c); }
+std::optional<Compositing> parse_compositing(std::string_view name) { return parse_name(kCompositing, name); }
+std::string compositing_list() { return name_list(kCompositing); }
+std::string_view compositing_name(Compositing c) { return name_of(kCompositing, c); }
+std::optional<Classification> parse_classification(std::string_view name) { return parse_name(kClassification, name); }
+std::string classification_list() { return name_list(kClassification); }
+std::string_view classification_name(Classification c) { return name_of(kClassification, c); }
+std::optional<Precision> parse_precision(std::string_view name) { return parse_name(kPrecision, name); }
+std::string precision_list() { return name_list(kPrecision); }
+std::string_view precision_name(Precision p) { return name_of(kPrecision, p); }
 
 void validate(const DiscreteConfig& c, bool grid_field) {
   if (c.oversample < 1 || c.oversample > 65536)

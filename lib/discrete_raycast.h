@@ -53,6 +53,15 @@ std::string_view opacity_unit_name(OpacityUnit u);
 std::optional<ColorConvention> parse_color_convention(std::string_view name);  // "straight", "premultiplied"
 std::string color_convention_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view color_convention_name(ColorConvention c);
+std::optional<Compositing> parse_compositing(std::string_view name);  // "front_to_back", "back_to_front"
+std::string compositing_list();
+std::string_view compositing_name(Compositing c);
+std::optional<Classification> parse_classification(std::string_view name);  // "post", "pre"
+std::string classification_list();
+std::string_view classification_name(Classification c);
+std::optional<Precision> parse_precision(std::string_view name);  // "double", "float"
+std::string precision_list();
+std::string_view precision_name(Precision p);
 
 struct DiscreteConfig {
   SegmentRule rule = SegmentRule::riemann;

@@ -406,7 +406,7 @@ nlohmann::json method_json(const StudyMethodSpec& m) {
     j["oversample"] = d.oversample;
     j["centred_oversamples"] = d.centred_oversamples;
     j["correction"] = std::string(correction_name(d.correction));
-    j["precision"] = d.precision == Precision::single_precision ? "float" : "double";
+    j["precision"] = std::string(precision_name(d.precision));
     // Renderer conventions only when not the defaults (earlier meta.json files stay as they were).
     if (d.opacity_unit != OpacityUnit::per_sample) j["opacity_unit"] = std::string(opacity_unit_name(d.opacity_unit));
     if (d.color != ColorConvention::straight) j["color"] = std::string(color_convention_name(d.color));
@@ -415,8 +415,8 @@ nlohmann::json method_json(const StudyMethodSpec& m) {
       j["table_lookup"] = std::string(table_lookup_name(d.table_lookup));
     }
     // Options only where not the defaults, likewise.
-    if (d.classification == Classification::pre) j["classification"] = "pre";
-    if (d.compositing == Compositing::back_to_front) j["compositing"] = "back_to_front";
+    if (d.classification == Classification::pre) j["classification"] = std::string(classification_name(d.classification));
+    if (d.compositing == Compositing::back_to_front) j["compositing"] = std::string(compositing_name(d.compositing));
     if (d.termination) j["termination"] = *d.termination;
     if (d.skip_below) j["skip"] = *d.skip_below;
     if (m.max_error) j["max_error"] = *m.max_error;

@@ -100,7 +100,7 @@ TEST(DiscreteOptions, StudyFileErrorsNameTheKey) {
   EXPECT_EQ(read_method(step + "termination = 0.9\ncompositing = 'back_to_front'\n").error,
             "s.toml: m.termination: early termination needs front-to-back compositing");
   EXPECT_EQ(read_method(step + "compositing = 'sideways'\n").error,
-            "s.toml: m.compositing: unknown value 'sideways' (front_to_back or back_to_front)");
+            "s.toml: m.compositing: unknown value 'sideways' (one of front_to_back, back_to_front)");
   EXPECT_EQ(read_method(step + "classification = 'pre'\n").error.rfind("s.toml: m.classification: ", 0), 0u)
       << "pre-classification needs a grid; the default scene is analytic";
   EXPECT_EQ(read_method(step + "gradient = 'nodes'\n").error,
