@@ -54,13 +54,13 @@ std::optional<ColorConvention> parse_color_convention(std::string_view name);  /
 std::string color_convention_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view color_convention_name(ColorConvention c);
 std::optional<Compositing> parse_compositing(std::string_view name);  // "front_to_back", "back_to_front"
-std::string compositing_list();
+std::string compositing_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view compositing_name(Compositing c);
 std::optional<Classification> parse_classification(std::string_view name);  // "post", "pre"
-std::string classification_list();
+std::string classification_list();  // likewise
 std::string_view classification_name(Classification c);
 std::optional<Precision> parse_precision(std::string_view name);  // "double", "float"
-std::string precision_list();
+std::string precision_list();  // likewise
 std::string_view precision_name(Precision p);
 
 struct DiscreteConfig {

@@ -30,7 +30,7 @@ void require_grey(const Scene& scene, std::string_view source, std::string_view 
   throw std::invalid_argument(fmt::format(
       "{}: transfer: the scene is RGB (three-valued points), which {} does not handle yet (grey scenes "
       "only); vrv render and vrv ray integrate RGB scenes, vrv export writes them, vrv verify and vrv gate "
-      "judge their images, and the library integrates them",
+      "judge their images, vrv study studies each channel, and the library integrates them",
       source, what));
 }
 

@@ -55,8 +55,8 @@ struct Scene {
 Scene channel_scene(const Scene& scene, int c);
 
 // Throws std::invalid_argument naming `source` and `what` when the scene is RGB: for the
-// commands and studies that compare one channel, so that a colour scene is refused, never
-// reduced silently to its red channel.
+// commands and calls that handle one channel (demo, plan, projections, the grey library calls),
+// so that a colour scene is refused, never reduced silently to its red channel.
 void require_grey(const Scene& scene, std::string_view source, std::string_view what);
 
 // Throws std::invalid_argument naming `source` and `what` when the scene shades: for what does

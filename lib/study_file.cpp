@@ -296,10 +296,10 @@ std::string method_label(const StudyMethodSpec& m) {
   if (c.color != ColorConvention::straight) label += fmt::format(" {}", color_convention_name(c.color));
   if (c.table_size > 0) label += fmt::format(" table={} {}", c.table_size, table_lookup_name(c.table_lookup));
   if (c.classification == Classification::pre) label += " pre-classified";
-  if (c.compositing == Compositing::back_to_front) label += " back_to_front";
+  if (c.compositing == Compositing::back_to_front) label += fmt::format(" {}", compositing_name(c.compositing));
   if (c.termination) label += fmt::format(" termination={:g}", *c.termination);
   if (c.skip_below) label += fmt::format(" skip<{:g}", *c.skip_below);
-  label += c.precision == Precision::single_precision ? " float" : " double";
+  label += fmt::format(" {}", precision_name(c.precision));
   return label;
 }
 

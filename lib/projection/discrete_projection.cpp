@@ -15,6 +15,7 @@ static_assert(names_complete(kRules));
 }  // namespace
 
 std::optional<XrayRule> parse_xray_rule(std::string_view name) { return parse_name(kRules, name); }
+std::string xray_rule_list() { return name_list(kRules); }
 std::string_view xray_rule_name(XrayRule r) { return name_of(kRules, r); }
 
 DiscreteProjectionResult discrete_projection(const Scene& scene, const Ray& ray, const DiscreteProjectionConfig& config) {

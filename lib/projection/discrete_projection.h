@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string>
 #include <string_view>
 
 #include "lib/field.h"
@@ -21,6 +22,7 @@ namespace vrv {
 
 enum class XrayRule { riemann, trapezoid, simpson };
 std::optional<XrayRule> parse_xray_rule(std::string_view name);  // "riemann", "trapezoid", "simpson"
+std::string xray_rule_list();  // its names in order, "a, b, c": the choices an error offers
 std::string_view xray_rule_name(XrayRule r);
 
 struct DiscreteProjectionConfig {

@@ -46,8 +46,8 @@ std::optional<ProjectionSetup> projection_setup(const std::string& mode, const D
     const auto rule = parse_xray_rule(opt.method);
     if (!rule)
       throw OptionError(Option::method,
-                        fmt::format("unknown value '{}' for {{0}} {} (riemann, trapezoid, simpson)",
-                                    literal(opt.method), literal(mode)),
+                        fmt::format("unknown value '{}' for {{0}} {} ({})", literal(opt.method), literal(mode),
+                                    xray_rule_list()),
                         {Option::mode});
     c.rule = *rule;
   }

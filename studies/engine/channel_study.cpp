@@ -91,8 +91,6 @@ StudyOutcome run_channels(const ChannelPlan& plan_channel, const StudyRun& run) 
   return all;
 }
 
-}  // namespace
-
 // The work of the variant (`quick`) for every channel, or what estimating it threw.
 struct ChannelWork {
   StudyWork work;
@@ -110,6 +108,8 @@ ChannelWork channels_work(const StudyWorkEstimate& red, bool quick) {
   }
   return out;
 }
+
+}  // namespace
 
 StudyPlan per_channel_plan(StudyPlan red, ChannelPlan plan_channel) {
   std::array<ChannelWork, 2> work{channels_work(red.work, false), channels_work(red.work, true)};

@@ -16,6 +16,21 @@ std::string naming_channel(const StudyFileError& e, int channel) {
   return fmt::format("{} (studying the scene's {} channel)", e.what(), channel_name(channel));
 }
 
+// Whether the red channel's error `e` is its own: green or blue plans, or fails otherwise.  An error
+// every channel makes alike (a bad key, projections of an RGB scene) names none.
+template <class PlanChannel>
+bool channel_dependent(const StudyFileError& e, const PlanChannel& plan_channel) {
+  for (int channel = 1; channel < 3; ++channel) {
+    try {
+      plan_channel(channel);
+      return true;
+    } catch (const StudyFileError& other) {
+      if (std::string_view(other.what()) != e.what()) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 LoadedStudy load_study_text(std::string text, const std::string& source, const std::string& default_name,
@@ -44,21 +59,24 @@ LoadedStudy load_study_text(std::string text, const std::string& source, const s
   // What the estimate cannot see (volumes, scene files' grids) is spent from the rest as it is read.
   const double left = std::max(limit - memory.bytes, 1.0);
   const StudyReader reader(s.source, left);
+  const auto plan_channel = [doc, source = s.source, name = s.name, parse, left](int channel) {
+    StudyReader channel_reader(source, left);
+    channel_reader.set_channel(channel);
+    return parse(StudyInput{doc, channel_reader, channel_study_name(name, channel)});
+  };
   StudyPlan plan;
   try {
     plan = parse(StudyInput{doc, reader, s.name});
   } catch (const StudyFileError& e) {
-    if (!reader.saw_rgb_scene()) throw;
-    throw StudyFileError(naming_channel(e, 0));  // the study of an RGB scene's red channel
+    if (!reader.saw_rgb_scene() || !channel_dependent(e, plan_channel)) throw;
+    throw StudyFileError(naming_channel(e, 0));
   }
   s.memory_bytes += reader.memory_spent();  // --all adds the studies up
   if (reader.saw_rgb_scene())
-    plan = per_channel_plan(std::move(plan), [doc, source = s.source, name = s.name, parse, left](int channel) {
-      StudyReader channel_reader(source, left);
-      channel_reader.set_channel(channel);
+    plan = per_channel_plan(std::move(plan), [plan_channel](int channel) {
       try {
-        return parse(StudyInput{doc, channel_reader, channel_study_name(name, channel)});
-      } catch (const StudyFileError& e) {  // a check that holds for red may not for green
+        return plan_channel(channel);
+      } catch (const StudyFileError& e) {  // red passed: a check that holds for red, not for this one
         throw StudyFileError(naming_channel(e, channel));
       }
     });

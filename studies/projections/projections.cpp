@@ -17,6 +17,16 @@
 namespace vrv {
 namespace {
 
+// The step-based strategies, "a, b, c".
+std::string step_based_list() {
+  std::string s;
+  for (const Strategy st : strategies_where(step_based)) s.append(s.empty() ? "" : ", ").append(strategy_name(st));
+  return s;
+}
+
+}  // namespace
+namespace {
+
 ProjectionsMethod read_method(const StudyReader& r, const toml::table& m, const std::string& path) {
   r.check_keys(m, path, {"mode", "method", "strategy", "expected_order", "maxima"});
   ProjectionsMethod out;
@@ -29,13 +39,13 @@ ProjectionsMethod read_method(const StudyReader& r, const toml::table& m, const 
     if (method != "max") r.fail(path + ".method", fmt::format("unknown method '{}' for mode {} (max)", method, mode));
   } else {
     const auto rule = parse_xray_rule(method);
-    if (!rule) r.fail(path + ".method", fmt::format("unknown method '{}' for mode {} (riemann, trapezoid, simpson)", method, mode));
+    if (!rule) r.fail(path + ".method", fmt::format("unknown method '{}' for mode {} ({})", method, mode, xray_rule_list()));
     out.config.rule = *rule;
   }
   const std::string strategy = r.string(r.require(m, "strategy", path), path + ".strategy");
   const auto st = parse_strategy(strategy);
   if (!st || !step_based(*st))
-    r.fail(path + ".strategy", fmt::format("'{}' is not a step-based strategy (step, vtk, inviwo, partial, exit_anchored)", strategy));
+    r.fail(path + ".strategy", fmt::format("'{}' is not a step-based strategy ({})", strategy, step_based_list()));
   out.config.sampling.strategy = *st;
   out.expected_order = r.number(r.require(m, "expected_order", path), path + ".expected_order");
   if (!(out.expected_order > 0)) r.fail(path + ".expected_order", "must be positive");

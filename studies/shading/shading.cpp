@@ -271,7 +271,6 @@ ShadingStudy read_shading_study(const StudyInput& in) {
   if (!s.scene.shading) r.fail("scene", "needs a [scene.shading] table (the study compares shaded raycasts)");
   if (std::holds_alternative<GridField>(s.scene.field))
     r.fail("scene.field", "must be analytic (marschner_lobb or linear_ramp): the study samples it on its grids");
-  if (s.scene.color) r.fail("scene", "the scene is RGB; the study compares one channel");
   return s;
 }
 

@@ -45,8 +45,8 @@ TEST(OptionError, MessagesSpellTheOptionAndWhatItMentionsAsTheUserWrote) {
 // A user's value is shown as typed: with braces in a plain reason, and through literal() in a
 // reason that mentions options.
 TEST(OptionError, ValuesWithBracesAreShownAsTyped) {
-  const OptionError plain(Option::compositing, "unknown value '{' (front_to_back or back_to_front)");
-  EXPECT_EQ(std::string(plain.what()), "--compositing: unknown value '{' (front_to_back or back_to_front)");
+  const OptionError plain(Option::compositing, "unknown value '{' (one of front_to_back, back_to_front)");
+  EXPECT_EQ(std::string(plain.what()), "--compositing: unknown value '{' (one of front_to_back, back_to_front)");
   const OptionError mentions(Option::method, "unknown value '" + literal("{0}}") + "' for {0} mip", {Option::mode});
   EXPECT_EQ(std::string(mentions.what()), "--method: unknown value '{0}}' for --mode mip");
   EXPECT_EQ(mentions.message(Spelling::key), "method: unknown value '{0}}' for mode mip");

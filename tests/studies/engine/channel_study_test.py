@@ -104,6 +104,7 @@ bad = os.path.join(out, "rgb-projections.toml")
 open(bad, "w").write(projections)
 r = run("study", bad, "--quick", "--out", out, expect=2)
 assert r.stderr.count("\n") == 1 and "rgb-projections.toml: scene: the scene is RGB" in r.stderr, r.stderr
+assert "(studying" not in r.stderr, "an error every channel makes alike names none: " + r.stderr
 assert not os.path.exists(os.path.join(out, "rgb-projections"))
 # A check of the file that holds for red but not for green: refused before anything runs.
 sampling = open(os.path.join(src, "studies/sampling/sampling.toml")).read()
