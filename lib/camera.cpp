@@ -38,14 +38,9 @@ CameraError::CameraError(std::string field, std::string reason)
       field_(std::move(field)),
       reason_(std::move(reason)) {}
 
-std::string_view to_string(Projection p) {
-  switch (p) {
-    case Projection::orthographic: return "orthographic";
-    case Projection::perspective: return "perspective";
-    case Projection::fan: return "fan";
-  }
-  return "?";
-}
+static_assert(names_complete(kProjectionNames));
+
+std::string_view to_string(Projection p) { return name_of(kProjectionNames, p); }
 
 CameraFrame camera_frame(const Camera& c) {
   const Vec3 forward = (c.target - c.eye).normalized();

@@ -18,10 +18,15 @@
 #include <string_view>
 
 #include "lib/geometry.h"
+#include "lib/util/enum_names.h"
 
 namespace vrv {
 
 enum class Projection { orthographic, perspective, fan };
+// Their names in scene files ([camera] projection) and in to_string.
+inline constexpr NameTable<Projection, 3> kProjectionNames{{{Projection::orthographic, "orthographic"},
+                                                            {Projection::perspective, "perspective"},
+                                                            {Projection::fan, "fan"}}};
 
 struct Camera {
   Projection projection = Projection::perspective;

@@ -17,23 +17,39 @@
 
 namespace vrv {
 
+namespace {
+
+std::string step_strategy_list() {
+  std::string s;
+  for (const Strategy st : kWholeStepStrategies) s.append(s.empty() ? "" : ", ").append(strategy_name(st));
+  return s;
+}
+
+}  // namespace
+
+std::string comma_separated(const std::vector<SegmentRule>& rules) {
+  std::string s;
+  for (const SegmentRule r : rules) s.append(s.empty() ? "" : ",").append(segment_rule_name(r));
+  return s;
+}
+
 void validate(const PlanOptions& o) {
   if (!(o.target > 0) || !std::isfinite(o.target))
     throw OptionError(Option::target, fmt::format("must be a positive finite error, got {}", o.target));
   if (o.metric != Metric::max && o.metric != Metric::rms)
     throw OptionError(Option::metric, fmt::format("max or rms, got {}", metric_name(o.metric)));
   if (o.rules.empty()) throw OptionError(Option::rules, "at least one rule");
-  if (o.strategy != Strategy::step && o.strategy != Strategy::vtk && o.strategy != Strategy::inviwo)
+  if (std::ranges::find(kWholeStepStrategies, o.strategy) == std::end(kWholeStepStrategies))
     throw OptionError(Option::strategy,
-                      fmt::format("a step-based placement (step, vtk, inviwo), got {}", strategy_name(o.strategy)));
+                      fmt::format("a step-based placement ({}), got {}", step_strategy_list(), strategy_name(o.strategy)));
   if (!(o.max_work > 0)) throw OptionError(Option::max_work, fmt::format("must be positive, got {}", o.max_work));
 }
 
-PlanOptions plan_options(double target, std::string_view metric, std::string_view rules, std::string_view strategy,
-                         double max_work) {
+PlanOptions plan_options(const PlanSettings& settings) {
+  const std::string_view metric = settings.metric, rules = settings.rules, strategy = settings.strategy;
   PlanOptions p;
-  p.target = target;
-  p.max_work = max_work;
+  p.target = settings.target;
+  p.max_work = settings.max_work;
   const auto m = parse_metric(metric);
   if (!m || (*m != Metric::max && *m != Metric::rms))
     throw OptionError(Option::metric, fmt::format("unknown value '{}' (max or rms)", metric));
@@ -50,7 +66,7 @@ PlanOptions plan_options(double target, std::string_view metric, std::string_vie
     start = comma + 1;
   }
   const auto s = parse_strategy(strategy);
-  if (!s) throw OptionError(Option::strategy, fmt::format("unknown value '{}' (step, vtk, inviwo)", strategy));
+  if (!s) throw OptionError(Option::strategy, fmt::format("unknown value '{}' ({})", strategy, step_strategy_list()));
   p.strategy = *s;
   validate(p);
   return p;

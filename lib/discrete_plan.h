@@ -3,6 +3,7 @@
 // per segment rule, the largest step whose estimated image error (lib/discrete_error_estimate.h,
 // over the camera's pixels) is within the target, and its cost (samples per ray, and seconds per
 // sample measured on this machine); the rules ranked by cost.  `vrv plan` prints it.
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -29,10 +30,24 @@ struct PlanOptions {
 // Throws std::invalid_argument naming the option (--target, --metric, --rules, --strategy, --max-work).
 void validate(const PlanOptions& options);
 
-// The options from the command line's words (metric "max" | "rms", rules comma-separated, a
-// strategy name), validated; the one parser of them for `vrv plan` and Python's vrv.plan.
-PlanOptions plan_options(double target, std::string_view metric, std::string_view rules, std::string_view strategy,
-                         double max_work);
+// Rules as --rules takes them: "riemann,alpha".
+std::string comma_separated(const std::vector<SegmentRule>& rules);
+
+// What `vrv plan`'s options and vrv.plan's keywords set alike, as the user types them (metric
+// "max" | "rms", rules comma-separated, a strategy name); the defaults are PlanOptions' own, and
+// the command line and the Python module bind these fields.  The target has none: it is required.
+struct PlanSettings {
+  double target = 0;
+  std::string metric{metric_name(PlanOptions{}.metric)};
+  std::string rules = comma_separated(PlanOptions{}.rules);
+  std::string strategy{strategy_name(PlanOptions{}.strategy)};
+  double max_work = PlanOptions{}.max_work;
+};
+// The camera's sides a plan estimates over unless given (the scene's camera at this size).
+inline constexpr int kPlanImageSide = 32;
+
+// The options from the settings, validated; the one parser of them for `vrv plan` and vrv.plan.
+PlanOptions plan_options(const PlanSettings& settings);
 
 struct PlannedRule {
   DiscreteConfig config;         // the rule at the step chosen

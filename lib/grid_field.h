@@ -17,6 +17,7 @@
 
 #include "lib/geometry.h"
 #include "lib/grid_nodes.h"
+#include "lib/util/enum_names.h"
 #include "lib/util/force_inline.h"
 
 namespace vrv {
@@ -25,6 +26,11 @@ struct NodeGradients;  // lib/gradient_scheme.h
 
 enum class GridLayout { node, cell };
 enum class Interpolation { trilinear, nearest };
+// Their names in scene and study files.
+inline constexpr NameTable<GridLayout, 2> kGridLayoutNames{{{GridLayout::node, "node"}, {GridLayout::cell, "cell"}}};
+inline constexpr NameTable<Interpolation, 2> kInterpolationNames{
+    {{Interpolation::trilinear, "trilinear"}, {Interpolation::nearest, "nearest"}}};
+static_assert(names_complete(kGridLayoutNames) && names_complete(kInterpolationNames));
 
 class GridField {
  public:

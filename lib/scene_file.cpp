@@ -2,6 +2,7 @@
 
 #include "lib/io/error_line.h"
 #include "lib/projection/projection_mode.h"
+#include "lib/util/enum_names.h"
 #include "lib/volume/volume_file.h"
 #include "lib/volume/volume_grid.h"
 
@@ -196,20 +197,16 @@ class Reader {
     return curves;
   }
 
-  // One of `options` by name; the first option is the default.
-  template <class E>
-  E choice(const toml::table& t, std::string_view key, std::string_view path,
-           std::initializer_list<std::pair<std::string_view, E>> options) const {
+  // One of the enum's named values (its table beside its declaration), or `fallback` without the key.
+  template <class E, std::size_t N>
+  E choice(const toml::table& t, std::string_view key, std::string_view path, const NameTable<E, N>& names,
+           E fallback) const {
     const toml::node* n = t.get(key);
-    if (!n) return options.begin()->second;
+    if (!n) return fallback;
     const std::string p = child(path, key);
     const std::string_view s = string(*n, p);
-    std::vector<std::string_view> names;
-    for (const auto& [name, value] : options) {
-      if (name == s) return value;
-      names.push_back(name);
-    }
-    fail(p, fmt::format("unknown value \"{}\" (expected {})", s, fmt::join(names, " or ")));
+    if (const auto value = parse_name(names, s)) return *value;
+    fail(p, fmt::format("unknown value \"{}\" (expected {})", s, name_list(names, " or ")));
   }
 
  private:
@@ -291,11 +288,8 @@ GridField read_grid(const Reader& r, const toml::table& t, const Box& box) {
   r.check_keys(t, "field", {"kind", "source", "resolution", "layout", "interpolation"});
   const AnalyticField source =
       read_source(r, r.table(r.require(t, "source", "field"), "field.source"), "field.source");
-  const auto layout = r.choice<GridLayout>(t, "layout", "field",
-                                           {{"node", GridLayout::node}, {"cell", GridLayout::cell}});
-  const auto interpolation = r.choice<Interpolation>(
-      t, "interpolation", "field",
-      {{"trilinear", Interpolation::trilinear}, {"nearest", Interpolation::nearest}});
+  const auto layout = r.choice(t, "layout", "field", kGridLayoutNames, GridLayout::node);
+  const auto interpolation = r.choice(t, "interpolation", "field", kInterpolationNames, Interpolation::trilinear);
   const auto res = r.int3(r.require(t, "resolution", "field"), "field.resolution");
   for (std::size_t a = 0; a < 3; ++a)
     if (layout == GridLayout::node && res[a] < 2)
@@ -329,16 +323,13 @@ GridField read_volume_field(const Reader& r, const toml::table& t, const Box& bo
     if (!(mapping.lo < mapping.hi) || !std::isfinite(mapping.hi - mapping.lo))
       r.fail("field.value.window", fmt::format("[{}, {}] needs lo < hi (and a finite width)", mapping.lo, mapping.hi));
   } else {
-    mapping.kind = r.choice<VolumeValue>(t, "value", "field",
-                                         {{"raw", VolumeValue::raw}, {"rescale", VolumeValue::rescale}});
+    // A window is a table ([window] above); the plain values by name.
+    constexpr NameTable<VolumeValue, 2> named{{{VolumeValue::raw, "raw"}, {VolumeValue::rescale, "rescale"}}};
+    mapping.kind = r.choice(t, "value", "field", named, mapping.kind);
   }
-  const auto placement = r.choice<VolumePlacement>(
-      t, "placement", "field", {{"header", VolumePlacement::header}, {"box", VolumePlacement::box}});
-  const auto layout = r.choice<GridLayout>(t, "layout", "field",
-                                           {{"node", GridLayout::node}, {"cell", GridLayout::cell}});
-  const auto interpolation = r.choice<Interpolation>(
-      t, "interpolation", "field",
-      {{"trilinear", Interpolation::trilinear}, {"nearest", Interpolation::nearest}});
+  const auto placement = r.choice(t, "placement", "field", kVolumePlacementNames, VolumePlacement::header);
+  const auto layout = r.choice(t, "layout", "field", kGridLayoutNames, GridLayout::node);
+  const auto interpolation = r.choice(t, "interpolation", "field", kInterpolationNames, Interpolation::trilinear);
   try {
     // The grid's node cap (as for kind = "grid") and the memory budget, checked from the header
     // before reading: the samples in their own type, and at the peak what the reader holds
@@ -365,8 +356,7 @@ GridField read_volume_field(const Reader& r, const toml::table& t, const Box& bo
 bool volume_places_itself(const Reader& r, const toml::table& field) {
   const toml::node* kind = field.get("kind");
   if (!kind || !kind->is_string() || kind->as_string()->get() != "volume") return false;
-  return r.choice<VolumePlacement>(field, "placement", "field",
-                                   {{"header", VolumePlacement::header}, {"box", VolumePlacement::box}}) ==
+  return r.choice(field, "placement", "field", kVolumePlacementNames, VolumePlacement::header) ==
          VolumePlacement::header;
 }
 
@@ -508,10 +498,8 @@ std::optional<Shading> read_shading(const Reader& r, const toml::table* t, const
   if (!t) return std::nullopt;
   r.check_keys(*t, "shading", {"model", "ambient", "diffuse", "specular", "shininess", "light", "normal", "two_sided"});
   Shading s;
-  s.model = r.choice<ShadingModel>(*t, "model", "shading",
-                                   {{"blinn_phong", ShadingModel::blinn_phong}, {"phong", ShadingModel::phong}});
-  s.normal = r.choice<NormalSign>(*t, "normal", "shading",
-                                  {{"negative_gradient", NormalSign::negative_gradient}, {"gradient", NormalSign::gradient}});
+  s.model = r.choice(*t, "model", "shading", kShadingModelNames, s.model);
+  s.normal = r.choice(*t, "normal", "shading", kNormalSignNames, s.normal);
   s.ambient = r.number_or(*t, "ambient", "shading", s.ambient);
   s.diffuse = r.number_or(*t, "diffuse", "shading", s.diffuse);
   s.specular = r.number_or(*t, "specular", "shading", s.specular);
@@ -544,10 +532,7 @@ std::optional<Shading> read_shading(const Reader& r, const toml::table* t, const
 std::optional<Camera> read_camera(const Reader& r, const toml::table* t) {
   if (!t) return std::nullopt;
   Camera c;
-  c.projection = r.choice<Projection>(*t, "projection", "camera",
-                                      {{"perspective", Projection::perspective},
-                                       {"orthographic", Projection::orthographic},
-                                       {"fan", Projection::fan}});
+  c.projection = r.choice(*t, "projection", "camera", kProjectionNames, c.projection);
   std::vector<std::string_view> allowed{"projection", "eye"};
   switch (c.projection) {
     case Projection::perspective: allowed.insert(allowed.end(), {"target", "up", "fov", "width", "height"}); break;

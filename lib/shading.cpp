@@ -12,12 +12,7 @@
 namespace vrv {
 namespace {
 
-constexpr NameTable<ShadingModel, 2> kModels{
-    {{ShadingModel::phong, "phong"}, {ShadingModel::blinn_phong, "blinn_phong"}}};
-static_assert(names_complete(kModels));
-constexpr NameTable<NormalSign, 2> kNormals{
-    {{NormalSign::gradient, "gradient"}, {NormalSign::negative_gradient, "negative_gradient"}}};
-static_assert(names_complete(kNormals));
+static_assert(names_complete(kShadingModelNames) && names_complete(kNormalSignNames));
 
 void require_coefficient(double value, std::string_view key) {
   if (!(value >= 0) || !std::isfinite(value))
@@ -40,10 +35,12 @@ double power(double x, double p) {
 
 }  // namespace
 
-std::optional<ShadingModel> parse_shading_model(std::string_view name) { return parse_name(kModels, name); }
-std::string_view shading_model_name(ShadingModel m) { return name_of(kModels, m); }
-std::optional<NormalSign> parse_normal_sign(std::string_view name) { return parse_name(kNormals, name); }
-std::string_view normal_sign_name(NormalSign s) { return name_of(kNormals, s); }
+std::optional<ShadingModel> parse_shading_model(std::string_view name) {
+  return parse_name(kShadingModelNames, name);
+}
+std::string_view shading_model_name(ShadingModel m) { return name_of(kShadingModelNames, m); }
+std::optional<NormalSign> parse_normal_sign(std::string_view name) { return parse_name(kNormalSignNames, name); }
+std::string_view normal_sign_name(NormalSign s) { return name_of(kNormalSignNames, s); }
 
 void validate(const Shading& s) {
   require_coefficient(s.ambient, "ambient");

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "lib/geometry.h"
+#include "lib/util/enum_names.h"
 
 namespace vrv {
 
@@ -17,6 +18,11 @@ enum class ShadingModel { phong, blinn_phong };
 // The normal's sign: "gradient" (n points toward higher values) or "negative_gradient" (toward
 // lower values: outward from a bright object on a dark background, as VTK's ray caster takes it).
 enum class NormalSign { gradient, negative_gradient };
+// Their names in scene files ([shading] model, normal).
+inline constexpr NameTable<ShadingModel, 2> kShadingModelNames{
+    {{ShadingModel::phong, "phong"}, {ShadingModel::blinn_phong, "blinn_phong"}}};
+inline constexpr NameTable<NormalSign, 2> kNormalSignNames{
+    {{NormalSign::gradient, "gradient"}, {NormalSign::negative_gradient, "negative_gradient"}}};
 
 std::optional<ShadingModel> parse_shading_model(std::string_view name);  // "phong", "blinn_phong"
 std::string_view shading_model_name(ShadingModel m);

@@ -32,11 +32,12 @@ std::optional<E> parse_name(const NameTable<E, N>& table, std::string_view name)
   return std::nullopt;
 }
 
-// Every name, in the table's order, joined by ", ": the choices an error message offers.
+// Every name, in the table's order, joined by `separator` (", ", or " or " for two): the choices
+// an error message offers.
 template <class E, std::size_t N>
-std::string name_list(const NameTable<E, N>& table) {
+std::string name_list(const NameTable<E, N>& table, std::string_view separator = ", ") {
   std::string s;
-  for (const auto& [value, name] : table) s.append(s.empty() ? "" : ", ").append(name);
+  for (const auto& [value, name] : table) s.append(s.empty() ? "" : separator).append(name);
   return s;
 }
 

@@ -10,6 +10,7 @@
 #include "lib/camera.h"
 #include "lib/metrics.h"
 #include "lib/projection/projection_mode.h"
+#include "lib/shared_options.h"
 
 namespace vrv {
 
@@ -18,12 +19,15 @@ enum class AlphaMode {
   premultiplied,  // colour channels are premultiplied by alpha (OpenEXR's convention)
   straight,       // colour channels are not premultiplied: they are multiplied by alpha here
 };
+std::string_view alpha_mode_name(AlphaMode mode);               // "auto", "premultiplied", "straight"
+std::optional<AlphaMode> parse_alpha_mode(std::string_view name);
+std::string alpha_mode_list();                                  // "auto, premultiplied, straight"
 
 struct VerifyOptions {
   // The camera the images were rendered with; default: the scene's [camera], else
   // default_camera(scene.box).  Width and height are always the images'.
   std::optional<Camera> camera;
-  double reference_tol = 1e-10;   // absolute tolerance on I per reference pixel
+  double reference_tol = kImagesReferenceTol;  // absolute tolerance on I per reference pixel
   std::optional<double> expected_order;  // K: anything but convergence at K fails
   double order_tolerance = 0.25;  // observed >= K - tolerance converges at K
   Metric order_metric = Metric::rms;  // the statistic the order fits read
@@ -56,13 +60,14 @@ struct VerifyOptions {
 };
 
 // What `vrv verify`'s options and vrv.verify's keywords set alike, from their text, checked in
-// this order; each problem is one std::invalid_argument naming the command-line option.
+// this order; each problem is one OptionError naming the option.  The defaults are VerifyOptions'
+// own, as the user would type them: the command line and the Python module bind these fields.
 struct VerifySettings {
-  double tol = 1e-10;            // --tol: positive and finite
-  double order_tolerance = 0.25;  // --order-tolerance: positive
-  std::string order_metric = "rms";  // --order-metric: max, mean, rms or p99
-  double unit_distance = 0;      // --unit-distance: not negative
-  std::string alpha = "auto";  // --alpha: auto (as the file declares), premultiplied or straight
+  double tol = VerifyOptions{}.reference_tol;                 // --tol: positive and finite
+  double order_tolerance = VerifyOptions{}.order_tolerance;   // --order-tolerance: positive
+  std::string order_metric{metric_name(VerifyOptions{}.order_metric)};  // --order-metric: max, mean, rms or p99
+  double unit_distance = VerifyOptions{}.unit_distance;       // --unit-distance: not negative
+  std::string alpha{alpha_mode_name(VerifyOptions{}.alpha)};  // --alpha: auto, premultiplied or straight
 };
 void apply(const VerifySettings& settings, VerifyOptions& options);
 

@@ -24,6 +24,9 @@ struct VolumeMapping {
 // index axis is reordered to ascending world coordinates); box: plain index order (i along x)
 // filling the scene's box.
 enum class VolumePlacement { header, box };
+inline constexpr NameTable<VolumePlacement, 2> kVolumePlacementNames{
+    {{VolumePlacement::header, "header"}, {VolumePlacement::box, "box"}}};  // as scene files name them
+static_assert(names_complete(kVolumePlacementNames));
 
 // Where the header places the samples: node layout, the first and last sample on the box
 // faces; cell layout, the box half a voxel larger on every side (renderers that treat point

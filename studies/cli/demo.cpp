@@ -28,7 +28,7 @@ namespace {
 struct DemoOptions {
   std::string scene;     // scene file; the embedded default when empty
   int rays = 64;         // rays of the fixed-seed study set (seed 1)
-  double tol = 1e-12;    // the reference's absolute tolerance on I
+  double tol = ReferenceOptions{}.tol;  // the reference's absolute tolerance on I
   double step = 0.01;    // the coarsest step (world units); each next one is half of it
   int halvings = 3;      // steps: step, step/2, ..., step/2^halvings
   // |observed - expected| <= max(margin * c_1 * SE, floor): the convergence study's band.

@@ -13,6 +13,7 @@
 
 #include "lib/discrete_plan.h"
 #include "lib/metrics.h"
+#include "lib/shared_options.h"
 #include "lib/vrv.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/discrete_flags.h"
@@ -23,14 +24,10 @@ namespace {
 
 struct PlanCommandOptions {
   std::string scene;
-  double target = 0;
-  std::string metric = "max";
-  std::string rules = "riemann,alpha,trapezoid,exact_linear";
-  std::string strategy = "step";
-  std::optional<int> width = 32, height = 32;
-  double max_work = 1e9;
+  PlanSettings settings;
+  std::optional<int> width = kPlanImageSide, height = kPlanImageSide;
   bool check = false;
-  double tol = 1e-10;
+  double tol = kImagesReferenceTol;
   bool json = false;
 };
 
@@ -50,7 +47,7 @@ Check check_plan(const Scene& scene, const Camera& camera, const PlannedRule& ch
 }
 
 void run_plan(const PlanCommandOptions& o) {
-  const PlanOptions p = plan_options(o.target, o.metric, o.rules, o.strategy, o.max_work);
+  const PlanOptions p = plan_options(o.settings);
   check_tolerance(o.tol);
   const Scene scene = load_scene_or_default(o.scene);
   require_unshaded(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv plan");
@@ -104,13 +101,13 @@ void add_plan_command(CLI::App& app) {
       "--target over the camera's pixels, its samples per ray and measured seconds per sample; ranked cheapest "
       "first.\nExit: 0; 1 no rule meets the target, or --check measured an error above it; 2 bad input.");
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
-  cmd->add_option("--target", opt->target, "The error the image may have")->required();
-  cmd->add_option("--metric", opt->metric, "Over the pixels: max or rms")->capture_default_str();
-  cmd->add_option("--rules", opt->rules, "Rules to plan, comma-separated")->capture_default_str();
-  cmd->add_option("--strategy", opt->strategy, "A step-based placement: step, vtk or inviwo")->capture_default_str();
+  cmd->add_option("--target", opt->settings.target, "The error the image may have")->required();
+  cmd->add_option("--metric", opt->settings.metric, "Over the pixels: max or rms")->capture_default_str();
+  cmd->add_option("--rules", opt->settings.rules, "Rules to plan, comma-separated")->capture_default_str();
+  cmd->add_option("--strategy", opt->settings.strategy, "A step-based placement: step, vtk or inviwo")->capture_default_str();
   add_shared_option(*cmd, Option::width, opt->width);
   add_shared_option(*cmd, Option::height, opt->height);
-  cmd->add_option("--max-work", opt->max_work, "Field evaluations one image estimate may take")->capture_default_str();
+  cmd->add_option("--max-work", opt->settings.max_work, "Field evaluations one image estimate may take")->capture_default_str();
   cmd->add_flag("--check", opt->check, "Render the chosen configuration and its reference; compare the errors");
   add_shared_option(*cmd, Option::tol, opt->tol, "(--check's reference image)");
   cmd->add_flag("--json", opt->json, "One JSON line");

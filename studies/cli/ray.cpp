@@ -35,7 +35,7 @@ struct RayOptions {
   std::string origin;
   std::string direction;
   std::string rays;
-  double tol = 1e-12;
+  double tol = ReferenceOptions{}.tol;
   bool json = false;
   int threads = 0;
   bool quiet = false;

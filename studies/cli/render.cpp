@@ -51,7 +51,7 @@ struct RenderOptions {
   std::string scene;
   bool reference = false;
   std::string mode;  // --mode: a projection instead of emission-absorption
-  double tol = 1e-12;
+  double tol = ReferenceOptions{}.tol;
   DiscreteOptions discrete;
   std::string output;
   std::string error_against;

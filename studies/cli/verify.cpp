@@ -34,15 +34,11 @@ struct VerifyCliOptions {
   std::string bounds, case_name;
   std::string out;
   std::string report;  // --report FILE.html
-  std::string alpha = "auto";
+  VerifySettings settings;  // --tol, --order-tolerance, --order-metric, --unit-distance, --alpha
   std::optional<double> threshold;
-  double tol = 1e-10;
-  double order_tolerance = 0.25;
-  std::string order_metric = "rms";
   std::string mode;  // --mode: projection images (default: the scene's mode)
   std::string cache_dir;
   bool no_cache = false, no_diagnosis = false, plots = false, quiet = false;
-  double unit_distance = 0;
   double max_work = kDefaultVerifyWorkLimit;
   int threads = 0;
 };
@@ -66,7 +62,7 @@ int run_verify(const VerifyCliOptions& o) {
   const Scene scene = load_scene_or_default(o.scene);
   VerifyOptions opt;
   opt.scene_text = scene_text_or_default(o.scene);
-  apply(VerifySettings{o.tol, o.order_tolerance, o.order_metric, o.unit_distance, o.alpha}, opt);
+  apply(o.settings, opt);
   opt.expected_order = o.expected_order;
   if (const std::string mode = chosen_mode(o.mode, opt.scene_text); !mode.empty()) {
     opt.mode = parse_projection_mode(mode);
@@ -105,8 +101,8 @@ int run_verify(const VerifyCliOptions& o) {
   const ThreadLimit threads(o.threads);
   const nlohmann::json parameters = {{"command", "verify"}, {"scene", o.scene}, {"images", o.images},
                                      {"steps", o.steps.value_or("")}, {"expected_order", o.expected_order ? nlohmann::json(*o.expected_order) : nlohmann::json(nullptr)},
-                                     {"bounds", o.bounds}, {"case", o.case_name}, {"alpha", o.alpha},
-                                     {"threshold", opt.threshold}, {"tol", o.tol}, {"order_metric", o.order_metric},
+                                     {"bounds", o.bounds}, {"case", o.case_name}, {"alpha", o.settings.alpha},
+                                     {"threshold", opt.threshold}, {"tol", o.settings.tol}, {"order_metric", o.settings.order_metric},
                                      {"mode", opt.mode ? std::string(projection_mode_name(*opt.mode)) : std::string()}};
   const PixelSharing sharing;
   const VerifyRun run = run_verification(scene, images, opt, bounds, o.case_name.empty() ? "verify" : o.case_name,
@@ -156,21 +152,21 @@ void add_verify_command(CLI::App& app) {
                                                           "(with --mode: 2 unless given)");
   cmd->add_option("--mode", o->mode, "Projection images: xray | xray_classified | mip | mip_classified (default: the "
                                      "scene's `mode`; emission_absorption overrides it); see docs/projections.md");
-  cmd->add_option("--order-tolerance", o->order_tolerance, "Observed >= K - this converges at K")->capture_default_str();
-  cmd->add_option("--order-metric", o->order_metric, "Statistic the orders fit: rms, max, mean, p99")->capture_default_str();
+  cmd->add_option("--order-tolerance", o->settings.order_tolerance, "Observed >= K - this converges at K")->capture_default_str();
+  cmd->add_option("--order-metric", o->settings.order_metric, "Statistic the orders fit: rms, max, mean, p99")->capture_default_str();
   cmd->add_option("--bounds", o->bounds, "Bounds file (TOML): gate on its [defaults] (or --case)");
   cmd->add_option("--case", o->case_name, "With --bounds: the case whose bounds apply");
   cmd->add_option("--out", o->out, "Write tables, error images, plots.json and meta.json (and with --plots the plot) into this directory");
   cmd->add_option("--report", o->report, "Write the verification as one self-contained HTML page (verdict, fault, "
                                          "plot, error maps, regions, catalogue, commands) to this file");
-  cmd->add_option("--alpha", o->alpha, "Colour channels with an alpha channel: auto (straight where the file declares it, as PNG does; else "
+  cmd->add_option("--alpha", o->settings.alpha, "Colour channels with an alpha channel: auto (straight where the file declares it, as PNG does; else "
                   "premultiplied), premultiplied or straight")->capture_default_str();
   cmd->add_option("--threshold", o->threshold, "Count pixels with |error| above this (default 1e-3)");
-  add_shared_option(*cmd, Option::tol, o->tol);
+  add_shared_option(*cmd, Option::tol, o->settings.tol);
   cmd->add_option("--cache-dir", o->cache_dir, "Reference cache (default $XDG_CACHE_HOME/vrv or ~/.cache/vrv)");
   cmd->add_flag("--no-cache", o->no_cache, "Do not read or write the reference cache");
   cmd->add_flag("--no-diagnosis", o->no_diagnosis, "Skip casting vrv's own models");
-  cmd->add_option("--unit-distance", o->unit_distance, "Unit distance of the uncorrected-opacity models (default: the largest step)");
+  cmd->add_option("--unit-distance", o->settings.unit_distance, "Unit distance of the uncorrected-opacity models (default: the largest step)");
   add_plot_flags(cmd, o->plots, "With --out: draw the log-log plot error_vs_step.{png,pdf} (~1 CPU s)");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
   cmd->add_option("--max-work", o->max_work,

@@ -10,6 +10,15 @@
 namespace vrv {
 namespace {
 
+// The enum named at render.KEY (required): "must be a or b" otherwise.
+template <class E, std::size_t N>
+E required_name(const StudyReader& r, const toml::table& render, std::string_view key, const NameTable<E, N>& names) {
+  const std::string path = fmt::format("render.{}", key);
+  const std::string text = r.string(r.require(render, key, "render"), path);
+  if (const auto value = parse_name(names, text)) return *value;
+  r.fail(path, fmt::format("must be {}", name_list(names, " or ")));
+}
+
 bool has(const OpacityStudy& s, Correction c) {
   return std::find(s.corrections.begin(), s.corrections.end(), c) != s.corrections.end();
 }
@@ -97,19 +106,15 @@ OpacityStudy read_study(const StudyInput& in) {
   const std::vector<long> rv = r.whole_numbers(rd, "resolution", "render", 2, 1024);
   if (rv.size() != 3) r.fail("render.resolution", "expected three whole numbers");
   for (int i = 0; i < 3; ++i) res[i] = static_cast<int>(rv[i]);
-  const std::string layout = r.string(r.require(rd, "layout", "render"), "render.layout");
-  if (layout != "node" && layout != "cell") r.fail("render.layout", "must be node or cell");
-  const std::string interp = r.string(r.require(rd, "interpolation", "render"), "render.interpolation");
-  if (interp != "trilinear" && interp != "nearest") r.fail("render.interpolation", "must be trilinear or nearest");
+  const GridLayout layout = required_name(r, rd, "layout", kGridLayoutNames);
+  const Interpolation interpolation = required_name(r, rd, "interpolation", kInterpolationNames);
   s.scenes.sampled = s.scenes.analytic;
   s.scenes.sampled.field = std::visit(
       [&](const auto& field) -> Field {
         using T = std::decay_t<decltype(field)>;
         if constexpr (std::is_same_v<T, GridField>) return field;
         else
-          return make_grid(s.scenes.analytic.box, AnalyticField(field), res,
-                           layout == "node" ? GridLayout::node : GridLayout::cell,
-                           interp == "trilinear" ? Interpolation::trilinear : Interpolation::nearest);
+          return make_grid(s.scenes.analytic.box, AnalyticField(field), res, layout, interpolation);
       },
       s.scenes.analytic.field);
   s.render_N = static_cast<int>(r.integer(r.require(rd, "oversample", "render"), "render.oversample", 1, 1024));

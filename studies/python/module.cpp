@@ -570,18 +570,18 @@ std::string python_call(const std::vector<double>& steps, std::optional<double> 
                          steps.size());
 }
 
-// `vrv verify` in-process: the report as a dict (the JSON line `vrv verify` prints: to_json of
-// lib/verify.h, with the bounds' rows and `pass` including them when a bounds file is given),
-// and its files written into `out` when given, with the plot unless `plots` is false.
 // vrv.plan: `vrv plan` in-process (lib/discrete_plan.h), its JSON as Python objects.
 py::object plan_py(const Scene& scene, double target, const std::string& metric, const std::string& rules,
                    const std::string& strategy, int width, int height, double max_work) {
-  const PlanOptions options = plan_options(target, metric, rules, strategy, max_work);
+  const PlanOptions options = plan_options({target, metric, rules, strategy, max_work});
   const Camera camera = scene_camera(scene, width, height);
   const DiscretePlan plan = interruptible([&] { return plan_discrete(scene, camera, options); });
   return py::module_::import("json").attr("loads")(to_json(plan).dump());
 }
 
+// `vrv verify` in-process: the report as a dict (the JSON line `vrv verify` prints: to_json of
+// lib/verify.h, with the bounds' rows and `pass` including them when a bounds file is given),
+// and its files written into `out` when given, with the plot unless `plots` is false.
 py::object verify_py(const Scene& scene, const py::sequence& images, const std::vector<double>& steps,
                      std::optional<double> expected_order, double order_tolerance,
                      const std::string& order_metric, double tol, std::optional<double> threshold,
@@ -660,6 +660,9 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
 PYBIND11_MODULE(vrv, m) {
   using namespace vrv;
   using namespace vrv::python;
+  // The keywords' defaults: the library's option structs' own (as the command line's).
+  const PlanSettings plan_defaults{};
+  const VerifySettings verify_defaults{};
   m.doc() = "vrv: the emission-absorption integral to near machine precision, and discrete "
             "raycasts measured against it (docs/library.md)";
   py::register_exception<SceneFileError>(m, "SceneFileError", PyExc_ValueError);
@@ -689,8 +692,8 @@ PYBIND11_MODULE(vrv, m) {
       .def_property_readonly("channels", &Scene::channel_count,
                              "1 for a grey scene, 3 for an RGB one (docs/color.md): reference, discrete and render "
                              "then give a trailing axis of 3 (R, G, B); verify and projections take grey scenes only")
-      .def("reference", &reference, py::arg("origins"), py::arg("directions"), py::arg("tol") = 1e-12,
-           py::kw_only(), py::arg("max_work") = 1e9, py::arg("mode") = py::none(),
+      .def("reference", &reference, py::arg("origins"), py::arg("directions"), py::arg("tol") = ReferenceOptions{}.tol,
+           py::kw_only(), py::arg("max_work") = DiscreteOptions{}.max_work, py::arg("mode") = py::none(),
            "Reference values along rays (arrays of shape (..., 3)): a dict of arrays value, "
            "error_estimate, evaluations, hit, t_entry, t_exit (NaN on a miss), optical_depth, tolerance_met; "
            "mode='xray' | 'xray_classified' | 'mip' | 'mip_classified': the projection's reference instead "
@@ -705,7 +708,7 @@ PYBIND11_MODULE(vrv, m) {
            "the discrete projection (method riemann, trapezoid, simpson; max for MIP; strategy, rate, "
            "step), MIP adding position; an RGB scene's value has a trailing axis of 3, each channel "
            "cast alone, samples summed")
-      .def("render", &render, py::arg("tol") = 1e-12, py::arg("width") = py::none(),
+      .def("render", &render, py::arg("tol") = ReferenceOptions{}.tol, py::arg("width") = py::none(),
            py::arg("height") = py::none(), py::arg("alpha") = false,
            "The scene camera's image as a (height, width) float64 array: the reference, or with "
            "method=... the discrete raycast (options as for `discrete`); max_work=1e9 as --max-work; "
@@ -714,19 +717,20 @@ PYBIND11_MODULE(vrv, m) {
            "as a last channel ((height, width, 2) grey, (height, width, 4) RGB), as `vrv render --alpha`")
       .def("rays", &rays, py::arg("width") = py::none(), py::arg("height") = py::none(),
            "The scene camera's rays: (origins, directions), each (height, width, 3)");
-  m.def("plan", &plan_py, py::arg("scene"), py::arg("target"), py::kw_only(), py::arg("metric") = "max",
-        py::arg("rules") = "riemann,alpha,trapezoid,exact_linear", py::arg("strategy") = "step", py::arg("width") = 32,
-        py::arg("height") = 32, py::arg("max_work") = 1e9,
+  m.def("plan", &plan_py, py::arg("scene"), py::arg("target"), py::kw_only(), py::arg("metric") = plan_defaults.metric,
+        py::arg("rules") = plan_defaults.rules, py::arg("strategy") = plan_defaults.strategy,
+        py::arg("width") = kPlanImageSide, py::arg("height") = kPlanImageSide, py::arg("max_work") = plan_defaults.max_work,
         "`vrv plan` in-process: per rule the largest step whose estimated error (max or rms over the scene camera's "
         "width x height pixels) is within `target`, predicted before rendering (docs/error-bounds.md); a dict with "
         "`ranked` (cheapest first: rule, strategy, step, estimated_error, met, samples_per_ray, seconds_per_sample, "
         "seconds) and `evaluations`");
   m.def("verify", &verify_py, py::arg("scene"), py::arg("images"), py::arg("steps"), py::kw_only(),
-        py::arg("expected_order") = py::none(), py::arg("order_tolerance") = 0.25,
-        py::arg("order_metric") = "rms", py::arg("tol") = 1e-10, py::arg("threshold") = py::none(),
-        py::arg("diagnose") = true, py::arg("unit_distance") = 0.0, py::arg("bounds") = py::none(),
+        py::arg("expected_order") = py::none(), py::arg("order_tolerance") = verify_defaults.order_tolerance,
+        py::arg("order_metric") = verify_defaults.order_metric, py::arg("tol") = verify_defaults.tol,
+        py::arg("threshold") = py::none(), py::arg("diagnose") = VerifyOptions{}.diagnose,
+        py::arg("unit_distance") = verify_defaults.unit_distance, py::arg("bounds") = py::none(),
         py::arg("case") = py::none(), py::arg("out") = py::none(), py::arg("plots") = false,
-        py::arg("max_work") = kDefaultVerifyWorkLimit, py::arg("alpha") = "auto",
+        py::arg("max_work") = kDefaultVerifyWorkLimit, py::arg("alpha") = verify_defaults.alpha,
         py::arg("report") = py::none(), py::arg("mode") = py::none(),
         "`vrv verify` in-process: a renderer's images of the scene's camera ((height, width) arrays, "
         "or (height, width, 3 or 4) for RGB and RGBA as `vrv verify` reads them; one per sample "

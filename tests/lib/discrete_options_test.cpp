@@ -1,12 +1,19 @@
 // The one vocabulary of a discrete raycast's options (lib/discrete_options): declared once, read
 // alike by every adapter (here the study file's, read_study_method, against DiscreteOptions filled
 // directly as the command line and Python fill it), each failure named as its user wrote it.
+#include <map>
+#include <regex>
 #include <set>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "lib/discrete_options.h"
+#include "lib/gradient_scheme.h"
+#include "lib/opacity_correction.h"
+#include "lib/sampling.h"
+#include "lib/segment_rule.h"
+#include "lib/transfer_table.h"
 #include "lib/scene_file.h"
 #include "lib/study_file.h"
 
@@ -40,6 +47,27 @@ TEST(DiscreteOptions, EveryOptionIsDeclaredOnceWithHelp) {
   EXPECT_EQ(discrete_option_field(Option::mode), nullptr);  // the projections' own option
   // Every Option but mode is a discrete raycast's.
   EXPECT_EQ(seen.size() + 1, static_cast<std::size_t>(Option::shade_at) + 1);
+}
+
+// Each option's help offers every choice its parser takes (the help is prose, the choices a table:
+// a new strategy or rule must reach both).
+TEST(DiscreteOptions, HelpNamesEveryChoice) {
+  const std::map<Option, std::string> choices = {
+      {Option::method, segment_rule_list()},         {Option::strategy, strategy_list()},
+      {Option::correction, correction_list()},       {Option::compositing, compositing_list()},
+      {Option::classification, classification_list()}, {Option::precision, precision_list()},
+      {Option::opacity_unit, opacity_unit_list()},   {Option::color, color_convention_list()},
+      {Option::table_lookup, table_lookup_list()},   {Option::gradient, gradient_scheme_list()},
+      {Option::shade_at, shade_at_list()}};
+  for (const auto& [option, list] : choices) {
+    const std::string help(discrete_option_field(option)->help);
+    for (std::size_t start = 0; start < list.size();) {
+      const std::size_t end = std::min(list.find(", ", start), list.size());
+      const std::string name = list.substr(start, end - start);
+      EXPECT_TRUE(std::regex_search(help, std::regex("\\b" + name + "\\b"))) << option_name(option, Spelling::key) << " lacks " << name;
+      start = end + 2;
+    }
+  }
 }
 
 // A study file names every option the command line has (issue 19: it lacked termination, skip,

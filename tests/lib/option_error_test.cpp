@@ -104,18 +104,18 @@ TEST(OptionError, TheReferenceImageVerifyAndPlanChecksNameTheirOption) {
   refused([&] { apply(VerifySettings{1e-10, 0.25, "median", 0, "auto"}, o); }, Option::order_metric,
           "order_metric: 'median' is not one of max, mean, rms, p99");
   refused([&] { apply(VerifySettings{1e-10, 0.25, "rms", 0, "linear"}, o); }, Option::alpha,
-          "alpha: 'linear' is not auto, premultiplied or straight");
-  refused([] { plan_options(1e-3, "p99", "alpha", "step", 1e9); }, Option::metric,
+          "alpha: 'linear' is not one of auto, premultiplied, straight");
+  refused([] { plan_options({1e-3, "p99", "alpha", "step", 1e9}); }, Option::metric,
           "metric: unknown value 'p99' (max or rms)");
-  refused([] { plan_options(1e-3, "max", "alpha,simpson", "step", 1e9); }, Option::rules,
+  refused([] { plan_options({1e-3, "max", "alpha,simpson", "step", 1e9}); }, Option::rules,
           "rules: unknown rule 'simpson' (riemann, alpha, trapezoid, exact_linear, moreland)");
-  refused([] { plan_options(-1, "max", "alpha", "step", 1e9); }, Option::target,
+  refused([] { plan_options({-1, "max", "alpha", "step", 1e9}); }, Option::target,
           "target: must be a positive finite error, got -1");
   // A value is shown as typed, braces and all.
-  refused([] { plan_options(1e-3, "{x}", "alpha", "step", 1e9); }, Option::metric,
+  refused([] { plan_options({1e-3, "{x}", "alpha", "step", 1e9}); }, Option::metric,
           "metric: unknown value '{x}' (max or rms)");
   refused([&] { apply(VerifySettings{1e-10, 0.25, "rms", 0, "{0}"}, o); }, Option::alpha,
-          "alpha: '{0}' is not auto, premultiplied or straight");
+          "alpha: '{0}' is not one of auto, premultiplied, straight");
 }
 
 }  // namespace

@@ -156,7 +156,7 @@ TEST(ShadingSceneFile, BadValuesNameTheirKey) {
   const std::string base(kShaded.substr(0, kShaded.find("[shading]")));
   EXPECT_EQ(error_of(base + "[shading]\nambient = -0.5\n"), "s.toml: shading.ambient: must be a finite number >= 0, got -0.5");
   EXPECT_EQ(error_of(base + "[shading]\nmodel = \"gouraud\"\n"),
-            "s.toml: shading.model: unknown value \"gouraud\" (expected blinn_phong or phong)");
+            "s.toml: shading.model: unknown value \"gouraud\" (expected phong or blinn_phong)");
   EXPECT_EQ(error_of(base + "[shading]\nlight = \"sun\"\n").rfind("s.toml: shading.light: unknown value \"sun\"", 0), 0u);
   EXPECT_EQ(error_of(base + "[shading]\ntwo_sided = 1\n"), "s.toml: shading.two_sided: expected true or false, got an integer");
   EXPECT_EQ(error_of(base + "[shading]\nshiny = 3.0\n").rfind("s.toml: shading.shiny: unknown key", 0), 0u);

@@ -252,3 +252,36 @@ def test_numpy_raycaster_is_second_order_and_a_half_step_offset_is_caught():
     planted = [numpy_raycaster.render(origins, directions, h, offset=0.0) for h in steps]
     rms_planted, order_planted = errors_and_order(planted, reference, steps)
     assert order_planted < 1.2, (rms_planted, order_planted)  # caught: first order, not second
+
+
+def keyword_defaults(function):
+    """{keyword: default text} from a pybind11 function's signature line."""
+    signature = function.__doc__.splitlines()[0]
+    return dict(re.findall(r"(\w+): [^=,]+(?:\[[^\]]*\])? = ('[^']*'|[^,)]+)", signature))
+
+
+def flag_defaults(command):
+    """{--flag: default text} from `vrv COMMAND --help` (CLI11's FLAG TYPE=default)."""
+    code, out, err = cli(command, "--help")
+    assert code == 0, err
+    return dict(re.findall(r"^\s+(--[\w-]+) [A-Z]+=(\S+)", out, re.MULTILINE))
+
+
+@pytest.mark.parametrize("function, command, pairs", [
+    (vrv.verify, "verify", {"tol": "--tol", "order_tolerance": "--order-tolerance", "order_metric": "--order-metric",
+                            "alpha": "--alpha", "max_work": "--max-work"}),
+    (vrv.plan, "plan", {"metric": "--metric", "rules": "--rules", "strategy": "--strategy", "width": "--width",
+                        "height": "--height", "max_work": "--max-work"}),
+    (vrv.Scene.reference, "ray", {"tol": "--tol", "max_work": "--max-work"}),
+    (vrv.Scene.render, "render", {"tol": "--tol"}),
+])
+def test_keyword_defaults_are_the_command_lines(function, command, pairs):
+    # Both adapters take their defaults from the library's option structs: a default spelled again
+    # in either would drift.
+    keywords, flags = keyword_defaults(function), flag_defaults(command)
+    for keyword, flag in pairs.items():
+        python, shell = keywords[keyword], flags[flag]
+        if python.startswith("'"):
+            assert python.strip("'") == shell, (keyword, python, shell)
+        else:
+            assert float(python) == float(shell), (keyword, python, shell)

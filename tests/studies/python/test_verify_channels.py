@@ -122,5 +122,5 @@ def test_bad_alpha_gives_the_cli_message(rgba_images, tmp_path):
     assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
     with pytest.raises(ValueError) as e:
         vrv.verify(scene, images, STEPS, alpha="linear")
-    assert str(e.value) == "alpha: 'linear' is not auto, premultiplied or straight"
-    assert p.stderr == "vrv: error: --alpha: 'linear' is not auto, premultiplied or straight\n"  # the flag
+    assert str(e.value) == "alpha: 'linear' is not one of auto, premultiplied, straight"
+    assert p.stderr == "vrv: error: --alpha: 'linear' is not one of auto, premultiplied, straight\n"  # the flag
