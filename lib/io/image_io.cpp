@@ -162,32 +162,35 @@ Rgb8 diverging_colour(double value, double max_abs) {
   return {mix(white.r, end.r, s), mix(white.g, end.g, s), mix(white.b, end.b, s)};
 }
 
-void write_error_map_png(const Image& error, const fs::path& path, double max_abs) {
-  check_image(error, path);
-  if (std::isnan(max_abs))
-    throw std::invalid_argument(fmt::format("{}: error range is not a number", path.string()));
-  const int w = error.width + kErrorBarGap + kErrorBarWidth, h = error.height;
-  std::vector<unsigned char> rgb(static_cast<std::size_t>(w) * h * 3, 0);
+Image8 error_map(const Image& error, double max_abs, int extra_columns) {
+  if (std::isnan(max_abs)) throw std::invalid_argument("error map: the range is not a number");
+  const int bar_x = error.width + kErrorBarGap, h = error.height;
+  Image8 out(bar_x + kErrorBarWidth + extra_columns, h, 0, 3);
   auto put = [&](int x, int y, Rgb8 c) {
-    unsigned char* p = &rgb[(static_cast<std::size_t>(y) * w + x) * 3];
+    unsigned char* p = &out.pixels[(static_cast<std::size_t>(y) * out.width + x) * 3];
     p[0] = c.r, p[1] = c.g, p[2] = c.b;
   };
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < error.width; ++x) put(x, y, diverging_colour(error.at(x, y), max_abs));
     // The bar: +max_abs on the top row, -max_abs on the bottom row, linear in between.
     const double v = h > 1 ? max_abs * (1 - 2.0 * y / (h - 1)) : 0.0;
-    for (int x = error.width + kErrorBarGap; x < w; ++x) put(x, y, diverging_colour(v, max_abs));
+    for (int x = bar_x; x < bar_x + kErrorBarWidth; ++x) put(x, y, diverging_colour(v, max_abs));
   }
-  auto r = request("png", w, h, 3, image_module::PixelType::uint8, rgb.data());
-  r.attributes = {{"ImageDescription", fmt::format("signed error, colour range +-{:.6g}", max_abs)}};
-  write_atomically(path, r);
+  return out;
 }
 
-void write_rgb8_png(int width, int height, const std::vector<unsigned char>& rgb, const fs::path& path,
-                    const std::string& description) {
-  if (width < 1 || height < 1 || rgb.size() != static_cast<std::size_t>(width) * height * 3)
-    throw_file_error(path, fmt::format("bad RGB image size {} x {} with {} bytes", width, height, rgb.size()));
-  auto r = request("png", width, height, 3, image_module::PixelType::uint8, rgb.data());
+void write_error_map_png(const Image& error, const fs::path& path, double max_abs) {
+  check_image(error, path);
+  if (std::isnan(max_abs))
+    throw std::invalid_argument(fmt::format("{}: error range is not a number", path.string()));
+  write_rgb8_png(error_map(error, max_abs), path, fmt::format("signed error, colour range +-{:.6g}", max_abs));
+}
+
+void write_rgb8_png(const Image8& image, const fs::path& path, const std::string& description) {
+  if (image.width < 1 || image.height < 1 || image.channels != 3)
+    throw_file_error(path, fmt::format("bad RGB image: {} x {} with {} channels", image.width, image.height,
+                                       image.channels));
+  auto r = request("png", image.width, image.height, 3, image_module::PixelType::uint8, image.pixels.data());
   if (!description.empty()) r.attributes = {{"ImageDescription", description}};
   write_atomically(path, r);
 }

@@ -49,6 +49,7 @@ struct PixelImage {
 };
 using Image = PixelImage<float>;
 using ImageF64 = PixelImage<double>;
+using Image8 = PixelImage<unsigned char>;  // 8-bit pictures (the error maps' PNG), 0 to 255
 
 // Where an image came from, so that a verification can refuse a reference of another scene or
 // camera.  Written into the image's metadata by the writers below when given: as the string
@@ -113,10 +114,13 @@ struct Rgb8 {
 };
 Rgb8 diverging_colour(double value, double max_abs);
 
-// 8-bit RGB, interleaved rows (top first), written atomically as PNG with `description` as its
-// ImageDescription (empty: none).  rgb.size() must be 3 * width * height.
-void write_rgb8_png(int width, int height, const std::vector<unsigned char>& rgb,
-                    const std::filesystem::path& path, const std::string& description);
+// The map and its bar as write_error_map_png draws them (3 channels), with `extra_columns` black
+// columns after the bar (room for labels).  std::invalid_argument for a NaN max_abs.
+Image8 error_map(const Image& error, double max_abs, int extra_columns = 0);
+
+// A 3-channel 8-bit image written atomically as PNG with `description` as its ImageDescription
+// (empty: none).
+void write_rgb8_png(const Image8& image, const std::filesystem::path& path, const std::string& description);
 
 // Reads the first subimage of a one-channel image (EXR or anything OIIO reads) as floats.
 // Throws std::runtime_error naming the file when it cannot be read or has other than one channel.

@@ -45,23 +45,15 @@ std::string bar_label(double value) {
   return fmt::format("{:+.1e}", value);
 }
 
-RgbImage numbered_error_map(const Image& error, double max_abs) {
-  if (std::isnan(max_abs)) throw std::invalid_argument("error map: the range is not a number");
-  const int bar_x = error.width + kErrorBarGap;
-  const int label_x = bar_x + kErrorBarWidth + kLabelGap;
-  RgbImage out{label_x + kLabelChars * kAdvance, error.height, {}};
-  out.rgb.assign(static_cast<std::size_t>(out.width) * out.height * 3, 0);
+Image8 numbered_error_map(const Image& error, double max_abs) {
+  const int label_x = error.width + kErrorBarGap + kErrorBarWidth + kLabelGap;
+  Image8 out = error_map(error, max_abs, kLabelGap + kLabelChars * kAdvance);
   auto put = [&](int x, int y, Rgb8 c) {
     if (x < 0 || y < 0 || x >= out.width || y >= out.height) return;
-    unsigned char* p = &out.rgb[(static_cast<std::size_t>(y) * out.width + x) * 3];
+    unsigned char* p = &out.pixels[(static_cast<std::size_t>(y) * out.width + x) * 3];
     p[0] = c.r, p[1] = c.g, p[2] = c.b;
   };
   const int h = error.height;
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < error.width; ++x) put(x, y, diverging_colour(error.at(x, y), max_abs));
-    const double v = h > 1 ? max_abs * (1 - 2.0 * y / (h - 1)) : 0.0;
-    for (int x = bar_x; x < bar_x + kErrorBarWidth; ++x) put(x, y, diverging_colour(v, max_abs));
-  }
   // Labels at the rows of +max, +max/2, 0, -max/2, -max, as many as fit without overlapping.
   const int label_h = kGlyphH * kScale + 1;
   const int count = h >= 5 * label_h ? 5 : h >= 3 * label_h ? 3 : h >= label_h ? 1 : 0;
@@ -84,8 +76,7 @@ RgbImage numbered_error_map(const Image& error, double max_abs) {
 }
 
 void write_numbered_error_map_png(const Image& error, const std::filesystem::path& path, double max_abs) {
-  const RgbImage m = numbered_error_map(error, max_abs);
-  write_rgb8_png(m.width, m.height, m.rgb, path, fmt::format("signed error, colour range +-{:.6g}", max_abs));
+  write_rgb8_png(numbered_error_map(error, max_abs), path, fmt::format("signed error, colour range +-{:.6g}", max_abs));
 }
 
 }  // namespace vrv

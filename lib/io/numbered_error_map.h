@@ -10,13 +10,9 @@
 
 namespace vrv {
 
-// The RGB pixels (3 bytes each, rows top first) and their width: the image, kErrorBarGap black
-// columns, the kErrorBarWidth-wide bar, and a label column.
-struct RgbImage {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgb;
-};
-RgbImage numbered_error_map(const Image& error, double max_abs);
+// The RGB pixels (3 channels, rows top first): error_map's image, kErrorBarGap black columns and
+// the kErrorBarWidth-wide bar, then a label column.
+Image8 numbered_error_map(const Image& error, double max_abs);
 
 // Writes it (atomically, like every image writer); the ImageDescription holds the range.
 void write_numbered_error_map_png(const Image& error, const std::filesystem::path& path, double max_abs);

@@ -140,13 +140,13 @@ TEST_F(VerifyReportPage, ErrorMapsDecodeToTheNumberedMapOfEachImage) {
     ASSERT_LT(k, report.channels.size());
     Image err(report.width, report.height);
     std::copy(report.channels[k].error.begin(), report.channels[k].error.end(), err.pixels.begin());
-    const RgbImage expected = numbered_error_map(err, report.channels[k].all().max);
+    const Image8 expected = numbered_error_map(err, report.channels[k].all().max);
     EXPECT_EQ(png.width, expected.width);
     EXPECT_EQ(png.height, expected.height);
     ASSERT_EQ(png.channels, 3);
     // The pixels themselves: the map's colours, byte for byte.
-    for (std::size_t j = 0; j < expected.rgb.size(); j += 97)
-      ASSERT_NEAR(png.floats[j] * 255, expected.rgb[j], 1e-3) << "byte " << j;
+    for (std::size_t j = 0; j < expected.pixels.size(); j += 97)
+      ASSERT_NEAR(png.floats[j] * 255, expected.pixels[j], 1e-3) << "byte " << j;
   }
   EXPECT_EQ(k, report.channels.size());
 }
