@@ -17,15 +17,11 @@
 
 namespace vrv {
 
-namespace {
-
-std::string step_strategy_list() {
+std::string plan_strategy_list() {
   std::string s;
   for (const Strategy st : kWholeStepStrategies) s.append(s.empty() ? "" : ", ").append(strategy_name(st));
   return s;
 }
-
-}  // namespace
 
 std::string comma_separated(const std::vector<SegmentRule>& rules) {
   std::string s;
@@ -41,7 +37,7 @@ void validate(const PlanOptions& o) {
   if (o.rules.empty()) throw OptionError(Option::rules, "at least one rule");
   if (std::ranges::find(kWholeStepStrategies, o.strategy) == std::end(kWholeStepStrategies))
     throw OptionError(Option::strategy,
-                      fmt::format("a step-based placement ({}), got {}", step_strategy_list(), strategy_name(o.strategy)));
+                      fmt::format("a step-based placement ({}), got {}", plan_strategy_list(), strategy_name(o.strategy)));
   if (!(o.max_work > 0)) throw OptionError(Option::max_work, fmt::format("must be positive, got {}", o.max_work));
 }
 
@@ -66,7 +62,7 @@ PlanOptions plan_options(const PlanSettings& settings) {
     start = comma + 1;
   }
   const auto s = parse_strategy(strategy);
-  if (!s) throw OptionError(Option::strategy, fmt::format("unknown value '{}' ({})", strategy, step_strategy_list()));
+  if (!s) throw OptionError(Option::strategy, fmt::format("unknown value '{}' ({})", strategy, plan_strategy_list()));
   p.strategy = *s;
   validate(p);
   return p;

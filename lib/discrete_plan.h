@@ -30,6 +30,8 @@ struct PlanOptions {
 // Throws std::invalid_argument naming the option (--target, --metric, --rules, --strategy, --max-work).
 void validate(const PlanOptions& options);
 
+// The placements a plan takes, "step, vtk, inviwo" (kWholeStepStrategies).
+std::string plan_strategy_list();
 // Rules as --rules takes them: "riemann,alpha".
 std::string comma_separated(const std::vector<SegmentRule>& rules);
 

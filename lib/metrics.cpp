@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "lib/util/enum_names.h"
 #include "lib/util/not_a_number.h"
 
 namespace vrv {
@@ -74,22 +75,19 @@ ErrorStats error_stats(std::span<const double> errors, double threshold) {
   return s;
 }
 
-std::string_view metric_name(Metric m) {
-  switch (m) {
-    case Metric::max: return "max";
-    case Metric::mean: return "mean";
-    case Metric::rms: return "rms";
-    case Metric::p99: return "p99";
-    case Metric::fraction_over: return "fraction_over";
-  }
-  return "?";
-}
+namespace {
 
-std::optional<Metric> parse_metric(std::string_view name) {
-  for (Metric m : {Metric::max, Metric::mean, Metric::rms, Metric::p99, Metric::fraction_over})
-    if (metric_name(m) == name) return m;
-  return std::nullopt;
-}
+constexpr NameTable<Metric, 5> kMetrics{{{Metric::max, "max"},
+                                         {Metric::mean, "mean"},
+                                         {Metric::rms, "rms"},
+                                         {Metric::p99, "p99"},
+                                         {Metric::fraction_over, "fraction_over"}}};
+static_assert(names_complete(kMetrics));
+
+}  // namespace
+
+std::string_view metric_name(Metric m) { return name_of(kMetrics, m); }
+std::optional<Metric> parse_metric(std::string_view name) { return parse_name(kMetrics, name); }
 
 double metric_value(const ErrorStats& s, Metric m) {
   switch (m) {

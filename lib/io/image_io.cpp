@@ -164,6 +164,7 @@ Rgb8 diverging_colour(double value, double max_abs) {
 
 Image8 error_map(const Image& error, double max_abs, int extra_columns) {
   if (std::isnan(max_abs)) throw std::invalid_argument("error map: the range is not a number");
+  if (extra_columns < 0) throw std::invalid_argument(fmt::format("error map: {} extra columns", extra_columns));
   const int bar_x = error.width + kErrorBarGap, h = error.height;
   Image8 out(bar_x + kErrorBarWidth + extra_columns, h, 0, 3);
   auto put = [&](int x, int y, Rgb8 c) {
@@ -187,9 +188,10 @@ void write_error_map_png(const Image& error, const fs::path& path, double max_ab
 }
 
 void write_rgb8_png(const Image8& image, const fs::path& path, const std::string& description) {
-  if (image.width < 1 || image.height < 1 || image.channels != 3)
-    throw_file_error(path, fmt::format("bad RGB image: {} x {} with {} channels", image.width, image.height,
-                                       image.channels));
+  if (image.width < 1 || image.height < 1 || image.channels != 3 ||
+      image.pixels.size() != static_cast<std::size_t>(image.width) * image.height * 3)
+    throw_file_error(path, fmt::format("bad RGB image: {} x {} with {} channels and {} values", image.width,
+                                       image.height, image.channels, image.pixels.size()));
   auto r = request("png", image.width, image.height, 3, image_module::PixelType::uint8, image.pixels.data());
   if (!description.empty()) r.attributes = {{"ImageDescription", description}};
   write_atomically(path, r);

@@ -115,7 +115,8 @@ struct Rgb8 {
 Rgb8 diverging_colour(double value, double max_abs);
 
 // The map and its bar as write_error_map_png draws them (3 channels), with `extra_columns` black
-// columns after the bar (room for labels).  std::invalid_argument for a NaN max_abs.
+// columns after the bar (room for labels).  std::invalid_argument for a NaN max_abs or negative
+// extra_columns.
 Image8 error_map(const Image& error, double max_abs, int extra_columns = 0);
 
 // A 3-channel 8-bit image written atomically as PNG with `description` as its ImageDescription

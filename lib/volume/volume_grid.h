@@ -6,6 +6,7 @@
 
 #include "lib/geometry.h"
 #include "lib/grid_field.h"
+#include "lib/util/enum_names.h"
 #include "lib/volume/volume.h"
 
 namespace vrv {

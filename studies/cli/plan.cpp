@@ -104,7 +104,7 @@ void add_plan_command(CLI::App& app) {
   cmd->add_option("--target", opt->settings.target, "The error the image may have")->required();
   cmd->add_option("--metric", opt->settings.metric, "Over the pixels: max or rms")->capture_default_str();
   cmd->add_option("--rules", opt->settings.rules, "Rules to plan, comma-separated")->capture_default_str();
-  cmd->add_option("--strategy", opt->settings.strategy, "A step-based placement: step, vtk or inviwo")->capture_default_str();
+  cmd->add_option("--strategy", opt->settings.strategy, "A step-based placement: " + plan_strategy_list())->capture_default_str();
   add_shared_option(*cmd, Option::width, opt->width);
   add_shared_option(*cmd, Option::height, opt->height);
   cmd->add_option("--max-work", opt->settings.max_work, "Field evaluations one image estimate may take")->capture_default_str();

@@ -161,7 +161,8 @@ void add_verify_command(CLI::App& app) {
                                          "plot, error maps, regions, catalogue, commands) to this file");
   cmd->add_option("--alpha", o->settings.alpha, "Colour channels with an alpha channel: auto (straight where the file declares it, as PNG does; else "
                   "premultiplied), premultiplied or straight")->capture_default_str();
-  cmd->add_option("--threshold", o->threshold, "Count pixels with |error| above this (default 1e-3)");
+  cmd->add_option("--threshold", o->threshold,
+                  fmt::format("Count pixels with |error| above this (default {:g})", VerifyOptions{}.threshold));
   add_shared_option(*cmd, Option::tol, o->settings.tol);
   cmd->add_option("--cache-dir", o->cache_dir, "Reference cache (default $XDG_CACHE_HOME/vrv or ~/.cache/vrv)");
   cmd->add_flag("--no-cache", o->no_cache, "Do not read or write the reference cache");

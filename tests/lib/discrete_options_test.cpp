@@ -1,6 +1,7 @@
 // The one vocabulary of a discrete raycast's options (lib/discrete_options): declared once, read
 // alike by every adapter (here the study file's, read_study_method, against DiscreteOptions filled
 // directly as the command line and Python fill it), each failure named as its user wrote it.
+#include <algorithm>
 #include <map>
 #include <regex>
 #include <set>

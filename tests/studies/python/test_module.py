@@ -285,3 +285,20 @@ def test_keyword_defaults_are_the_command_lines(function, command, pairs):
             assert python.strip("'") == shell, (keyword, python, shell)
         else:
             assert float(python) == float(shell), (keyword, python, shell)
+
+
+@pytest.mark.parametrize("command, flag, call, offered", [
+    ("verify", "--alpha", lambda: vrv.verify(vrv.Scene.default(), [], [], alpha="bogus"), r"is not one of (.*)$"),
+    ("plan", "--strategy", lambda: vrv.plan(vrv.Scene.default(), 1e-3, strategy="bogus"), r"\((.*)\)$"),
+])
+def test_help_offers_the_parsers_choices(command, flag, call, offered):
+    # The choices a refusal offers come from the option's name table; its help is prose that must
+    # name each of them too.
+    with pytest.raises(ValueError) as e:
+        call()
+    choices = re.search(offered, str(e.value)).group(1).split(", ")
+    code, out, err = cli(command, "--help")
+    assert code == 0, err
+    line = next(l for l in out.splitlines() if l.strip().startswith(flag + " "))
+    for choice in choices:
+        assert re.search(rf"\b{choice}\b", line), (flag, choice, line)
