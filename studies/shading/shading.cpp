@@ -12,6 +12,7 @@
 #include "lib/reference_integrator.h"
 #include "lib/reference_pixels.h"
 #include "lib/study_file.h"
+#include "lib/gradient_scheme.h"
 #include "lib/util/parallel.h"
 #include "lib/work_estimate.h"
 #include "studies/engine/study_outputs.h"
@@ -22,10 +23,13 @@ namespace {
 
 constexpr const char* kShadedNodes = "shaded_nodes";
 
+// The study's schemes: every gradient scheme shading the samples, and shaded_nodes.
+std::string scheme_list() { return gradient_scheme_list() + ", " + kShadedNodes; }
+
 std::vector<ShadingScheme> read_schemes(const StudyReader& r, const toml::table& doc) {
   std::vector<ShadingScheme> out;
   const toml::array& a = r.array(r.require(doc, "schemes", ""), "schemes");
-  if (a.empty()) r.fail("schemes", "expected a non-empty array (analytic, central, nodes, shaded_nodes)");
+  if (a.empty()) r.fail("schemes", fmt::format("expected a non-empty array ({})", scheme_list()));
   for (std::size_t i = 0; i < a.size(); ++i) {
     const std::string path = fmt::format("schemes[{}]", i);
     const std::string name = r.string(*a.get(i), path);
@@ -34,7 +38,7 @@ std::vector<ShadingScheme> read_schemes(const StudyReader& r, const toml::table&
       continue;
     }
     const auto s = parse_gradient_scheme(name);
-    if (!s) r.fail(path, fmt::format("unknown scheme '{}' (analytic, central, nodes, shaded_nodes)", name));
+    if (!s) r.fail(path, fmt::format("unknown scheme '{}' ({})", name, scheme_list()));
     out.push_back({*s, ShadeAt::samples});
   }
   return out;

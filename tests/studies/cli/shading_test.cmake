@@ -128,3 +128,14 @@ expect_error(verify_mode "lit.toml: shading: .*vrv verify --mode" verify --scene
 expect_error(plan "lit.toml: shading: .*vrv plan" plan --scene ${OUT}/lit.toml --target 1e-3)
 expect_error(bad_key "lit_bad.toml: shading.shininess: must be a finite number >= 1, got 0.5"
   ray --scene ${OUT}/lit_bad.toml --origin 0,0,-3 --direction 0,0,1)
+
+# The shading study's schemes are the gradient schemes' table and shaded_nodes: an unknown one is
+# refused offering them.
+file(READ ${CMAKE_CURRENT_LIST_DIR}/../../../studies/shading/shading.toml study)
+string(REGEX REPLACE "\nschemes = [^\n]*" "\nschemes = [\"analytic\", \"sobel\"]" study "${study}")
+file(WRITE ${OUT}/bad_schemes.toml "${study}")
+expect_error(study_scheme "bad_schemes.toml: schemes\\[1\\]: unknown scheme 'sobel' \\(analytic, central, nodes, shaded_nodes\\)$"
+  study ${OUT}/bad_schemes.toml --out ${OUT}/bad_schemes_out)
+if(EXISTS ${OUT}/bad_schemes_out)
+  message(FATAL_ERROR "a refused study wrote ${OUT}/bad_schemes_out")
+endif()
