@@ -17,11 +17,7 @@
 
 namespace vrv {
 
-std::string plan_strategy_list() {
-  std::string s;
-  for (const Strategy st : kWholeStepStrategies) s.append(s.empty() ? "" : ", ").append(strategy_name(st));
-  return s;
-}
+std::string plan_strategy_list() { return strategy_list(kWholeStepStrategies); }
 
 std::string comma_separated(const std::vector<SegmentRule>& rules) {
   std::string s;

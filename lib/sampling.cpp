@@ -150,6 +150,11 @@ SamplePlan plan_with_partial_step(bool from_exit, double h, Interval iv, double 
 
 std::optional<Strategy> parse_strategy(std::string_view name) { return parse_name(kStrategyNames, name); }
 std::string strategy_list() { return name_list(kStrategyNames); }
+std::string strategy_list(std::span<const Strategy> strategies) {
+  std::string s;
+  for (const Strategy st : strategies) s.append(s.empty() ? "" : ", ").append(strategy_name(st));
+  return s;
+}
 
 std::string_view strategy_name(Strategy s) { return name_of(kStrategyNames, s); }
 

@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 #include <string>
+#include <span>
 #include <string_view>
 
 #include "lib/geometry.h"
@@ -30,6 +31,7 @@ enum class Strategy {
 // "exit_anchored".
 std::optional<Strategy> parse_strategy(std::string_view name);
 std::string strategy_list();  // its names in order, "a, b, c": the choices an error offers
+std::string strategy_list(std::span<const Strategy> strategies);  // those names, "a, b, c"
 std::string_view strategy_name(Strategy s);
 // The strategies `keep` picks, in the order above (what a study or command takes, for its errors).
 std::vector<Strategy> strategies_where(bool (*keep)(Strategy));

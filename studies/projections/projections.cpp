@@ -17,16 +17,6 @@
 namespace vrv {
 namespace {
 
-// The step-based strategies, "a, b, c".
-std::string step_based_list() {
-  std::string s;
-  for (const Strategy st : strategies_where(step_based)) s.append(s.empty() ? "" : ", ").append(strategy_name(st));
-  return s;
-}
-
-}  // namespace
-namespace {
-
 ProjectionsMethod read_method(const StudyReader& r, const toml::table& m, const std::string& path) {
   r.check_keys(m, path, {"mode", "method", "strategy", "expected_order", "maxima"});
   ProjectionsMethod out;
@@ -45,7 +35,7 @@ ProjectionsMethod read_method(const StudyReader& r, const toml::table& m, const 
   const std::string strategy = r.string(r.require(m, "strategy", path), path + ".strategy");
   const auto st = parse_strategy(strategy);
   if (!st || !step_based(*st))
-    r.fail(path + ".strategy", fmt::format("'{}' is not a step-based strategy ({})", strategy, step_based_list()));
+    r.fail(path + ".strategy", fmt::format("'{}' is not a step-based strategy ({})", strategy, strategy_list(strategies_where(step_based))));
   out.config.sampling.strategy = *st;
   out.expected_order = r.number(r.require(m, "expected_order", path), path + ".expected_order");
   if (!(out.expected_order > 0)) r.fail(path + ".expected_order", "must be positive");
