@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "lib/discrete_options.h"
+#include "lib/verify/verify_options.h"
 
 namespace vrv {
 
@@ -56,7 +57,7 @@ struct Limits {
 
 struct BoundSet {
   std::map<Bound, Limits> limits;
-  double threshold = 1e-3;
+  double threshold = VerifyOptions{}.threshold;  // verify's own default
   bool all_images = false;  // at = "all": error bounds on every image, not only the finest
 };
 

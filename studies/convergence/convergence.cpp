@@ -138,11 +138,7 @@ StudyDefinition read_convergence_study(const StudyInput& in) {
 
 StudyDefinition parse_study(std::string_view text, std::string_view source_name,
                              std::string_view default_name) {
-  const StudyReader r(source_name);
-  const toml::table doc = parse_study_toml(text, source_name);
-  StudyDefinition study = read_convergence_study(StudyInput{doc, r, std::string(default_name)});
-  r.require_grey_scenes();
-  return study;
+  return read_grey_study(text, source_name, default_name, read_convergence_study);
 }
 
 StudyDefinition load_study(const std::filesystem::path& path) {

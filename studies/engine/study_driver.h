@@ -36,6 +36,19 @@ struct StudyInput {
   std::string name;
 };
 
+// A kind's file read outside `vrv study` (its tests, a driver's own loader): parsed, read by `read`
+// as the runner would, and its scenes required grey (only the runner splits an RGB study into one
+// study per channel).  Throws StudyFileError.
+template <class Read>
+auto read_grey_study(std::string_view text, std::string_view source_name, std::string_view default_name,
+                     const Read& read) {
+  const StudyReader reader(source_name);
+  const toml::table doc = parse_study_toml(text, source_name);
+  auto study = read(StudyInput{doc, reader, std::string(default_name)});
+  reader.require_grey_scenes();
+  return study;
+}
+
 class Checkpoints;     // studies/engine/checkpoint.h
 class ReferenceAudit;  // studies/engine/reference_audit.h
 

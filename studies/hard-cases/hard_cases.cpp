@@ -77,11 +77,7 @@ HardCasesStudy read_hard_cases_study(const StudyInput& in) {
 
 HardCasesStudy parse_hard_cases_study(std::string_view text, std::string_view source_name,
                                       std::string_view default_name) {
-  const StudyReader r(source_name);
-  const toml::table doc = parse_study_toml(text, source_name);
-  HardCasesStudy study = read_hard_cases_study(StudyInput{doc, r, std::string(default_name)});
-  r.require_grey_scenes();
-  return study;
+  return read_grey_study(text, source_name, default_name, read_hard_cases_study);
 }
 
 HardCasesStudy load_hard_cases_study(const std::filesystem::path& path) {
