@@ -51,6 +51,11 @@ using Image = PixelImage<float>;
 using ImageF64 = PixelImage<double>;
 using Image8 = PixelImage<unsigned char>;  // 8-bit pictures (the error maps' PNG), 0 to 255
 
+// The pixels rounded to float: what EXR and the previews store.
+inline Image to_float(const ImageF64& image) {
+  return Image(image.width, image.height, std::vector<float>(image.pixels.begin(), image.pixels.end()), image.channels);
+}
+
 // Where an image came from, so that a verification can refuse a reference of another scene or
 // camera.  Written into the image's metadata by the writers below when given: as the string
 // attributes "vrv:scene_hash", "vrv:camera", "vrv:method" and "vrv:step" (EXR keeps them as

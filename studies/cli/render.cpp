@@ -136,14 +136,13 @@ void check_outputs(const OutputPaths& out, const std::string& error_against) {
   }
 }
 
-// The render's memory before anything is allocated: per pixel, the float image, the same in double
-// (12 bytes a channel), each pixel's work, estimate and verdict (17; grey: 29 bytes; 1024^2 ->
+// The render's memory before anything is allocated: per pixel, the image in double and, as it is
+// written, in float (12 bytes a channel), each pixel's work, estimate and verdict (17; grey: 29 bytes; 1024^2 ->
 // 2048^2 pixels took 157 -> 246 MB resident, 29 bytes a pixel), and with --error-against the
 // reference in double and the error image (12 more a channel).  Refused above --max-memory naming
 // the input that sets the size.
 struct Rendered {
-  Image image;
-  ImageF64 values;                // the same pixels in double
+  ImageF64 image;                 // in double: the .f64.tiff; the EXR and the preview round it to float
   long work = 0;                  // field evaluations (reference) or samples (discrete)
   double max_error_estimate = 0;  // reference only
   long tolerance_missed = 0;      // reference pixels whose estimate exceeds --tol
@@ -178,13 +177,11 @@ void check_render_memory(const RenderOptions& opt, const Camera& camera, int cha
 class PixelPlanes {
  public:
   PixelPlanes(const Camera& camera, int channels)
-      : r_{Image(camera.width, camera.height, 0, channels),
-           ImageF64{camera.width, camera.height, std::vector<double>(pixel_count(camera) * channels), channels}},
+      : r_{ImageF64(camera.width, camera.height, 0.0, channels)},
         channels_(channels), work_(pixel_count(camera)), estimate_(work_.size()), met_(work_.size()) {}
   void put(long i, const PixelResult& p) {
     for (int c = 0; c < channels_; ++c) {
-      r_.image.pixels[i * channels_ + c] = static_cast<float>(p.value[c]);
-      r_.values.pixels[i * channels_ + c] = p.value[c];
+      r_.image.pixels[i * channels_ + c] = p.value[c];
     }
     work_[i] = p.work;
     estimate_[i] = p.estimate;
@@ -195,7 +192,7 @@ class PixelPlanes {
       r_.work += work_[i];
       r_.max_error_estimate = std::max(r_.max_error_estimate, estimate_[i]);
       const auto first = r_.image.pixels.begin() + static_cast<long>(i) * channels_;
-      if (!std::all_of(first, first + channels_, [](float v) { return std::isfinite(v); })) {
+      if (!std::all_of(first, first + channels_, [](double v) { return std::isfinite(static_cast<float>(v)); })) {
         if (r_.not_finite++ == 0) r_.first_not_finite = static_cast<long>(i);
       } else if (!met_[i]) {
         ++r_.tolerance_missed;
@@ -463,11 +460,12 @@ void run_render(const RenderOptions& opt) {
 
   if (!is_output_rank()) return;
   image_io->wait();
-  write_exr(r.image, out.exr, &provenance);
-  write_tiff_f64(r.values, out.f64, &provenance);
+  const Image image = to_float(r.image);
+  write_exr(image, out.exr, &provenance);
+  write_tiff_f64(r.image, out.f64, &provenance);
   std::optional<Image> stripped;
-  if (opt.alpha) stripped = without_alpha(r.image);
-  const Image& colour = stripped ? *stripped : r.image;
+  if (opt.alpha) stripped = without_alpha(image);
+  const Image& colour = stripped ? *stripped : image;
   const float max_value = *std::max_element(colour.pixels.begin(), colour.pixels.end());
   write_png_preview(colour, out.png, 0, max_value > 0 ? max_value : 1, &provenance);
 
@@ -492,7 +490,7 @@ void run_render(const RenderOptions& opt) {
   }
   if (ref) {
     Image error;
-    const std::vector<ErrorStats> stats = error_image(r.values, *ref, error);
+    const std::vector<ErrorStats> stats = error_image(r.image, *ref, error);
     const ErrorStats& s = stats[0];
     write_exr(error, out.error_exr);
     write_error_map_png(largest_channel_error(error), out.error_png, s.max);
@@ -505,7 +503,7 @@ void run_render(const RenderOptions& opt) {
     j["mean_abs_error"] = s.mean;
     j["rms_error"] = s.rms;
     for (std::size_t c = 1; c < stats.size(); ++c) {
-      const std::string name = channel_names(r.values.channels)[c - 1];
+      const std::string name = channel_names(r.image.channels)[c - 1];
       std::cerr << fmt::format("vrv render:   channel {}: max |e| {:.6g}, mean |e| {:.6g}, RMS {:.6g}\n", name,
                                stats[c].max, stats[c].mean, stats[c].rms);
       j["channels"][name] = {{"max_abs_error", stats[c].max}, {"mean_abs_error", stats[c].mean}, {"rms_error", stats[c].rms}};
