@@ -20,6 +20,17 @@ PiecewiseLinear::PiecewiseLinear(std::vector<ControlPoint> points) : points_(std
     if (i > 1 && p.v == points_[i - 2].v)
       throw std::invalid_argument(
           fmt::format("value {} is repeated more than twice (a jump takes exactly two)", p.v));
+    // A piece's line is its ends' slope: a span or slope that overflows would make it 0 or NaN.
+    if (i > 0 && p.v > points_[i - 1].v) {
+      const double dv = p.v - points_[i - 1].v;
+      if (!std::isfinite(dv))
+        throw std::invalid_argument(fmt::format("values {} and {} at points {} and {} are too far apart (their "
+                                                "difference overflows)", points_[i - 1].v, p.v, i - 1, i));
+      if (!std::isfinite((p.y - points_[i - 1].y) / dv))
+        throw std::invalid_argument(fmt::format("the slope between points {} and {} overflows (values {} and {} "
+                                                "too close for the change {} to {})", i - 1, i, points_[i - 1].v,
+                                                p.v, points_[i - 1].y, p.y));
+    }
   }
 }
 

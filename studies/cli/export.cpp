@@ -155,8 +155,17 @@ ExportedScene exported_scene(const Scene& scene, const ExportedNodes& v, const E
     transfer = t;
   }
   e.toml = exported_scene_toml(text, name, grid ? std::nullopt : std::optional(v.n), transfer);
-  // The claim checked: the scene read back has the exported nodes, bit for bit.
-  const Scene back = parse_scene(e.toml, "scene.toml");
+  // The claim checked: the scene read back has the exported nodes, bit for bit.  A unit distance
+  // so long that an opacity rounds to 1 cannot be stated: named as the option that chose it.
+  const Scene back = [&] {
+    try {
+      return parse_scene(e.toml, "scene.toml");
+    } catch (const SceneFileError& err) {
+      if (!transfer) throw;
+      throw std::invalid_argument(fmt::format("--unit-distance: {:g}: the opacity per this distance cannot be "
+                                              "written as a scene ({})", opt.unit_distance, err.what()));
+    }
+  }();
   if (sample_volume(back, std::nullopt).values != v.values)
     throw std::logic_error("export: scene.toml's grid does not reproduce the exported nodes");
   return e;
@@ -276,6 +285,8 @@ void run_export(const ExportOptions& opt) {
   if (opt.vti != "raw" && opt.vti != "ascii")
     throw std::invalid_argument(fmt::format("--vti: unknown value '{}' (raw or ascii)", opt.vti));
   export_formats(opt.formats);  // refused before anything is read
+  if (!(opt.unit_distance > 0 && std::isfinite(opt.unit_distance)))
+    throw std::invalid_argument(fmt::format("--unit-distance: must be positive and finite, got {}", opt.unit_distance));
   if (opt.table_points < 1 || opt.table_points > 1 << 20)
     throw std::invalid_argument(fmt::format("--table-points: must be in [1, 1048576], got {}", opt.table_points));
   const InterruptGuard interrupts;  // SIGINT leaves --out as it was (published_folder.h)

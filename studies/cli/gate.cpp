@@ -166,6 +166,7 @@ struct TemporaryFolder {
 };
 
 int run_gate(const GateOptions& o) {
+  check_threads(o.threads);
   const BoundsFile file = load_bounds(o.bounds);
   std::vector<const GateCase*> cases;
   if (!o.case_name.empty()) cases.push_back(&named_case(file, o.case_name));

@@ -30,11 +30,14 @@ fs::path folder_path(const fs::path& dir, const std::string& option) {
 PublishedFolder::PublishedFolder(const fs::path& dir, const std::string& marker, const std::string& option)
     : option_(option) {
   check_replaceable_dir(dir, marker, option);
-  check_writable_dir(dir, option);  // names `dir` as given when it, or its parent, cannot be made
   const fs::path target = folder_path(dir, option);
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(target, ec))) created_ = target;
+  check_writable_dir(dir, option);  // names `dir` as given when it, or its parent, cannot be made
   try {
     staging_.emplace(target.parent_path(), target.filename().string(), false);
   } catch (const std::runtime_error& e) {  // the lock held by another vrv, an unwritable parent
+    remove_created();
     throw std::invalid_argument(fmt::format("{}: {}", option, e.what()));
   }
   set_interrupt_cleanup_dir(staging_->dir());
@@ -45,7 +48,14 @@ PublishedFolder::~PublishedFolder() {
   if (!published_) {
     std::error_code ec;
     fs::remove_all(staging_->dir(), ec);  // nothing to resume: a verify or export reruns whole
+    staging_.reset();                     // its lock released before the folder goes
+    remove_created();
   }
+}
+
+void PublishedFolder::remove_created() {
+  std::error_code ec;
+  if (!created_.empty()) fs::remove(created_, ec);  // only while still empty: never another's files
 }
 
 void PublishedFolder::write_and_publish(const std::function<void(const fs::path& staging)>& write) {

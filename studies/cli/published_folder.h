@@ -31,8 +31,12 @@ class PublishedFolder {
   void write_and_publish(const std::function<void(const std::filesystem::path& staging)>& write);
 
  private:
+  // The folder checking it created (absolute), removed again, empty, when nothing is published:
+  // a refused run leaves no empty folder behind.
+  void remove_created();
   std::optional<StudyStaging> staging_;
   std::string option_;
+  std::filesystem::path created_;
   bool published_ = false;
 };
 

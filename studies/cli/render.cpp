@@ -146,7 +146,7 @@ struct Rendered {
   long work = 0;                  // field evaluations (reference) or samples (discrete)
   double max_error_estimate = 0;  // reference only
   long tolerance_missed = 0;      // reference pixels whose estimate exceeds --tol
-  long not_finite = 0;            // pixels whose value is NaN or infinite as a float
+  long not_finite = 0;            // pixels whose value (as a float) or error estimate is NaN or infinite
   long first_not_finite = -1;     // the first such pixel (row-major index)
 };
 
@@ -192,7 +192,9 @@ class PixelPlanes {
       r_.work += work_[i];
       r_.max_error_estimate = std::max(r_.max_error_estimate, estimate_[i]);
       const auto first = r_.image.pixels.begin() + static_cast<long>(i) * channels_;
-      if (!std::all_of(first, first + channels_, [](double v) { return std::isfinite(static_cast<float>(v)); })) {
+      // A NaN estimate is as wrong as a NaN value (std::max would drop it from the largest).
+      if (!std::isfinite(estimate_[i]) ||
+          !std::all_of(first, first + channels_, [](double v) { return std::isfinite(static_cast<float>(v)); })) {
         if (r_.not_finite++ == 0) r_.first_not_finite = static_cast<long>(i);
       } else if (!met_[i]) {
         ++r_.tolerance_missed;
@@ -449,7 +451,7 @@ void run_render(const RenderOptions& opt) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (r.not_finite > 0)
     throw CommandFailed(kExitNotFinite, fmt::format(
-        "vrv: error: {} of {} pixels are NaN or infinite (the first at x = {}, y = {}); nothing "
+        "vrv: error: {} of {} pixels are NaN or infinite in value or error estimate (the first at x = {}, y = {}); nothing "
         "written{}", r.not_finite, pixels, r.first_not_finite % camera.width,
         r.first_not_finite / camera.width,
         discrete ? " (check --precision and the transfer function's range)" : ""));
@@ -538,7 +540,7 @@ void add_render_command(CLI::App& app) {
       "MPI: in a build with -DVRV_WITH_MPI=ON, `mpirun -np P vrv render ...` spreads the pixels over P "
       "ranks; every output is bitwise that of one process (docs/distributed.md).\n"
       "Exit: 0; 2 bad input (nothing written); 3 reference pixels missed --tol (images written, "
-      "count on stderr and as \"tolerance_missed\"); 4 NaN or infinite pixels (nothing written).");
+      "count on stderr and as \"tolerance_missed\"); 4 NaN or infinite pixels or error estimates (nothing written).");
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
   cmd->add_flag("--reference", opt->reference, "Render with the reference integrator");
   opt->tol_option =

@@ -58,6 +58,7 @@ std::vector<double> parse_steps(const std::string& text) {
 }
 
 int run_verify(const VerifyCliOptions& o) {
+  check_threads(o.threads);
   const InterruptGuard interrupts;  // before any thread: SIGINT leaves --out as it was (published_folder.h)
   const Scene scene = load_scene_or_default(o.scene);
   VerifyOptions opt;

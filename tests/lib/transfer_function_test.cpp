@@ -140,5 +140,13 @@ TEST(TransferFunction, LinesDoNotCancelFarFromTheirAnchor) {
   EXPECT_NEAR(up(0.1), 0.1, 0x1p-52 * 0.1);
 }
 
+// A span or slope that overflows made a piece's line 0 (slope 1 / inf) or NaN (inf x 0): refused.
+TEST(TransferFunction, OverflowingSpansAndSlopesAreRefused) {
+  EXPECT_THROW(PiecewiseLinear({{-1e308, 0}, {1e308, 1}}), std::invalid_argument);
+  EXPECT_THROW(PiecewiseLinear({{0, 0}, {1e-310, 1e10}}), std::invalid_argument);
+  EXPECT_NO_THROW(PiecewiseLinear({{-1e307, 0}, {1e307, 1}}));
+  EXPECT_NO_THROW(PiecewiseLinear({{0, 0}, {1e-300, 1e-10}, {1e-300, 1}}));  // a jump has no slope
+}
+
 }  // namespace
 }  // namespace vrv

@@ -158,6 +158,10 @@ expect_failure(bad_tol "--tol" ray --origin 0,0,0 --direction 1,0,0 --tol -1)
 expect_failure(missing_scene "nope.toml" ray --scene ${OUT}/nope.toml --origin 0,0,0 --direction 1,0,0)
 file(WRITE ${OUT}/bad.toml "[volume]\nmin = [1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n")
 expect_failure(bad_box "bad.toml.*volume" ray --scene ${OUT}/bad.toml --origin 0,0,0 --direction 1,0,0)
+# Control points whose span overflows (a line of slope 1/inf = 0) gave the value 0 with the
+# tolerance met: refused, naming the key (found by probing bad input).
+file(WRITE ${OUT}/span.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"linear_ramp\"\ngradient = [0.3, 0.2, 0.1]\n[transfer]\nemission = [[-1e308, 0], [1e308, 1]]\nextinction = [[-1e308, 0], [1e308, 0.5]]\n")
+expect_failure(overflowing_span "span.toml: transfer.emission.*too far apart" ray --scene ${OUT}/span.toml --origin -3,0,0 --direction 1,0,0)
 file(WRITE ${OUT}/bad_rays.jsonl "{\"origin\": [0, 0], \"direction\": [1, 0, 0]}\n")
 expect_failure(bad_rays "bad_rays.jsonl:1: origin" ray --rays ${OUT}/bad_rays.jsonl)
 
@@ -321,6 +325,10 @@ expect_failure(pre_needs_grid "--classification" ray --origin 0,0,0 --direction 
 expect_failure(brace_value "^vrv: error: --compositing: unknown value '[{]' " ray --origin 0,0,-3 --direction 0,0,1 --method alpha --compositing "{")
 expect_failure(brace_value_mentions "--precision: unknown value '[{]x[}]' " ray --origin 0,0,-3 --direction 0,0,1 --method alpha --precision "{x}")
 
+# A negative thread count is refused by every command that takes one (verify and gate took it).
+expect_failure(verify_negative_threads "^vrv: error: --threads: must not be negative" verify ${OUT}/t1.exr --steps 0.1 --threads -1)
+expect_failure(gate_negative_threads "^vrv: error: --threads: must not be negative" gate --bounds ${OUT}/no_bounds.toml --threads -1)
+
 # Renders do not depend on the thread count.
 expect_success(render_one_thread render --reference --width 16 --height 16 --threads 1 --quiet -o ${OUT}/t1.exr)
 expect_success(render_two_threads render --reference --width 16 --height 16 --threads 2 --quiet -o ${OUT}/t2.exr --error-against ${OUT}/t1.exr)
@@ -420,6 +428,16 @@ expect_exit(float_nan 4 "^vrv: error: the discrete raycast gave a non-finite val
   ray --scene ${OUT}/huge.toml --origin -3,0.1,0.2 --direction 1,0,0 --method exact_linear --precision float --json)
 if(NOT LAST_OUT STREQUAL "")
   message(FATAL_ERROR "float_nan: printed ${LAST_OUT}")
+endif()
+# Samples of +-1.7e308 give finite values whose error estimates are NaN: counted as not finite, not
+# dropped from the largest estimate (it said "largest error estimate 0" and wrote the images).
+file(WRITE ${OUT}/huge_samples.nrrd "NRRD0004\ntype: double\ndimension: 3\nsizes: 3 3 3\nspacings: 1 1 1\nencoding: ascii\n\n1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308 -1.7e308 1.7e308\n")
+file(WRITE ${OUT}/huge_samples.toml "[field]\nkind = \"volume\"\nfile = \"huge_samples.nrrd\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[camera]\nprojection = \"orthographic\"\neye = [1, 1, -6]\ntarget = [1, 1, 1]\nup = [0, 1, 0]\nextent = 3\nwidth = 4\nheight = 4\n")
+file(REMOVE ${OUT}/nan_estimate.exr ${OUT}/nan_estimate.png ${OUT}/nan_estimate.f64.tiff)
+expect_exit(render_nan_estimate 4 "^vrv: error: [0-9]+ of 16 pixels are NaN or infinite in value or error estimate .*nothing written" ""
+  render --scene ${OUT}/huge_samples.toml --reference --quiet -o ${OUT}/nan_estimate.exr)
+if(EXISTS ${OUT}/nan_estimate.exr OR EXISTS ${OUT}/nan_estimate.png OR EXISTS ${OUT}/nan_estimate.f64.tiff)
+  message(FATAL_ERROR "render_nan_estimate: wrote an image whose error estimates are NaN")
 endif()
 file(REMOVE ${OUT}/nan.exr ${OUT}/nan.png)
 expect_exit(render_nan 4 "^vrv: error: [0-9]+ of 16 pixels are NaN or infinite .*nothing written" ""
