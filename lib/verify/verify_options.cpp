@@ -1,5 +1,7 @@
 #include "lib/verify/verify_options.h"
 
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "lib/option_error.h"
@@ -27,7 +29,8 @@ void apply(const VerifySettings& s, VerifyOptions& o) {
   const auto metric = parse_metric(s.order_metric);
   if (!metric || *metric == Metric::fraction_over)
     throw OptionError(Option::order_metric, fmt::format("'{}' is not one of max, mean, rms, p99", s.order_metric));
-  if (s.unit_distance < 0) throw OptionError(Option::unit_distance, "must be positive");
+  if (!(s.unit_distance >= 0 && std::isfinite(s.unit_distance)))
+    throw OptionError(Option::unit_distance, "must be positive and finite (0, the default: the largest step)");
   const auto alpha = parse_alpha_mode(s.alpha);
   if (!alpha) throw OptionError(Option::alpha, fmt::format("'{}' is not one of {}", s.alpha, alpha_mode_list()));
   o.reference_tol = s.tol;

@@ -21,6 +21,7 @@ CLI::Option* add_field(CLI::App& cmd, const std::string& flag, T& field, std::st
   } else {
     CLI::Option* o = cmd.add_option(flag, field, std::string(help));
     if constexpr (std::is_same_v<T, std::string>) {
+      o->check(non_empty_value());  // "" would be taken as not given (the reference, the default)
       if (!field.empty()) o->capture_default_str();
     } else if constexpr (!is_optional<T>::value) {
       o->capture_default_str();

@@ -16,6 +16,13 @@ namespace vrv::cli {
 // Adds every option of discrete_option_fields() to the command, writing into `opt`; an option
 // that needs a method is recorded in opt.given with the text the user typed.
 void add_discrete_options(CLI::App& cmd, DiscreteOptions& opt);
+// Refuses a value given as "" ("--method: must not be empty"): an empty string is how a text
+// option says it was not given, so "" would silently mean the default.
+// Inline: the Python module compiles projection_options.cpp, which uses it, without this file's .cpp.
+inline CLI::Validator non_empty_value() {
+  return CLI::Validator([](std::string& text) { return text.empty() ? std::string("must not be empty") : std::string(); },
+                        "", "non-empty");
+}
 
 // A shared option's flag (--tol, --width, --height) writing into `value`, its help the library's
 // with `note` (when the command uses it) appended; the command's default, where `value` has one,

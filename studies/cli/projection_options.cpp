@@ -7,6 +7,7 @@
 #include "lib/option_error.h"
 
 #include "studies/cli/cli_support.h"
+#include "studies/cli/discrete_flags.h"
 
 namespace vrv::cli {
 
@@ -15,7 +16,8 @@ void add_mode_option(CLI::App& cmd, std::string& mode) {
                  "Projection instead of emission-absorption: xray | xray_classified | mip | mip_classified "
                  "(default: the scene's `mode`; emission_absorption overrides it) "
                  "(classified: of the transfer function's extinction); with --method, riemann | trapezoid | "
-                 "simpson (X-ray) or max (MIP)");
+                 "simpson (X-ray) or max (MIP)")
+      ->check(non_empty_value());
 }
 
 std::optional<ProjectionSetup> projection_setup(const std::string& mode, const DiscreteOptions& opt, const Scene& scene) {

@@ -59,7 +59,10 @@ TEST(VerifySettings, EachBadValueIsRefusedNamingItsOption) {
   EXPECT_EQ(message({1e-10, 0, "rms", 0}), "--order-tolerance: must be positive");
   EXPECT_EQ(message({1e-10, 0.25, "fraction_over", 0}), "--order-metric: 'fraction_over' is not one of max, mean, rms, p99");
   EXPECT_EQ(message({1e-10, 0.25, "median", 0}), "--order-metric: 'median' is not one of max, mean, rms, p99");
-  EXPECT_EQ(message({1e-10, 0.25, "rms", -1}), "--unit-distance: must be positive");
+  EXPECT_EQ(message({1e-10, 0.25, "rms", -1}), "--unit-distance: must be positive and finite (0, the default: the largest step)");
+  // NaN was taken as the default (the largest step).
+  EXPECT_EQ(message({1e-10, 0.25, "rms", std::nan("")}),
+            "--unit-distance: must be positive and finite (0, the default: the largest step)");
   EXPECT_EQ(message({std::nan(""), -1, "median", -1}), "--tol: must be a positive finite number, got nan");
   VerifyOptions o;
   apply({1e-9, 0.5, "p99", 2}, o);

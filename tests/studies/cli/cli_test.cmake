@@ -325,6 +325,19 @@ expect_failure(pre_needs_grid "--classification" ray --origin 0,0,0 --direction 
 expect_failure(brace_value "^vrv: error: --compositing: unknown value '[{]' " ray --origin 0,0,-3 --direction 0,0,1 --method alpha --compositing "{")
 expect_failure(brace_value_mentions "--precision: unknown value '[{]x[}]' " ray --origin 0,0,-3 --direction 0,0,1 --method alpha --precision "{x}")
 
+# An empty text option would read as not given (--method "" ran the reference, --mode "" the
+# scene's mode): refused.  A NaN unit distance was replaced by verify's default.
+# (execute_process directly: an empty argument does not survive a function's ARGN.)
+foreach(flag --method --mode)
+  execute_process(COMMAND ${VRV} ray --origin -3,0,0 --direction 1,0,0 ${flag} ""
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(STRIP "${err}" err)
+  if(NOT rc EQUAL 2 OR NOT err STREQUAL "vrv: error: ${flag}: must not be empty" OR NOT out STREQUAL "")
+    message(FATAL_ERROR "ray_empty${flag}: exit ${rc}, stdout '${out}', stderr '${err}'")
+  endif()
+endforeach()
+expect_failure(verify_nan_unit_distance "^vrv: error: --unit-distance: must be positive and finite" verify ${OUT}/t1.exr --steps 0.1 --unit-distance nan)
+
 # A negative thread count is refused by every command that takes one (verify and gate took it).
 expect_failure(verify_negative_threads "^vrv: error: --threads: must not be negative" verify ${OUT}/t1.exr --steps 0.1 --threads -1)
 expect_failure(gate_negative_threads "^vrv: error: --threads: must not be negative" gate --bounds ${OUT}/no_bounds.toml --threads -1)
