@@ -55,6 +55,11 @@ void check_inputs(const std::vector<ImageWithStep>& images, const VerifyOptions&
   if (images.empty()) throw VerifyInputError("no images to verify");
   for (const ImageWithStep& im : images) check_image(im, images, opt.allow_nan);
   check_options(opt);
+  // The channels agree in number (check_image), so the first image says whether there is alpha.
+  if (opt.alpha != AlphaMode::as_stored && images.front().image.alpha < 0)
+    throw OptionError(Option::alpha, fmt::format("{}: the images have no alpha channel, so there is nothing to take "
+                                                 "{}; leave the option out",
+                                                 alpha_mode_name(opt.alpha), alpha_mode_name(opt.alpha)));
 }
 
 std::vector<const ImageWithStep*> sorted_by_step(const std::vector<ImageWithStep>& images) {

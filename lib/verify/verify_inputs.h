@@ -17,7 +17,8 @@ struct ImageWithStep {
 
 // VerifyInputError for bad images (none, different sizes or channel counts, a non-positive or
 // repeated step, non-finite pixels unless options.allow_nan), std::invalid_argument naming the
-// option for bad options.
+// option for bad options (OptionError for options.alpha other than auto on images without alpha:
+// it would be ignored).
 void check_inputs(const std::vector<ImageWithStep>& images, const VerifyOptions& options);
 
 // The images by decreasing step (the order of every report), ties in their given order.

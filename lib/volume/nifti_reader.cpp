@@ -4,10 +4,13 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
 #include <nifti2_io.h>
+
+#include "lib/io/stderr_capture.h"
 
 namespace vrv {
 namespace {
@@ -71,12 +74,34 @@ VolumeSamples read_data(const nifti_image& nim, std::size_t count, ScalarType ty
   return read_samples(type, count, nim.byteorder == 2, read);  // MSB_FIRST (defined for niftilib's own sources only)
 }
 
+// What niftilib printed, as one line: its "** ERROR: " prefixes dropped, lines joined by "; ".
+std::string niftilib_said(const std::string& text) {
+  std::string out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    std::string line = text.substr(start, end - start);
+    start = end + 1;
+    if (line.starts_with("** ERROR: ")) line.erase(0, 10);
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    out += (out.empty() ? "" : "; ") + line;
+  }
+  return out;
+}
+
 }  // namespace
 
 Volume read_nifti(const std::filesystem::path& file, const VolumeReadOptions& options) {
-  nifti_set_debug_level(0);  // its messages go to stderr; ours is the one line
+  nifti_set_debug_level(0);
+  // niftilib prints some errors ("** ERROR: ...: bad datatype") whatever the debug level: they
+  // become the reason in our one line instead of a second line on stderr.
+  StderrCapture capture;
   std::unique_ptr<nifti_image, ImageDeleter> nim(nifti_image_read(file.c_str(), 0));
-  if (!nim) volume_fail(file, "(header)", "not a readable NIfTI or ANALYZE header");
+  const std::string said = niftilib_said(capture.release());
+  if (!nim)
+    volume_fail(file, "(header)",
+                "not a readable NIfTI or ANALYZE header" + (said.empty() ? std::string() : " (niftilib: " + said + ")"));
   refuse_extra_dims(*nim, file);
   Volume v;
   const ScalarType type = nifti_scalar_type(file, nim->datatype);

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "lib/scene_file.h"
+#include "lib/scene_mode.h"
 #include "lib/reference_integrator.h"
 
 namespace vrv::cli {
@@ -41,10 +42,6 @@ Vec3 parse_vec3(const std::string& text, const std::string& option) {
   return v;
 }
 
-Scene load_scene_or_default(const std::string& path) {
-  return path.empty() ? default_scene() : load_scene(path);
-}
-
 Scene load_scene_or_default(const std::string& path, double max_volume_bytes) {
   return path.empty() ? default_scene() : load_scene(path, max_volume_bytes);
 }
@@ -55,6 +52,14 @@ std::string scene_text_or_default(const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+void require_emission_absorption(const std::string& path, std::string_view what) {
+  if (path.empty()) return;  // the default scene has no mode
+  if (const auto mode = scene_mode(scene_text_or_default(path)))
+    throw std::invalid_argument(fmt::format("{}: mode: the scene asks for the {} projection, which {} does not draw "
+                                            "(emission-absorption only); vrv ray, render, verify and gate project it",
+                                            path, projection_mode_name(*mode), what));
 }
 
 nlohmann::ordered_json to_json(const ReferenceResult& r) {

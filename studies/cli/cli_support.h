@@ -33,13 +33,16 @@ class CommandFailed : public std::runtime_error {
 
 // "x,y,z" -> Vec3; throws std::invalid_argument naming `option` and the reason.
 Vec3 parse_vec3(const std::string& text, const std::string& option);
-// The scene file, or the embedded default when `path` is empty.
-Scene load_scene_or_default(const std::string& path);
-// The same, with a volume field's file refused above max_volume_bytes (--max-memory) from its
-// header, before its data are read.
+// The scene file, or the embedded default when `path` is empty, with a volume field's file refused
+// above max_volume_bytes (--max-memory, studies/cli/memory_limit.h) from its header, before its
+// data are read: every command has the limit.
 Scene load_scene_or_default(const std::string& path, double max_volume_bytes);
 // Its TOML text (the reference cache's key): the file's bytes, or the embedded default's.
 std::string scene_text_or_default(const std::string& path);
+// Throws std::invalid_argument naming the file and `mode` when the scene file asks for a projection
+// (lib/scene_mode.h): for the commands that draw emission-absorption only (`what`: "vrv plan",
+// "vrv demo"), so that the key is refused, never ignored.  The file was parsed already.
+void require_emission_absorption(const std::string& path, std::string_view what);
 // Every field of the result; value and error estimate are null when not finite.
 nlohmann::ordered_json to_json(const ReferenceResult& r);
 // Validates --threads: 0 (the default) is every core; negative values are refused, as by study.

@@ -18,6 +18,7 @@
 #include "lib/reference_integrator.h"
 #include "lib/util/parallel.h"
 #include "studies/cli/cli_support.h"
+#include "studies/cli/memory_limit.h"
 #include "studies/cli/discrete_flags.h"
 #include "studies/cli/commands.h"
 #include "studies/engine/study_rays.h"
@@ -27,6 +28,7 @@ namespace {
 
 struct DemoOptions {
   std::string scene;     // scene file; the embedded default when empty
+  std::optional<double> max_memory_gib;  // --max-memory: the scene's volume
   int rays = 64;         // rays of the fixed-seed study set (seed 1)
   double tol = ReferenceOptions{}.tol;  // the reference's absolute tolerance on I
   double step = 0.01;    // the coarsest step (world units); each next one is half of it
@@ -132,9 +134,10 @@ Table error_table(const DemoRun& r, const DemoOptions& opt) {
 
 void run_demo(const DemoOptions& opt) {
   check(opt);
-  const Scene scene = load_scene_or_default(opt.scene);
+  const Scene scene = load_scene_or_default(opt.scene, memory_limit_bytes(opt.max_memory_gib));
   require_unshaded(scene, opt.scene.empty() ? "the default scene" : opt.scene, "vrv demo");
   require_grey(scene, opt.scene, "vrv demo");
+  require_emission_absorption(opt.scene, "vrv demo");
   const DemoRun r = run(scene, opt);
   fmt::print("vrv demo: {} rays (fixed seed) through {}.\n\n", opt.rays,
              opt.scene.empty() ? "the embedded default scene (default_scene_toml, lib/scene_file.cpp)" : opt.scene);
@@ -165,6 +168,7 @@ void add_demo_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "demo", "Start here: every segment rule's error and order against the reference, in seconds");
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
+  add_volume_memory_option(*cmd, opt->max_memory_gib);
   cmd->add_option("--rays", opt->rays, "Number of rays")->capture_default_str();
   add_shared_option(*cmd, Option::tol, opt->tol);
   cmd->add_option("--step", opt->step, "Coarsest step (world units)")->capture_default_str();

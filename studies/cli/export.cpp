@@ -43,12 +43,17 @@ struct ExportOptions {
   std::string scene;
   std::string out;
   std::string resolution;
-  double unit_distance = 1;
+  // Given only where they act, so that none is accepted and ignored (run_export refuses that).
+  std::optional<double> unit_distance;  // emission/extinction scenes: the table's L, by default 1
   int table_points = 64;
-  std::string nrrd = "attached";
-  std::string vti = "raw";
+  std::optional<std::string> nrrd;  // with nrrd in --formats: attached (the default) or detached
+  std::optional<std::string> vti;   // with vti in --formats: raw (the default) or ascii
   std::string formats = "nrrd,vti";  // any of nrrd, vti, metaimage, nifti
-  double max_memory_gib = 0;  // 0: default_memory_limit(), as vrv study
+
+  double unit() const { return unit_distance.value_or(1.0); }
+  bool ascii_vti() const { return vti == "ascii"; }
+  bool detached_nrrd() const { return nrrd == "detached"; }
+  std::optional<double> max_memory_gib;  // not given: default_memory_limit(), as vrv study
 };
 
 struct OutputFile {
@@ -89,12 +94,12 @@ std::vector<std::string> export_formats(const std::string& text) {
 
 std::vector<OutputFile> field_files(const ExportedNodes& v, const ExportOptions& opt) {
   std::vector<OutputFile> files;
-  const VtiEncoding vti = opt.vti == "ascii" ? VtiEncoding::ascii : VtiEncoding::raw_appended;
+  const VtiEncoding vti = opt.ascii_vti() ? VtiEncoding::ascii : VtiEncoding::raw_appended;
   const auto formats = export_formats(opt.formats);
   const auto wanted = [&](const char* f) { return std::find(formats.begin(), formats.end(), f) != formats.end(); };
   for (const auto& [type, tag] : {std::pair{SampleType::float32, "f32"}, std::pair{SampleType::float64, "f64"}}) {
     const std::string stem = fmt::format("field_{}", tag);
-    if (wanted("nrrd") && opt.nrrd == "attached") {
+    if (wanted("nrrd") && !opt.detached_nrrd()) {
       files.push_back({stem + ".nrrd", nrrd_file(v, type)});
     } else if (wanted("nrrd")) {
       files.push_back({stem + ".nhdr", nrrd_header(v, type, stem + ".raw")});
@@ -139,33 +144,31 @@ ExportedScene exported_scene(const Scene& scene, const ExportedNodes& v, const E
   std::optional<OpacityColourPoints> transfer;
   if (scene.transfer.convention() != Convention::opacity_color) {
     OpacityColourPoints t;
-    t.unit_length = opt.unit_distance;
+    t.unit_length = opt.unit();
     if (scene.color) {
-      const auto rows = tabulate_color_transfer(*scene.color, opt.unit_distance, opt.table_points);
+      const auto rows = tabulate_color_transfer(*scene.color, opt.unit(), opt.table_points);
       for (std::size_t i = 0; i < rows[0].size(); ++i) {
         t.opacity.push_back({rows[0][i].value, rows[0][i].opacity});
         t.color.push_back({rows[0][i].value, rows[0][i].color, rows[1][i].color, rows[2][i].color});
       }
     } else {
-      for (const TransferRow& r : tabulate_transfer(scene.transfer, opt.unit_distance, opt.table_points)) {
+      for (const TransferRow& r : tabulate_transfer(scene.transfer, opt.unit(), opt.table_points)) {
         t.opacity.push_back({r.value, r.opacity});
         t.color.push_back({r.value, r.color});
       }
     }
+    // The scene states opacities below 1: a unit distance so long that one rounds to 1 cannot be
+    // written, and is named as the option that chose it.
+    for (const ControlPoint& p : t.opacity)
+      if (p.y >= 1)
+        throw std::invalid_argument(fmt::format("--unit-distance: {:g}: the opacity per this distance rounds to 1 at "
+                                                "value {:g}, which a scene cannot state; choose a shorter one",
+                                                opt.unit(), p.v));
     transfer = t;
   }
   e.toml = exported_scene_toml(text, name, grid ? std::nullopt : std::optional(v.n), transfer);
-  // The claim checked: the scene read back has the exported nodes, bit for bit.  A unit distance
-  // so long that an opacity rounds to 1 cannot be stated: named as the option that chose it.
-  const Scene back = [&] {
-    try {
-      return parse_scene(e.toml, "scene.toml");
-    } catch (const SceneFileError& err) {
-      if (!transfer) throw;
-      throw std::invalid_argument(fmt::format("--unit-distance: {:g}: the opacity per this distance cannot be "
-                                              "written as a scene ({})", opt.unit_distance, err.what()));
-    }
-  }();
+  // The claim checked: the scene read back has the exported nodes, bit for bit.
+  const Scene back = parse_scene(e.toml, "scene.toml");
   if (sample_volume(back, std::nullopt).values != v.values)
     throw std::logic_error("export: scene.toml's grid does not reproduce the exported nodes");
   return e;
@@ -250,7 +253,7 @@ ExportMemory export_memory(const std::array<int, 3>& n, const Camera& camera, bo
 void check_export_memory(const ExportOptions& opt, const Scene& scene, const Camera& camera,
                          const std::array<int, 3>& n) {
   const double limit = memory_limit_bytes(opt.max_memory_gib);
-  const ExportMemory m = export_memory(n, camera, opt.vti == "ascii", export_formats(opt.formats).size());
+  const ExportMemory m = export_memory(n, camera, opt.ascii_vti(), export_formats(opt.formats).size());
   const std::string scene_name = opt.scene.empty() ? "<default scene>" : opt.scene;
   const std::string who = m.ray_bytes > m.node_bytes ? scene_name + ": camera"
                           : !opt.resolution.empty()  ? std::string("--resolution")
@@ -268,6 +271,21 @@ std::array<int, 3> export_nodes(const Scene& scene, const std::optional<std::arr
   return scene.dims;
 }
 
+// --nrrd and --vti: a known value, and only with their format in --formats.
+void check_layout_options(const ExportOptions& opt) {
+  const auto formats = export_formats(opt.formats);  // refused before anything is read
+  const auto check = [&](const char* flag, const char* format, const std::optional<std::string>& value,
+                         const char* values, std::initializer_list<const char*> known) {
+    if (!value) return;
+    if (std::none_of(known.begin(), known.end(), [&](const char* k) { return *value == k; }))
+      throw std::invalid_argument(fmt::format("{}: unknown value '{}' ({})", flag, *value, values));
+    if (std::find(formats.begin(), formats.end(), format) == formats.end())
+      throw std::invalid_argument(fmt::format("{}: {}: --formats '{}' writes no {} file", flag, *value, opt.formats, format));
+  };
+  check("--nrrd", "nrrd", opt.nrrd, "attached or detached", {"attached", "detached"});
+  check("--vti", "vti", opt.vti, "raw or ascii", {"raw", "ascii"});
+}
+
 // The folder is created if its parent exists (a typo in a long path is not a new tree of folders).
 void check_parent_exists(const fs::path& dir) {
   std::error_code ec;
@@ -280,17 +298,18 @@ void check_parent_exists(const fs::path& dir) {
 
 void run_export(const ExportOptions& opt) {
   if (opt.out.empty()) throw std::invalid_argument("--out: an output directory is required");
-  if (opt.nrrd != "attached" && opt.nrrd != "detached")
-    throw std::invalid_argument(fmt::format("--nrrd: unknown value '{}' (attached or detached)", opt.nrrd));
-  if (opt.vti != "raw" && opt.vti != "ascii")
-    throw std::invalid_argument(fmt::format("--vti: unknown value '{}' (raw or ascii)", opt.vti));
-  export_formats(opt.formats);  // refused before anything is read
-  if (!(opt.unit_distance > 0 && std::isfinite(opt.unit_distance)))
-    throw std::invalid_argument(fmt::format("--unit-distance: must be positive and finite, got {}", opt.unit_distance));
+  check_layout_options(opt);
+  if (opt.unit_distance && !(*opt.unit_distance > 0 && std::isfinite(*opt.unit_distance)))
+    throw std::invalid_argument(fmt::format("--unit-distance: must be positive and finite, got {}", *opt.unit_distance));
   if (opt.table_points < 1 || opt.table_points > 1 << 20)
     throw std::invalid_argument(fmt::format("--table-points: must be in [1, 1048576], got {}", opt.table_points));
   const InterruptGuard interrupts;  // SIGINT leaves --out as it was (published_folder.h)
   const Scene scene = load_scene_or_default(opt.scene, memory_limit_bytes(opt.max_memory_gib));
+  if (opt.unit_distance && scene.transfer.convention() == Convention::opacity_color)
+    throw std::invalid_argument(fmt::format("--unit-distance: {} gives its opacity per unit_length = {:g}, which the "
+                                            "export keeps (the option is for emission/extinction scenes)",
+                                            opt.scene.empty() ? "the default scene" : opt.scene,
+                                            scene.transfer.unit_length()));
   const Camera camera = scene_camera(scene);  // as vrv render has it
   std::optional<std::array<int, 3>> resolution;
   if (!opt.resolution.empty()) resolution = parse_resolution(opt.resolution);
@@ -303,13 +322,13 @@ void run_export(const ExportOptions& opt) {
 
   std::vector<OutputFile> files = field_files(v, opt);
   const double unit = scene.transfer.convention() == Convention::opacity_color ? scene.transfer.unit_length()
-                                                                              : opt.unit_distance;
+                                                                              : opt.unit();
   files.push_back({"transfer_function.csv",
                    scene.color ? color_transfer_csv(tabulate_color_transfer(*scene.color, unit, opt.table_points))
                                : transfer_csv(tabulate_transfer(scene.transfer, unit, opt.table_points))});
   files.push_back({"transfer_function.json",
-                   (scene.color ? color_transfer_json(*scene.color, opt.unit_distance, opt.table_points)
-                                : transfer_json(scene.transfer, opt.unit_distance, opt.table_points))
+                   (scene.color ? color_transfer_json(*scene.color, opt.unit(), opt.table_points)
+                                : transfer_json(scene.transfer, opt.unit(), opt.table_points))
                            .dump(2) + "\n"});
   files.push_back({"camera.json", camera_json(camera).dump(2) + "\n"});
   files.push_back({"rays.npy", rays_npy(camera)});
@@ -348,14 +367,13 @@ void add_export_command(CLI::App& app) {
   cmd->add_option("--resolution", opt->resolution,
                   "nx,ny,nz nodes on the box faces (default: the grid field's own nodes, else volume.dims)");
   cmd->add_option("--unit-distance", opt->unit_distance,
-                  "Unit distance L of the exported opacity (emission/extinction scenes; opacity/colour "
-                  "scenes use their unit_length)")
-      ->capture_default_str();
+                  "Unit distance L of the exported opacity, default 1 (emission/extinction scenes only: an "
+                  "opacity/colour scene keeps its unit_length, and the option is refused there)");
   cmd->add_option("--table-points", opt->table_points,
                   "Rows per transfer-function segment in the table")
       ->capture_default_str();
-  cmd->add_option("--nrrd", opt->nrrd, "attached (.nrrd) | detached (.nhdr + .raw)")->capture_default_str();
-  cmd->add_option("--vti", opt->vti, "raw (appended binary) | ascii")->capture_default_str();
+  cmd->add_option("--nrrd", opt->nrrd, "With nrrd in --formats: attached (.nrrd, the default) | detached (.nhdr + .raw)");
+  cmd->add_option("--vti", opt->vti, "With vti in --formats: raw (appended binary, the default) | ascii");
   cmd->add_option("--formats", opt->formats,
                   "Field files to write, comma-separated: nrrd, vti, metaimage (.mha), nifti (.nii, NIfTI-1: "
                   "its spacing and origin are float32)")

@@ -22,6 +22,7 @@
 #include "lib/scene_file.h"
 #include "lib/scene_mode.h"
 #include "lib/work_estimate.h"
+#include "studies/cli/memory_limit.h"
 #include "studies/cli/verify_run.h"
 #include "studies/cli/cli_support.h"
 #include "studies/cli/commands.h"
@@ -39,6 +40,7 @@ struct GateOptions {
   bool report = false;  // --report: OUT/<case>/report.html
   int threads = 0;
   double max_work = kDefaultVerifyWorkLimit;
+  std::optional<double> max_memory_gib;  // --max-memory: each case's scene volume
 };
 
 // `vrv study NAME --quick` in a child process (this executable), its checks read back from
@@ -188,7 +190,7 @@ int run_gate(const GateOptions& o) {
       steps.emplace_back();
       continue;
     }
-    scenes.push_back(load_scene_or_default(c->scene.string()));
+    scenes.push_back(load_scene_or_default(c->scene.string(), memory_limit_bytes(o.max_memory_gib)));
     steps.push_back(case_steps(*c, o.bounds));
     const bool projection = scene_mode(scene_text_or_default(c->scene.string())).has_value();
     if (c->render && projection)
@@ -294,6 +296,7 @@ void add_gate_command(CLI::App& app) {
               "hard-fail level crossed, 2 bad input. See docs/verify.md.");
   cmd->add_option("--bounds", o->bounds, "Bounds file (TOML)")->required();
   cmd->add_option("--case", o->case_name, "Run only this case");
+  add_volume_memory_option(*cmd, o->max_memory_gib);
   cmd->add_option("--out", o->out, "Output directory (default: a temporary directory, removed at the end)");
   cmd->add_option("--cache-dir", o->cache_dir, "Reference cache (default $XDG_CACHE_HOME/vrv or ~/.cache/vrv)");
   cmd->add_flag("--no-cache", o->no_cache, "Do not read or write the reference cache");

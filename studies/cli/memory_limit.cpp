@@ -9,10 +9,17 @@
 
 namespace vrv::cli {
 
-double memory_limit_bytes(double max_memory_gib) {
-  if (max_memory_gib < 0 || !std::isfinite(max_memory_gib))
-    throw std::invalid_argument(fmt::format("--max-memory: must be a positive number of GiB, got {}", max_memory_gib));
-  return max_memory_gib > 0 ? max_memory_gib * double(1 << 30) : default_memory_limit();
+double memory_limit_bytes(std::optional<double> max_memory_gib) {
+  if (!max_memory_gib) return default_memory_limit();
+  if (!(*max_memory_gib > 0) || !std::isfinite(*max_memory_gib))
+    throw std::invalid_argument(fmt::format("--max-memory: must be a positive number of GiB, got {}", *max_memory_gib));
+  return *max_memory_gib * double(1 << 30);
+}
+
+CLI::Option* add_volume_memory_option(CLI::App& cmd, std::optional<double>& max_memory_gib) {
+  return cmd.add_option("--max-memory", max_memory_gib,
+                        "GiB the scene's volume file may take, checked from its header before its samples are "
+                        "read (default: 3/4 of physical memory)");
 }
 
 std::string memory_text(double bytes) {

@@ -16,6 +16,7 @@
 #include "lib/shared_options.h"
 #include "lib/vrv.h"
 #include "studies/cli/cli_support.h"
+#include "studies/cli/memory_limit.h"
 #include "studies/cli/discrete_flags.h"
 #include "studies/cli/commands.h"
 
@@ -24,6 +25,7 @@ namespace {
 
 struct PlanCommandOptions {
   std::string scene;
+  std::optional<double> max_memory_gib;  // --max-memory: the scene's volume
   PlanSettings settings;
   std::optional<int> width = kPlanImageSide, height = kPlanImageSide;
   bool check = false;
@@ -49,9 +51,10 @@ Check check_plan(const Scene& scene, const Camera& camera, const PlannedRule& ch
 void run_plan(const PlanCommandOptions& o) {
   const PlanOptions p = plan_options(o.settings);
   check_tolerance(o.tol);
-  const Scene scene = load_scene_or_default(o.scene);
+  const Scene scene = load_scene_or_default(o.scene, memory_limit_bytes(o.max_memory_gib));
   require_unshaded(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv plan");
   require_grey(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv plan");
+  require_emission_absorption(o.scene, "vrv plan");
   const Camera camera = scene_camera(scene, o.width, o.height);
   const DiscretePlan plan = plan_discrete(scene, camera, p);
   const PlannedRule& chosen = plan.ranked.front();
@@ -101,15 +104,19 @@ void add_plan_command(CLI::App& app) {
       "--target over the camera's pixels, its samples per ray and measured seconds per sample; ranked cheapest "
       "first.\nExit: 0; 1 no rule meets the target, or --check measured an error above it; 2 bad input.");
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
+  add_volume_memory_option(*cmd, opt->max_memory_gib);
   cmd->add_option("--target", opt->settings.target, "The error the image may have")->required();
   cmd->add_option("--metric", opt->settings.metric, "Over the pixels: max or rms")->capture_default_str();
   cmd->add_option("--rules", opt->settings.rules, "Rules to plan, comma-separated")->capture_default_str();
   cmd->add_option("--strategy", opt->settings.strategy, "A step-based placement: " + plan_strategy_list())->capture_default_str();
   add_shared_option(*cmd, Option::width, opt->width);
   add_shared_option(*cmd, Option::height, opt->height);
-  cmd->add_option("--max-work", opt->settings.max_work, "Field evaluations one image estimate may take")->capture_default_str();
+  cmd->add_option("--max-work", opt->settings.max_work,
+                  "Field evaluations the plan's estimates may take in all, shared evenly by the rules")
+      ->capture_default_str();
   cmd->add_flag("--check", opt->check, "Render the chosen configuration and its reference; compare the errors");
-  add_shared_option(*cmd, Option::tol, opt->tol, "(--check's reference image)");
+  // Only --check renders a reference: without it --tol would be accepted and ignored.
+  add_shared_option(*cmd, Option::tol, opt->tol, "(--check's reference image)")->needs(cmd->get_option("--check"));
   cmd->add_flag("--json", opt->json, "One JSON line");
   cmd->callback([opt] { run_plan(*opt); });
 }

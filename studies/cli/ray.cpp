@@ -21,6 +21,7 @@
 #include "lib/util/parallel.h"
 #include "lib/util/progress.h"
 #include "studies/cli/cli_support.h"
+#include "studies/cli/memory_limit.h"
 #include "studies/cli/commands.h"
 #include "studies/cli/discrete_flags.h"
 #include "studies/cli/projection_options.h"
@@ -32,6 +33,7 @@ namespace {
 
 struct RayOptions {
   std::string scene;
+  std::optional<double> max_memory_gib;  // --max-memory: the scene's volume
   std::string origin;
   std::string direction;
   std::string rays;
@@ -311,7 +313,7 @@ void run_ray(RayOptions& opt) {
     throw std::invalid_argument("--tol: applies to the reference only, not to --method");
   if (!opt.rays.empty() && (!opt.origin.empty() || !opt.direction.empty()))
     throw std::invalid_argument("--rays: give either --rays or --origin/--direction, not both");
-  const Scene scene = load_scene_or_default(opt.scene);
+  const Scene scene = load_scene_or_default(opt.scene, memory_limit_bytes(opt.max_memory_gib));
   opt.projection = projection_setup(chosen_mode(opt.mode, scene_text_or_default(opt.scene)), opt.discrete, scene);
   if (opt.projection) require_grey(scene, opt.scene, "vrv ray --mode");
   // A projection's work is estimated as the emission-absorption cast's of the same sampling.
@@ -335,6 +337,7 @@ void add_ray_command(CLI::App& app) {
       "\"tolerance_met\": false, named on stderr); 4 a value is NaN or infinite (single ray: "
       "nothing printed; --rays: null, lines named on stderr).");
   cmd->add_option("--scene", opt->scene, "Scene file (TOML); the embedded default when omitted");
+  add_volume_memory_option(*cmd, opt->max_memory_gib);
   cmd->add_option("--origin", opt->origin, "Ray origin x,y,z (world units)");
   cmd->add_option("--direction", opt->direction, "Ray direction x,y,z (any length but zero)");
   cmd->add_option("--rays", opt->rays, "JSON-lines file of rays, or - for standard input");

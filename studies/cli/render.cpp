@@ -59,7 +59,7 @@ struct RenderOptions {
   int threads = 0;
   bool quiet = false;
   bool alpha = false;  // --alpha: A = 1 - e^-Phi after the colour channels
-  double max_memory_gib = 0;  // 0: default_memory_limit(), as vrv study
+  std::optional<double> max_memory_gib;  // not given: default_memory_limit(), as vrv study
   CLI::Option* tol_option = nullptr;
 };
 

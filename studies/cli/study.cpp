@@ -35,7 +35,7 @@ struct StudyOptions {
   bool list = false;
   bool estimate = false;  // print the estimates, run nothing
   bool all = false;
-  double max_memory_gib = 0;  // 0: default_memory_limit()
+  std::optional<double> max_memory_gib;  // not given: default_memory_limit()
   double max_work = kDefaultStudyWorkLimit;  // field evaluations (studies/engine/study_work.h)
   StudyRunOptions run;
 };

@@ -15,6 +15,7 @@
 #include "lib/scene_file.h"
 #include "lib/scene_mode.h"
 #include "lib/verify/verify_output.h"
+#include "studies/cli/memory_limit.h"
 #include "studies/cli/verify_run.h"
 #include "studies/engine/interrupt.h"
 #include "studies/cli/cli_support.h"
@@ -28,6 +29,7 @@ namespace fs = std::filesystem;
 
 struct VerifyCliOptions {
   std::string scene;
+  std::optional<double> max_memory_gib;  // --max-memory: the scene's volume
   std::vector<std::string> images;
   std::optional<std::string> steps;  // none: from the images' provenance
   std::optional<double> expected_order;
@@ -60,7 +62,7 @@ std::vector<double> parse_steps(const std::string& text) {
 int run_verify(const VerifyCliOptions& o) {
   check_threads(o.threads);
   const InterruptGuard interrupts;  // before any thread: SIGINT leaves --out as it was (published_folder.h)
-  const Scene scene = load_scene_or_default(o.scene);
+  const Scene scene = load_scene_or_default(o.scene, memory_limit_bytes(o.max_memory_gib));
   VerifyOptions opt;
   opt.scene_text = scene_text_or_default(o.scene);
   apply(o.settings, opt);
@@ -146,6 +148,7 @@ void add_verify_command(CLI::App& app) {
       "MPI: in a build with -DVRV_WITH_MPI=ON, `mpirun -np P vrv verify ...` spreads the reference image's pixels "
       "over P ranks; every output is bitwise that of one process (docs/distributed.md).");
   cmd->add_option("--scene", o->scene, "Scene file (TOML); the embedded default when omitted");
+  add_volume_memory_option(*cmd, o->max_memory_gib);
   cmd->add_option("images", o->images, "The renderer's images, one per step")->required();
   cmd->add_option("--steps", o->steps, "Sample distances (world units), one per image: H1,H2,...; "
                                        "default: each image's provenance (vrv:step metadata)");

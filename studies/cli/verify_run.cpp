@@ -178,7 +178,8 @@ std::vector<std::string> invoking_commands() {
 void add_plot_flags(CLI::App* cmd, bool& plots, const std::string& what) {
   // Drawing costs a Python process and matplotlib's import (~1 CPU s, more than the rest of a
   // cached verify): only where asked.  --no-plots, the default, stays accepted for scripts.
-  auto* on = cmd->add_flag("--plots", plots, what);
+  // The plot is drawn into --out: without one --plots would be accepted and ignored.
+  auto* on = cmd->add_flag("--plots", plots, what)->needs(cmd->get_option("--out"));
   cmd->add_flag("--no-plots")->description("Do not draw the plots (the default)")->excludes(on);
 }
 

@@ -69,7 +69,8 @@ inline constexpr const char* kVerifyOutMarker = "meta.json";
 // A subcommand's callback around `body` (verify, gate): a non-zero result is the exit code.  Errors
 // (a bad bounds file: BoundsFileError, "<file>: <key>: <reason>") are main's, "vrv: error: ...",
 // exit 2, as for every command.
-// --plots (draw the log-log plot into --out) and --no-plots (the default), for verify and gate.
+// --plots (draw the log-log plot into --out; refused without --out, which must be declared
+// first) and --no-plots (the default), for verify and gate.
 void add_plot_flags(CLI::App* cmd, bool& plots, const std::string& what);
 
 void run_exiting(const std::function<int()>& body);

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "lib/option_error.h"
 #include "lib/scene_file.h"
 #include "lib/verify.h"
 #include "tests/lib/toy_renderer_conventions.h"
@@ -165,6 +166,21 @@ TEST(VerifyColor, RgbaInBothConventions) {
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(r.channels[4 * k + c].all().rms, rgb.channels[3 * k + c].all().rms, 1e-12) << k << c;
+  }
+}
+
+// --alpha says how colour relates to alpha: on images without alpha it would be ignored.
+TEST(VerifyColor, AlphaConventionWithoutAlphaIsRefused) {
+  for (AlphaMode mode : {AlphaMode::premultiplied, AlphaMode::straight}) {
+    VerifyOptions opt;
+    opt.alpha = mode;
+    try {
+      verify_images(rgb_scene(), rgb_images(), opt);
+      FAIL() << alpha_mode_name(mode) << " was accepted on RGB images";
+    } catch (const OptionError& e) {
+      EXPECT_EQ(e.option(), Option::alpha);
+      EXPECT_NE(std::string(e.what()).find("the images have no alpha channel"), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -4,6 +4,10 @@
 #include <zlib.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <string>
 #include <vector>
 
 #include "tests/lib/volume/volume_fixtures.h"
@@ -59,6 +63,39 @@ TEST(NiftiReader, HonoursQfac) {
   const Volume v = read_nifti(kNibabelData / "anatomical.nii");
   EXPECT_EQ(v.steps()(2, 2), 2.0);
   EXPECT_EQ(v.steps()(0, 0), -2.0);
+}
+
+// niftilib prints a bad datatype on stderr whatever its debug level: it is the reason in our one
+// line, and nothing else is printed.
+TEST(NiftiReader, NiftilibsOwnErrorIsTheReason) {
+  std::vector<char> h(348 + 4 + 64 * 4, 0);
+  const auto put = [&](std::size_t at, auto value) { std::memcpy(h.data() + at, &value, sizeof value); };
+  put(0, std::int32_t{348});
+  const std::int16_t dim[8] = {3, 4, 4, 4, 1, 1, 1, 1};
+  std::memcpy(h.data() + 40, dim, sizeof dim);
+  put(70, std::int16_t{9999});  // datatype: none
+  put(72, std::int16_t{32});
+  const float pixdim[8] = {1, 1, 1, 1, 1, 1, 1, 1};
+  std::memcpy(h.data() + 76, pixdim, sizeof pixdim);
+  put(108, 352.0f);
+  std::memcpy(h.data() + 344, "n+1", 4);
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "vrv_nifti_bad_datatype.nii";
+  std::ofstream(file, std::ios::binary).write(h.data(), static_cast<std::streamsize>(h.size()));
+  testing::internal::CaptureStderr();
+  std::string message;
+  try {
+    read_nifti(file);
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  const std::string printed = testing::internal::GetCapturedStderr();
+  std::filesystem::remove(file);
+  EXPECT_NE(message.find("(header): not a readable NIfTI or ANALYZE header (niftilib: nifti_convert_n1hdr2nim: "
+                         "bad datatype)"),
+            std::string::npos)
+      << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  EXPECT_EQ(printed, "");
 }
 
 TEST(NiftiReader, RefusesNibabelsTimeSeries) {

@@ -21,8 +21,13 @@ if(NOT nx EQUAL 5 OR NOT nz EQUAL 7)
 endif()
 # A refused export leaves nothing behind: the folder its checks created is removed again (an empty
 # folder was left), and a unit distance that cannot be exported is named as the option.
+set(unit_reason_0 "must be positive and finite")
+set(unit_reason_nan "${unit_reason_0}")
+set(unit_reason_inf "${unit_reason_0}")
+set(unit_reason_1e308 "1e\\+308: the opacity per this distance rounds to 1 at value ")
 foreach(u 0 nan inf 1e308)
-  expect_error(export_unit_${u} "^vrv: error: --unit-distance: " export --out ${OUT}/refused_${u} --unit-distance ${u})
+  expect_error(export_unit_${u} "^vrv: error: --unit-distance: ${unit_reason_${u}}"
+    export --out ${OUT}/refused_${u} --unit-distance ${u})
   if(EXISTS ${OUT}/refused_${u})
     message(FATAL_ERROR "export_unit_${u}: left ${OUT}/refused_${u} behind")
   endif()
@@ -44,6 +49,17 @@ expect_error(export_no_parent "--out: .*does not exist" export --out ${OUT}/no/s
 file(WRITE ${OUT}/a_file "x")
 expect_error(export_out_is_file "--out: .*not a directory" export --out ${OUT}/a_file)
 expect_error(export_bad_nrrd "--nrrd" export --out ${OUT}/never --nrrd zipped)
+# An option that would be ignored is refused: a layout without its format, a unit distance where
+# the scene keeps its own.
+expect_error(export_nrrd_without_nrrd "^vrv: error: --nrrd: detached: --formats 'vti' writes no nrrd file$"
+  export --out ${OUT}/never --formats vti --nrrd detached)
+expect_error(export_vti_without_vti "^vrv: error: --vti: ascii: --formats 'nrrd,nifti' writes no vti file$"
+  export --out ${OUT}/never --formats nrrd,nifti --vti ascii)
+file(WRITE ${OUT}/opacity.toml "[volume]\nmin = [-1.0, -1.0, -1.0]\nmax = [1.0, 1.0, 1.0]\n[field]\nkind = \"linear_ramp\"\n"
+     "gradient = [0.3, 0.2, 0.1]\n[transfer]\nopacity = [[0.0, 0.0], [1.0, 0.3]]\n"
+     "color = [[0.0, 1.0], [1.0, 0.2]]\nunit_length = 0.05\n")
+expect_error(export_unit_distance_ignored "^vrv: error: --unit-distance: .*opacity.toml gives its opacity per unit_length = 0.05"
+  export --scene ${OUT}/opacity.toml --out ${OUT}/never --unit-distance 2)
 expect_error(export_bad_formats "^vrv: error: --formats: unknown value 'dicom' " export --out ${OUT}/never --formats nrrd,dicom)
 expect_error(export_empty_formats "^vrv: error: --formats: unknown value .." export --out ${OUT}/never --formats ,)
 if(EXISTS ${OUT}/never)
@@ -87,8 +103,13 @@ if(EXISTS ${OUT}/b.exr)
 endif()
 
 # The renderer conventions on the command line.
-run(conventions 0 ray --origin -3,0.5,0 --direction 1,0.1,0 --method alpha --step 0.02 --color premultiplied
-  --table-size 256 --table-lookup uncentred --json)
+run(conventions 0 ray --scene ${OUT}/opacity.toml --origin -3,0.5,0 --direction 1,0.1,0 --method alpha --step 0.02
+  --color premultiplied --table-size 256 --table-lookup uncentred --json)
+# The default scene is emission/extinction: premultiplied colour would change nothing there.
+expect_error(premultiplied_without_opacity "^vrv: error: --color: premultiplied needs an opacity/colour transfer function"
+  ray --origin -3,0.5,0 --direction 1,0.1,0 --method alpha --step 0.02 --color premultiplied)
+expect_error(centred_without_oversampling "^vrv: error: --centred-oversamples: needs --oversample N > 1"
+  ray --origin -3,0.5,0 --direction 1,0.1,0 --method alpha --strategy vtk --step 0.02 --centred-oversamples)
 expect_error(opacity_unit_needs_opacity "--opacity-unit" ray --origin -3,0.5,0 --direction 1,0,0
   --method alpha --step 0.02 --opacity-unit distance)
 expect_error(table_size_bad "--table-size" ray --origin -3,0.5,0 --direction 1,0,0 --method alpha --step 0.02 --table-size 1)

@@ -50,6 +50,11 @@ run(verify_plots_conflict 2 verify --scene ${SCENE} ${images} --steps ${steps} -
 if(NOT LAST_ERR MATCHES "--plots|--no-plots")
   message(FATAL_ERROR "verify_plots_conflict: the message does not name the flags:\n${LAST_ERR}")
 endif()
+# The plot goes into --out: without it --plots was accepted and nothing drawn.
+run(verify_plots_no_out 2 verify --scene ${SCENE} ${images} --steps ${steps} --plots --quiet)
+if(NOT LAST_ERR MATCHES "--plots requires --out")
+  message(FATAL_ERROR "verify_plots_no_out: the message does not name --out:\n${LAST_ERR}")
+endif()
 # The second run reads the reference from the cache.
 run(verify_cached 0 verify --scene ${SCENE} ${images} --steps ${steps} --cache-dir ${OUT}/cache --no-diagnosis --quiet)
 string(JSON cached GET "${LAST_OUT}" reference from_cache)
@@ -85,6 +90,8 @@ expect_error(step_count "--steps: 1 steps for 2 images"
   verify --scene ${SCENE} ${OUT}/alpha_0.1.exr ${OUT}/alpha_0.05.exr --steps 0.1 --no-cache)
 expect_error(bad_alpha "--alpha: 'sideways'"
   verify --scene ${SCENE} ${OUT}/alpha_0.1.exr --steps 0.1 --alpha sideways --no-cache)
+expect_error(alpha_without_alpha "--alpha: straight: the images have no alpha channel"
+  verify --scene ${SCENE} ${OUT}/alpha_0.1.exr --steps 0.1 --alpha straight --no-cache)
 file(WRITE ${OUT}/bad_bounds.toml "[defaults]\nrms = { warn = 1, fail = 0.5 }\n")
 expect_error(bad_bounds "bad_bounds.toml: defaults.rms: levels must be ordered"
   verify --scene ${SCENE} ${OUT}/alpha_0.1.exr --steps 0.1 --bounds ${OUT}/bad_bounds.toml --no-cache)

@@ -43,6 +43,8 @@ expect_bad_input(memory "big.toml: \\(memory\\): its grids need about 12.0 GiB \
   study ${OUT}/big.toml --quick --max-memory 4)
 expect_bad_input(memory_negative "^vrv: error: --max-memory: must be a positive number of GiB, got -1$"
   study ${OUT}/big.toml --quick --max-memory -1)
+expect_bad_input(memory_zero "^vrv: error: --max-memory: must be a positive number of GiB, got 0$"
+  study ${OUT}/big.toml --quick --max-memory 0)
 expect_bad_input(memory_negative_list "^vrv: error: --max-memory: must be a positive number of GiB, got -1$"
   study --list --max-memory -1)
 

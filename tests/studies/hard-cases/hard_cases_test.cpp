@@ -154,9 +154,13 @@ std::string hard_case(const std::string& method_lines) {
 
 TEST(HardCases, BadHardCaseFilesGiveOneLineNamingFileAndKey) {
   EXPECT_EQ(hard_cases_error(hard_case("method = \"reference\"\ntol = 1e-10\n")), "(no error)");
-  EXPECT_EQ(hard_cases_error(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\ncolor = \"premultiplied\"\n"
+  EXPECT_EQ(hard_cases_error(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\ncolor = \"straight\"\n"
                                "table_size = 256\ntable_lookup = \"uncentred\"\n")),
             "(no error)");
+  // The case's scene is emission/extinction: premultiplied colour would change nothing there.
+  EXPECT_EQ(hard_cases_error(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\ncolor = \"premultiplied\"\n"))
+                .rfind("bad.toml: case[0].method[0].color: premultiplied needs an opacity/colour transfer function", 0),
+            0u);
   EXPECT_EQ(hard_cases_error(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\nmax_error = 1e-3\n")),
             "(no error)");
   const study_test::BadFile cases[] = {
