@@ -179,8 +179,10 @@ const BoundSet& chosen_bounds(const BoundsFile& file, const std::optional<std::s
 
 BoundsFile load_bounds(const fs::path& path) {
   std::string text;
-  if (std::error_code ec; !fs::is_regular_file(path, ec))
-    throw BoundsFileError(fmt::format("{}: (file): no such bounds file", path.string()));
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw BoundsFileError(fmt::format("{}: (file): no such bounds file", path.string()));
+  if (!fs::is_regular_file(path, ec))
+    throw BoundsFileError(fmt::format("{}: (file): not a regular file (a bounds file is TOML text)", path.string()));
   try {
     text = read_study_text(path);
   } catch (const StudyFileError& e) {

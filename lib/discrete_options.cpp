@@ -85,13 +85,12 @@ void set_conventions(const DiscreteOptions& opt, DiscreteConfig& c) {
 }
 
 // Options that would be accepted and change nothing: refused, so that nobody believes they acted.
-void refuse_without_effect(const DiscreteConfig& c, const Scene& scene) {
+// (Premultiplied colour is not among them: it changes nothing only where the alpha rule's opacity
+// is the stored one, which depends on the correction, oversampling, opacity unit and classification.)
+void refuse_without_effect(const DiscreteConfig& c) {
   if (c.centred_oversamples && c.oversample == 1)
     throw OptionError(Option::centred_oversamples, "needs {0} N > 1 (one sample a step is the unit sample itself)",
                       {Option::oversample});
-  if (c.color == ColorConvention::premultiplied && scene.transfer.convention() != Convention::opacity_color)
-    throw OptionError(Option::color, "premultiplied needs an opacity/colour transfer function (an emission/extinction "
-                                     "scene stores no opacity for its colour to carry)");
 }
 
 }  // namespace
@@ -170,7 +169,7 @@ std::optional<DiscreteConfig> discrete_config(const DiscreteOptions& opt, const 
         }))
       throw OptionError(*o, "applies to a shaded scene only (one with a [shading] table)");
   validate(c, std::holds_alternative<GridField>(scene.field), scene.transfer);
-  refuse_without_effect(c, scene);
+  refuse_without_effect(c);
   return c;
 }
 

@@ -121,7 +121,7 @@ double estimate_work(std::size_t rays, double longest, double step) {
 // half the box's diagonal by factors of kLadder until one meets it, then bisected (in log h)
 // against the step above it.
 PlannedRule plan_rule(const Scene& scene, const std::vector<Ray>& rays, SegmentRule rule, const PlanOptions& o,
-                      double budget, long& evaluations) {
+                      long& evaluations) {
   constexpr double kLadder = 1.25;
   constexpr int kBisections = 4;
   // The estimate misses by a few percent where the steps resolve the field and by more at a few
@@ -140,15 +140,8 @@ PlannedRule plan_rule(const Scene& scene, const std::vector<Ray>& rays, SegmentR
     return estimate_image(scene, rays, c, o.metric, evaluations);
   };
   const double longest = (scene.box.max - scene.box.min).norm();
-  double spent = 0;  // the search's estimated work so far, against `budget`
-  const auto affordable = [&](double step) {
-    const double work = estimate_work(rays.size(), longest, step);
-    if (spent + work > budget) return false;
-    spent += work;
-    return true;
-  };
   std::optional<ImageEstimate> met, last;
-  for (double step = longest / 2; affordable(step); step /= kLadder) {
+  for (double step = longest / 2; estimate_work(rays.size(), longest, step) <= o.max_work; step /= kLadder) {
     const ImageEstimate e = at(step);
     if (e.error <= aim) {
       met = e;
@@ -158,17 +151,18 @@ PlannedRule plan_rule(const Scene& scene, const std::vector<Ray>& rays, SegmentR
   }
   if (met && last) {
     double above = last->step;
-    for (int i = 0; i < kBisections && affordable(std::sqrt(met->step * above)); ++i) {
+    for (int i = 0; i < kBisections; ++i) {
       const ImageEstimate e = at(std::sqrt(met->step * above));
       (e.error <= aim ? met : last) = e;
       above = last->step;
     }
   }
   if (!met && !last)
-    throw std::invalid_argument(fmt::format("--max-work: one estimate of this camera takes about {:.3g} field "
-                                            "evaluations, above a rule's share {:.3g} of {:.3g}; make the camera "
-                                            "smaller or allow it with --max-work",
-                                            estimate_work(rays.size(), longest, longest / 2), budget, o.max_work));
+    throw OptionError(Option::max_work,
+                      fmt::format("one estimate of this camera takes about {:.3g} field evaluations, above {:.3g}; "
+                                  "make the camera smaller or allow it with {{0}}",
+                                  estimate_work(rays.size(), longest, longest / 2), o.max_work),
+                      {Option::max_work});
   const ImageEstimate chosen = met ? *met : *last;
   out.met = met.has_value();
   out.config.sampling.step = chosen.step;
@@ -198,8 +192,7 @@ DiscretePlan plan_discrete(const Scene& scene, const Camera& camera, const PlanO
   warm.sampling.step = voxel;
   render_discrete_image(scene, camera, warm);
   for (SegmentRule rule : options.rules) {
-    PlannedRule r = plan_rule(scene, rays, rule, options, options.max_work / static_cast<double>(options.rules.size()),
-                              plan.evaluations);
+    PlannedRule r = plan_rule(scene, rays, rule, options, plan.evaluations);
     r.seconds_per_sample = seconds_per_sample(scene, camera, r.config);
     r.seconds = r.samples_per_ray * static_cast<double>(rays.size()) * r.seconds_per_sample;
     plan.ranked.push_back(r);

@@ -22,11 +22,8 @@ struct PlanOptions {
   std::vector<SegmentRule> rules{SegmentRule::riemann, SegmentRule::alpha, SegmentRule::trapezoid,
                                  SegmentRule::exact_linear};
   Strategy strategy = Strategy::step;  // a step-based placement (step, vtk, inviwo)
-  // Field evaluations the plan's image estimates may take in all, shared evenly by the rules: a
-  // step whose estimate would take a rule's search past its share is not tried (the rule is then
-  // reported as not met at the smallest step tried).  A bound on the whole search, not on one
-  // estimate: an unreachable target (1e-300) walked the ladder down to a bound per estimate five
-  // times over for every rule (100 s).
+  // Field evaluations one image estimate may take: a step needing more is not tried (the rule is
+  // then reported as not met at the smallest step tried).
   double max_work = 1e9;
 };
 

@@ -743,8 +743,8 @@ Scene load_scene(const std::filesystem::path& path, double max_volume_bytes) {
   return parse_scene(read_scene_text(path), path.string(), max_volume_bytes);
 }
 
-std::string scene_toml(std::string_view toml_text, std::string_view source_name) {
-  parse_scene(toml_text, source_name);  // a scene first: its errors, not the printer's
+std::string scene_toml(std::string_view toml_text, std::string_view source_name, double max_volume_bytes) {
+  parse_scene(toml_text, source_name, max_volume_bytes);  // a scene first: its errors, not the printer's
   std::ostringstream out;
   out << toml::toml_formatter(parse_toml(Reader(source_name), toml_text, source_name)) << '\n';
   return out.str();

@@ -39,8 +39,9 @@ Scene load_scene(const std::filesystem::path& path, double max_volume_bytes);
 std::string read_scene_text(const std::filesystem::path& path);
 
 // The scene's TOML as toml++ prints it (`vrv scene --print`), once parse_scene has accepted it:
-// the keys given, numbers to the digits that read back to the same doubles.  Throws SceneFileError.
-std::string scene_toml(std::string_view toml_text, std::string_view source_name);
+// the keys given, numbers to the digits that read back to the same doubles.  Throws SceneFileError
+// (a volume file above max_volume_bytes refused from its header, as load_scene's).
+std::string scene_toml(std::string_view toml_text, std::string_view source_name, double max_volume_bytes);
 
 // What `vrv export` wrote, as a scene (studies/cli/export.cpp): `toml_text` with its analytic
 // [field] made the source of a node-layout trilinear grid of `grid_nodes` when given, and its

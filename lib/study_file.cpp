@@ -17,6 +17,8 @@
 #include "lib/discrete_options.h"
 #include "lib/io/error_line.h"
 #include "lib/scene_file.h"
+#include "lib/scene_mode.h"
+#include "lib/volume/volume_grid.h"
 
 namespace vrv {
 namespace {
@@ -253,7 +255,9 @@ Scene read_any_study_scene(const StudyReader& r, const toml::table& parent, std:
   if (!node.is_table())
     r.fail(at, "expected a [scene] table or the path of a scene file (relative to the study file)");
   toml_text = scene_to_toml(*node.as_table());
-  constexpr std::string_view marker = "\x01scene\x01";
+  // The source name parse_scene's messages start with, replaced by the study file's key below
+  // (printable: messages write control bytes as \xNN).
+  constexpr std::string_view marker = "(the study's inline scene)";
   try {
     return parse_scene(toml_text, marker, r.volume_budget());
   } catch (const SceneFileError& e) {
@@ -271,9 +275,14 @@ Scene read_any_study_scene(const StudyReader& r, const toml::table& parent, std:
 Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::string_view path,
                        std::string& toml_text, bool shaded) {
   Scene scene = read_any_study_scene(r, parent, path, toml_text);
+  if (const auto mode = scene_mode(toml_text))
+    r.fail(StudyReader::child(path, "scene"),
+           fmt::format("the scene asks for the {} projection (its key mode), which the studies do not draw "
+                       "(emission-absorption only); vrv ray, render, verify and gate project it",
+                       projection_mode_name(*mode)));
   // A volume's reader checked its size against what was left: now it is held.
   if (!scene.field_files.empty())
-    r.spend_memory(StudyReader::child(path, "scene"), "the volume",
+    r.spend_memory(StudyReader::child(path, "scene"), "the volume " + digest_file_names(scene.field_files),
                    static_cast<double>(std::get<GridField>(scene.field).nodes().bytes()));
   if (scene.shading && !shaded)
     r.fail(StudyReader::child(path, "scene"), "the scene shades ([shading]): only the shading study shades so far");

@@ -23,6 +23,13 @@ Camera scene_camera(const Scene& scene, std::optional<int> width, std::optional<
   } catch (const CameraError& e) {
     if (e.field() == "width" && width) throw OptionError(Option::width, e.reason());
     if (e.field() == "height" && height) throw OptionError(Option::height, e.reason());
+    // Without a [camera] the camera is made from the box: a box so far out or so large that it
+    // cannot be framed in double is the box's fault, not a camera table's the scene does not have.
+    if (!scene.camera)
+      throw std::invalid_argument(fmt::format(
+          "the scene's box [{}, {}, {}] to [{}, {}, {}] is too far out or too large for the default camera in "
+          "double ({}); give the scene a [camera]", scene.box.min.x(), scene.box.min.y(), scene.box.min.z(), scene.box.max.x(),
+          scene.box.max.y(), scene.box.max.z(), e.what()));
     throw std::invalid_argument(fmt::format("[camera]: {}", e.what()));
   }
   return camera;

@@ -16,7 +16,8 @@ std::string cut_for_message(std::string_view s, std::size_t max = kMaxErrorPart)
 
 std::string error_line(std::string_view source, std::string_view key, std::string_view reason);
 
-// `s` with its line breaks as spaces and no trailing spaces: a message that stays one line.
+// `s` with its line breaks and tabs as spaces, no trailing spaces and other control bytes as \xNN:
+// a message that stays one line and cannot act on the terminal that shows it.
 std::string one_line(std::string s);
 
 // "<file>: <reason>" as one line, thrown as std::runtime_error (the image readers and writers).

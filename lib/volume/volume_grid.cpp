@@ -1,6 +1,7 @@
 #include "lib/volume/volume_grid.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <cmath>
 #include <fstream>
@@ -164,6 +165,28 @@ std::string files_digest(const std::vector<std::filesystem::path>& files) {
     out += fmt::format("{}:{:016x};", f.filename().string(), crc.checksum());
   }
   return out;
+}
+
+std::string digest_file_names(std::string_view digest) {
+  // Each entry ends ":<16 hex digits>;" (a name may hold ':' or ';' itself).
+  constexpr std::size_t kTail = 1 + 16 + 1;
+  const auto entry_end = [&](std::size_t at) {
+    return at + kTail <= digest.size() && digest[at] == ':' && digest[at + kTail - 1] == ';' &&
+           std::all_of(digest.begin() + at + 1, digest.begin() + at + 17,
+                       [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); });
+  };
+  std::string names;
+  std::size_t start = 0;
+  for (std::size_t at = 0; at < digest.size();) {
+    if (!entry_end(at)) {
+      ++at;
+      continue;
+    }
+    names += (names.empty() ? "" : ", ") + std::string(digest.substr(start, at - start));
+    at += kTail;
+    start = at;
+  }
+  return names;
 }
 
 }  // namespace vrv

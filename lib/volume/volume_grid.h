@@ -3,6 +3,7 @@
 // GridField (node or cell layout, trilinear or nearest).
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "lib/geometry.h"
 #include "lib/grid_field.h"
@@ -47,5 +48,7 @@ GridField volume_grid(Volume v, const VolumeMapping& mapping, VolumePlacement pl
 // CRC-64 of each file's bytes (lib/util/checksum.h), "name:crc;" per file: what the scene hash
 // adds for a field read from files, so that a changed file behind the same scene changes it.
 std::string files_digest(const std::vector<std::filesystem::path>& files);
+// The file names a files_digest holds, comma-separated (for messages).
+std::string digest_file_names(std::string_view digest);
 
 }  // namespace vrv

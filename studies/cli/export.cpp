@@ -157,13 +157,6 @@ ExportedScene exported_scene(const Scene& scene, const ExportedNodes& v, const E
         t.color.push_back({r.value, r.color});
       }
     }
-    // The scene states opacities below 1: a unit distance so long that one rounds to 1 cannot be
-    // written, and is named as the option that chose it.
-    for (const ControlPoint& p : t.opacity)
-      if (p.y >= 1)
-        throw std::invalid_argument(fmt::format("--unit-distance: {:g}: the opacity per this distance rounds to 1 at "
-                                                "value {:g}, which a scene cannot state; choose a shorter one",
-                                                opt.unit(), p.v));
     transfer = t;
   }
   e.toml = exported_scene_toml(text, name, grid ? std::nullopt : std::optional(v.n), transfer);
@@ -271,6 +264,27 @@ std::array<int, 3> export_nodes(const Scene& scene, const std::optional<std::arr
   return scene.dims;
 }
 
+// The exported table's opacities per --unit-distance, checked before anything is sampled: one that
+// rounds to 1 cannot be stated in a scene (nor drawn: opaque), and one that underflows to 0 where
+// the extinction is positive makes the renderer draw nothing there.  Named as the option that
+// chose the distance.
+void check_unit_distance(const Scene& scene, const ExportOptions& opt) {
+  if (scene.transfer.convention() == Convention::opacity_color) return;  // the scene's own unit_length
+  const auto check = [&](const TransferRow& r) {
+    const auto refuse = [&](std::string_view what, std::string_view remedy) {
+      throw std::invalid_argument(fmt::format("--unit-distance: {:g}: at value {:g} (extinction {:g}) the opacity per "
+                                              "this distance {}; choose a {} one",
+                                              opt.unit(), r.value, r.extinction, what, remedy));
+    };
+    if (r.opacity >= 1) refuse("rounds to 1, which a scene cannot state", "shorter");
+    if (r.opacity == 0 && r.extinction > 0) refuse("underflows to 0 where the extinction is positive", "longer");
+  };
+  if (scene.color)
+    for (const TransferRow& r : tabulate_color_transfer(*scene.color, opt.unit(), opt.table_points)[0]) check(r);
+  else
+    for (const TransferRow& r : tabulate_transfer(scene.transfer, opt.unit(), opt.table_points)) check(r);
+}
+
 // --nrrd and --vti: a known value, and only with their format in --formats.
 void check_layout_options(const ExportOptions& opt) {
   const auto formats = export_formats(opt.formats);  // refused before anything is read
@@ -310,6 +324,7 @@ void run_export(const ExportOptions& opt) {
                                             "export keeps (the option is for emission/extinction scenes)",
                                             opt.scene.empty() ? "the default scene" : opt.scene,
                                             scene.transfer.unit_length()));
+  check_unit_distance(scene, opt);
   const Camera camera = scene_camera(scene);  // as vrv render has it
   std::optional<std::array<int, 3>> resolution;
   if (!opt.resolution.empty()) resolution = parse_resolution(opt.resolution);

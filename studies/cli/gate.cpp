@@ -43,23 +43,27 @@ struct GateOptions {
   std::optional<double> max_memory_gib;  // --max-memory: each case's scene volume
 };
 
-// `vrv study NAME --quick` in a child process (this executable), its checks read back from
-// meta.json.  Returns the child's exit code.
-int run_study_case(const GateCase& c, const fs::path& out, long& failed) {
+// `vrv study NAME --quick` in a child process (this executable), with gate's --max-memory when
+// given, its checks read back from meta.json.  Returns the child's exit code.
+int run_study_case(const GateCase& c, const fs::path& out, const std::optional<double>& max_memory_gib, long& failed) {
   std::error_code ec;
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);
   if (ec) throw std::runtime_error("gate: cannot find the vrv executable to run a study");
   const std::string exe = self.string(), dir = out.string();
+  const std::string log = (out / (c.name + ".stderr.log")).string();
+  std::vector<std::string> args{exe, "study", c.study, "--quick", "--quiet", "--no-plots", "--out", dir};
+  if (max_memory_gib) args.insert(args.end(), {"--max-memory", fmt::format("{}", *max_memory_gib)});
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("gate: cannot start a study");
-  const std::string log = (out / (c.name + ".stderr.log")).string();
   if (pid == 0) {
-    // The study's own messages go to a log beside its results (one line of ours on stderr).
+    // The study's own messages and its JSON line go to a log beside its results: gate's own
+    // output is its table and one line of ours.
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) dup2(fd, 2);
-    const char* argv[] = {exe.c_str(), "study", c.study.c_str(), "--quick", "--quiet", "--no-plots", "--out",
-                          dir.c_str(), nullptr};
-    execv(argv[0], const_cast<char* const*>(argv));
+    if (fd >= 0) dup2(fd, 2), dup2(fd, 1);
+    execv(argv[0], argv.data());
     _exit(127);
   }
   int status = 0;
@@ -169,6 +173,7 @@ struct TemporaryFolder {
 
 int run_gate(const GateOptions& o) {
   check_threads(o.threads);
+  memory_limit_bytes(o.max_memory_gib);  // checked even when every case is a study case
   const BoundsFile file = load_bounds(o.bounds);
   std::vector<const GateCase*> cases;
   if (!o.case_name.empty()) cases.push_back(&named_case(file, o.case_name));
@@ -199,6 +204,7 @@ int run_gate(const GateOptions& o) {
     // Before any case runs: a projection of a shaded scene is refused (verify_images would refuse
     // it mid-run).
     if (projection) require_unshaded(scenes.back(), c->scene.string(), "vrv gate (a projection's images)");
+    if (projection) require_grey(scenes.back(), c->scene.string(), "vrv gate (a projection's images)");
     if (c->render) {
       try {
         discrete_config(discrete_options(*c->render, c->steps.front()), scenes.back());
@@ -225,7 +231,7 @@ int run_gate(const GateOptions& o) {
     const GateCase& c = *cases[i];
     if (!c.study.empty()) {
       long failed = 0;
-      const int rc = run_study_case(c, out, failed);
+      const int rc = run_study_case(c, out, o.max_memory_gib, failed);
       if (rc == kExitBadInput || rc > kExitBadInput) {
         std::ifstream log(out / (c.name + ".stderr.log"));
         std::string first;

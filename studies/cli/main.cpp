@@ -79,6 +79,9 @@ std::string parse_error_line(const CLI::App& app, const CLI::ParseError& e) {
     const auto colon = what.find(": ");
     if (colon != std::string::npos && what.ends_with(" missing"))
       return fmt::format("{}: a value is required", what.substr(0, colon));
+    // "--origin: At Most 1 required but received 2": the option was given twice.
+    if (colon != std::string::npos && what.find("At Most 1 required but received") != std::string::npos)
+      return fmt::format("{}: given more than once (give it once)", what.substr(0, colon));
     return fmt::format("{} (vrv COMMAND --help)", what);
   }
   return what;

@@ -16,7 +16,7 @@ namespace vrv::cli {
 double memory_limit_bytes(std::optional<double> max_memory_gib);
 
 // --max-memory for the commands whose one large allocation is the scene's volume (ray, verify,
-// plan, demo, gate): the volume file is refused from its header above it (a volume without a
+// plan, demo, gate, scene): the volume file is refused from its header above it (a volume without a
 // limit was read until std::bad_alloc, naming no file).
 CLI::Option* add_volume_memory_option(CLI::App& cmd, std::optional<double>& max_memory_gib);
 

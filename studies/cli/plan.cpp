@@ -111,9 +111,7 @@ void add_plan_command(CLI::App& app) {
   cmd->add_option("--strategy", opt->settings.strategy, "A step-based placement: " + plan_strategy_list())->capture_default_str();
   add_shared_option(*cmd, Option::width, opt->width);
   add_shared_option(*cmd, Option::height, opt->height);
-  cmd->add_option("--max-work", opt->settings.max_work,
-                  "Field evaluations the plan's estimates may take in all, shared evenly by the rules")
-      ->capture_default_str();
+  cmd->add_option("--max-work", opt->settings.max_work, "Field evaluations one image estimate may take")->capture_default_str();
   cmd->add_flag("--check", opt->check, "Render the chosen configuration and its reference; compare the errors");
   // Only --check renders a reference: without it --tol would be accepted and ignored.
   add_shared_option(*cmd, Option::tol, opt->tol, "(--check's reference image)")->needs(cmd->get_option("--check"));

@@ -72,7 +72,10 @@ int run_verify(const VerifyCliOptions& o) {
     if (!opt.mode)
       throw std::invalid_argument(fmt::format("--mode: unknown value '{}' (one of {}, {})", mode,
                                               projection_mode_list(), kEmissionAbsorption));
-    require_unshaded(scene, o.scene.empty() ? "the default scene" : o.scene, "vrv verify --mode");
+    // Named here, where the file's name is known (the library's own checks say "scene").
+    const std::string name = o.scene.empty() ? "the default scene" : o.scene;
+    require_unshaded(scene, name, "vrv verify with a projection mode");
+    require_grey(scene, name, "vrv verify with a projection mode");
   }
   opt.diagnose = !o.no_diagnosis;
   opt.progress = !o.quiet;

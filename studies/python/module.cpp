@@ -48,6 +48,7 @@
 #include "lib/io/image_module.h"
 #include "studies/cli/published_folder.h"
 #include "studies/cli/verify_run.h"  // kVerifyOutMarker
+#include "studies/engine/memory_budget.h"
 #include "studies/engine/plot_script.h"
 
 namespace py = pybind11;
@@ -475,8 +476,14 @@ auto load_file(const std::filesystem::path& path, Load load) {
   }
 }
 
-Scene from_file(const std::filesystem::path& path) {
-  return load_file<SceneFileError>(path, [](const auto& p) { return load_scene(p); });
+// A volume file is refused from its header above max_memory GiB (default 3/4 of physical memory,
+// as the command line's --max-memory): without a limit a VTI file without end was read until
+// MemoryError.
+Scene from_file(const std::filesystem::path& path, std::optional<double> max_memory) {
+  if (max_memory && !(*max_memory > 0 && std::isfinite(*max_memory)))
+    throw std::invalid_argument(fmt::format("max_memory: must be a positive number of GiB, got {}", *max_memory));
+  const double limit = max_memory ? *max_memory * double(1 << 30) : default_memory_limit();
+  return load_file<SceneFileError>(path, [&](const auto& p) { return load_scene(p, limit); });
 }
 
 py::dict box(const Scene& scene) {
@@ -602,6 +609,8 @@ py::object verify_py(const Scene& scene, const py::sequence& images, const std::
     throw std::invalid_argument("--case: needs --bounds");
   }
   if (threshold) options.threshold = *threshold;
+  // The plot is drawn into `out`: without it plots=True would be accepted and ignored.
+  if (plots && !out) throw std::invalid_argument("plots: the plot is drawn into out; give out= as well");
   // Written as `vrv verify --out` writes: staged beside `out` and published whole, with a lock.
   // Refused before anything is computed: a folder vrv did not write, a missing image module.  The
   // staging folder (and so `out`) is made only once the report exists: a refused or interrupted
@@ -677,7 +686,9 @@ PYBIND11_MODULE(vrv, m) {
   });
 
   py::class_<Scene>(m, "Scene", "A vrv scene: volume box, field, transfer function, background, camera")
-      .def_static("from_file", &from_file, py::arg("path"), "Load a scene file (TOML)")
+      .def_static("from_file", &from_file, py::arg("path"), py::arg("max_memory") = py::none(),
+                  "Load a scene file (TOML); a volume file above max_memory GiB (default 3/4 of physical "
+                  "memory) is refused from its header")
       .def_static("from_toml", [](const std::string& text, const std::string& name) {
                     return parse_scene(text, name);
                   }, py::arg("text"), py::arg("name") = "<toml>",

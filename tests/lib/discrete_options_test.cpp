@@ -140,15 +140,12 @@ TEST(DiscreteOptions, StudyFileErrorsNameTheKey) {
   EXPECT_EQ(read_method(step + "max_work = 10\n").error.rfind("s.toml: m.max_work: unknown key", 0), 0u);
   EXPECT_EQ(read_method("method = 'alpha'\nstrategy = 'entry'\nrate = 0\n").error,
             "s.toml: m.rate: must be a positive finite number, got 0");
-  // Accepted, they would change nothing: centred oversamples without oversampling, premultiplied
-  // colour on the default (emission/extinction) scene.
+  // Accepted, it would change nothing: centred oversamples without oversampling.
   EXPECT_EQ(read_method(step + "centred_oversamples = true\n").error,
             "s.toml: m.centred_oversamples: needs oversample N > 1 (one sample a step is the unit sample itself)");
   EXPECT_EQ(read_method(step + "centred_oversamples = true\noversample = 2\n").error, "");
-  EXPECT_EQ(read_method(step + "color = 'premultiplied'\n").error.rfind(
-                "s.toml: m.color: premultiplied needs an opacity/colour transfer function", 0),
-            0u)
-      << read_method(step + "color = 'premultiplied'\n").error;
+  // Premultiplied colour acts on an emission/extinction scene too (with an opacity correction).
+  EXPECT_EQ(read_method(step + "color = 'premultiplied'\ncorrection = 'lacroute'\n").error, "");
 }
 
 // Without a method every other option is refused, first in the declared order.

@@ -30,6 +30,14 @@ Volume permuted() {
   return v;
 }
 
+// A message names a scene's volume files from its digest (the study's memory refusal said "the
+// volume" alone).
+TEST(VolumeGrid, TheDigestNamesItsFiles) {
+  EXPECT_EQ(digest_file_names("head.nhdr:00112233445566ff;head.raw:0123456789abcdef;"), "head.nhdr, head.raw");
+  EXPECT_EQ(digest_file_names("a:b;c.nii:0000000000000000;"), "a:b;c.nii");  // names may hold ':' and ';'
+  EXPECT_EQ(digest_file_names(""), "");
+}
+
 TEST(VolumeGrid, TheHeaderBoxHoldsTheFirstAndLastSamplesOnItsFaces) {
   const Box node = volume_box(permuted(), GridLayout::node);
   // x: index k (-x, 4 samples, 0.25): [10 - 0.75, 10]; y: index i (-y, 3, 0.5): [19, 20];

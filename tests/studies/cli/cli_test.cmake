@@ -162,12 +162,19 @@ file(CREATE_LINK /dev/zero ${OUT}/endless.vti SYMBOLIC)
 file(WRITE ${OUT}/endless.toml "[field]\nkind = \"volume\"\nfile = \"endless.vti\"\n[transfer]\nemission = [[0.0, 0.0], [1.0, 1.0]]\nextinction = [[0.0, 0.0], [1.0, 1.0]]\n")
 expect_failure(ray_endless_volume "endless.vti: \\(file\\): its XML text, held while its arrays are read, is longer than the 1073741 bytes allowed \\(--max-memory\\)$"
   ray --scene ${OUT}/endless.toml --origin -3,0,0 --direction 1,0,0 --max-memory 0.001)
+expect_failure(scene_endless_volume "endless.vti: \\(file\\): its XML text, held while its arrays are read, is longer than the 1073741 bytes allowed \\(--max-memory\\)$"
+  scene ${OUT}/endless.toml --max-memory 0.001)
 foreach(cmd verify plan demo gate)
   expect_success(help_max_memory_${cmd} ${cmd} --help)
   if(NOT LAST_OUT MATCHES "--max-memory")
     message(FATAL_ERROR "${cmd} --help has no --max-memory")
   endif()
 endforeach()
+# A box the default camera cannot frame in double is named as the box ("[camera]: camera.eye"
+# named a table the scene does not have).
+file(WRITE ${OUT}/far_box.toml "[volume]\nmin = [1e308, 0, 0]\nmax = [1.1e308, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0.0, 0.0], [1.0, 1.0]]\nextinction = [[0.0, 0.0], [1.0, 1.0]]\n")
+expect_failure(far_box_camera "^vrv: error: the scene's box \\[1e\\+308, 0, 0\\] to \\[1.1e\\+308, 1, 1\\] is too far out or too large for the default camera in double .*give the scene a \\[camera\\]$"
+  render --reference --scene ${OUT}/far_box.toml --width 4 --height 4 -o ${OUT}/far_box.exr)
 expect_failure(zero_direction "direction.*zero" ray --origin 0,0,0 --direction 0,0,0)
 expect_failure(bad_vector "--origin" ray --origin 1,2 --direction 1,0,0)
 expect_failure(nan_vector "--origin" ray --origin nan,0,0 --direction 1,0,0)

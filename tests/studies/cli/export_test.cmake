@@ -24,8 +24,11 @@ endif()
 set(unit_reason_0 "must be positive and finite")
 set(unit_reason_nan "${unit_reason_0}")
 set(unit_reason_inf "${unit_reason_0}")
-set(unit_reason_1e308 "1e\\+308: the opacity per this distance rounds to 1 at value ")
-foreach(u 0 nan inf 1e308)
+set(unit_reason_1e308 "1e\\+308: at value .* the opacity per this distance rounds to 1, which a scene cannot state; ")
+# ... and one so short that an opacity underflows to 0 where the extinction is positive (it wrote
+# opacities 0 everywhere: the exported scene integrated to 0).
+set(unit_reason_5e-324 "4.94066e-324: at value .* the opacity per this distance underflows to 0 where the extinction is positive; ")
+foreach(u 0 nan inf 1e308 5e-324)
   expect_error(export_unit_${u} "^vrv: error: --unit-distance: ${unit_reason_${u}}"
     export --out ${OUT}/refused_${u} --unit-distance ${u})
   if(EXISTS ${OUT}/refused_${u})
@@ -105,9 +108,10 @@ endif()
 # The renderer conventions on the command line.
 run(conventions 0 ray --scene ${OUT}/opacity.toml --origin -3,0.5,0 --direction 1,0.1,0 --method alpha --step 0.02
   --color premultiplied --table-size 256 --table-lookup uncentred --json)
-# The default scene is emission/extinction: premultiplied colour would change nothing there.
-expect_error(premultiplied_without_opacity "^vrv: error: --color: premultiplied needs an opacity/colour transfer function"
-  ray --origin -3,0.5,0 --direction 1,0.1,0 --method alpha --step 0.02 --color premultiplied)
+# Premultiplied colour acts on an emission/extinction scene too: with an opacity correction the
+# colour keeps the stored opacity while alpha is corrected (docs/discrete-raycasts.md).
+run(premultiplied_emission_extinction 0 ray --origin -3,0.5,0 --direction 1,0.1,0 --method alpha --step 0.05
+  --oversample 2 --correction lacroute --color premultiplied --json)
 expect_error(centred_without_oversampling "^vrv: error: --centred-oversamples: needs --oversample N > 1"
   ray --origin -3,0.5,0 --direction 1,0.1,0 --method alpha --strategy vtk --step 0.02 --centred-oversamples)
 expect_error(opacity_unit_needs_opacity "--opacity-unit" ray --origin -3,0.5,0 --direction 1,0,0

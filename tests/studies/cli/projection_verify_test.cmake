@@ -44,4 +44,8 @@ expect_error(bad_scene_mode_render "bad.toml: mode: unknown value \"MIP\"" rende
 file(WRITE ${OUT}/bounds.toml "[defaults]\nmin_order = { fail = 1.75 }\n[[case]]\nname = \"mip\"\nscene = \"mip.toml\"\nimages = [\"mip_0.025.exr\", \"mip_0.0125.exr\", \"mip_0.00625.exr\", \"mip_0.003125.exr\"]\n")
 run(gate_mip 0 gate --bounds ${OUT}/bounds.toml --no-cache --quiet)
 file(WRITE ${OUT}/render_bounds.toml "[[case]]\nname = \"r\"\nscene = \"mip.toml\"\nsteps = [0.1, 0.05]\nrender = { method = \"alpha\", strategy = \"inviwo\" }\n")
+# An RGB scene under a projection: refused naming its file (it said "scene:").
+file(WRITE ${OUT}/rgb_mip.toml "mode = \"mip\"\n[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nopacity = [[0, 0], [1, 0.5]]\ncolor = [[0, 1, 0, 0], [1, 0, 1, 0]]\nunit_length = 1\n")
+expect_error(verify_rgb_mode "^vrv: error: [^ ]*rgb_mip.toml: transfer: the scene is RGB .*which vrv verify with a projection mode does not handle"
+  verify --scene ${OUT}/rgb_mip.toml --no-cache ${images})
 expect_error(gate_render_mode "case r: render: the scene has a projection mode" gate --bounds ${OUT}/render_bounds.toml --no-cache --quiet)

@@ -89,6 +89,14 @@ printf '[[case]]\nname = "h"\nstudy = "--help"\n' > "$out/gate/help.toml"
 expect study_name 2 "^vrv: error: $out/gate/help.toml: case\[0\]\.study: '--help' is not a study vrv knows \(convergence, " \
   "$vrv" gate --bounds "$out/gate/help.toml" --out "$out/gate/out" --quiet
 
+# A study case runs under gate's --max-memory: it was not passed on to the study, nor checked
+# when every case is a study case.
+printf '[[case]]\nname = "v"\nstudy = "volume"\n' > "$out/gate/volume.toml"
+expect gate_study_memory 2 "^vrv: error: $out/gate/volume.toml: case v: study volume exited with 2: .*allowed \(--max-memory\)" \
+  "$vrv" gate --bounds "$out/gate/volume.toml" --out "$out/gate/vout" --quiet --max-memory 0.000001
+expect gate_study_memory_bad 2 "^vrv: error: --max-memory: must be a positive number of GiB, got -1$" \
+  "$vrv" gate --bounds "$out/gate/volume.toml" --quiet --max-memory -1
+
 # (6) a write error on standard output was ignored: `vrv ray --rays F > /dev/full` exited 0 with
 # every result lost.  Every command flushes and checks it: one line, exit 5.
 if [ -w /dev/full ]; then
@@ -148,6 +156,12 @@ expect stdin_rays_over 2 "^vrv: error: --rays <stdin>: about 1e\+03 rays.*split 
 expect gate_prefix 2 "^vrv: error: $out/none.toml: \(file\): no such bounds file$" "$vrv" gate --bounds "$out/none.toml"
 expect verify_prefix 2 "^vrv: error: $out/none.toml: \(file\): no such bounds file$" \
   "$vrv" verify "$out/o/reference.exr" "$out/o/0.01.exr" --bounds "$out/none.toml" --no-cache --quiet
+# A bounds "file" that exists but is no file (a device, a directory) was called missing.
+expect gate_bounds_device 2 "^vrv: error: /dev/zero: \(file\): not a regular file \(a bounds file is TOML text\)$" \
+  "$vrv" gate --bounds /dev/zero
+# An option given twice: CLI11's "At Most 1 required but received 2" said in our words.
+expect repeated_option 2 "^vrv: error: --origin: given more than once \(give it once\)$" \
+  "$vrv" ray --origin 1,2,3 --origin 1,2,3 --direction 1,0,0
 
 # gate without --out left /tmp/vrv-gate-PID behind: it is removed on every way out (a pass, and an
 # error after the folder was made: images that cannot be read).

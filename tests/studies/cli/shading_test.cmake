@@ -124,7 +124,7 @@ expect_error(shade_at_unshaded "--shade-at: applies to a shaded scene only"
   ray --scene ${OUT}/plain.toml --method trapezoid --step 0.01 --shade-at nodes --origin 0,0,-3 --direction 0,0,1)
 
 # Refused, naming the scene and what does not shade yet.
-expect_error(verify_mode "lit.toml: shading: .*vrv verify --mode" verify --scene ${OUT}/lit.toml ${OUT}/lit.exr --steps 0.1 --mode mip)
+expect_error(verify_mode "lit.toml: shading: .*vrv verify with a projection mode" verify --scene ${OUT}/lit.toml ${OUT}/lit.exr --steps 0.1 --mode mip)
 expect_error(plan "lit.toml: shading: .*vrv plan" plan --scene ${OUT}/lit.toml --target 1e-3)
 expect_error(bad_key "lit_bad.toml: shading.shininess: must be a finite number >= 1, got 0.5"
   ray --scene ${OUT}/lit_bad.toml --origin 0,0,-3 --direction 0,0,1)

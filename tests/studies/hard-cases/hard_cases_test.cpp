@@ -152,15 +152,17 @@ std::string hard_case(const std::string& method_lines) {
          "[[case.method]]\n" + method_lines;
 }
 
+std::string mip_case() {
+  std::string text = hard_case("method = \"reference\"\ntol = 1e-10\n");
+  const std::string volume = "[case.scene.volume]";
+  return text.replace(text.find(volume), volume.size(), "[case.scene]\nmode = \"mip\"\n" + volume);
+}
+
 TEST(HardCases, BadHardCaseFilesGiveOneLineNamingFileAndKey) {
   EXPECT_EQ(hard_cases_error(hard_case("method = \"reference\"\ntol = 1e-10\n")), "(no error)");
-  EXPECT_EQ(hard_cases_error(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\ncolor = \"straight\"\n"
+  EXPECT_EQ(hard_cases_error(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\ncolor = \"premultiplied\"\n"
                                "table_size = 256\ntable_lookup = \"uncentred\"\n")),
             "(no error)");
-  // The case's scene is emission/extinction: premultiplied colour would change nothing there.
-  EXPECT_EQ(hard_cases_error(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\ncolor = \"premultiplied\"\n"))
-                .rfind("bad.toml: case[0].method[0].color: premultiplied needs an opacity/colour transfer function", 0),
-            0u);
   EXPECT_EQ(hard_cases_error(hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 0.01\nmax_error = 1e-3\n")),
             "(no error)");
   const study_test::BadFile cases[] = {
@@ -182,6 +184,9 @@ TEST(HardCases, BadHardCaseFilesGiveOneLineNamingFileAndKey) {
        "bad.toml: case[0].method[0].max_error: not used by the reference method"},
       {hard_case("method = \"alpha\"\nstrategy = \"step\"\nstep = 1e-9\n"), "bad.toml: case[0].method[0]: about"},
       {"kind = \"hard_cases\"\n", "bad.toml: case: missing"},
+      // A scene's projection was ignored: the case integrated emission-absorption.
+      {mip_case(), "bad.toml: case[0].scene: the scene asks for the mip projection (its key mode), which the studies "
+                   "do not draw"},
   };
   study_test::expect_one_line_errors(kParseHardCases, cases);
 }

@@ -52,6 +52,19 @@ def test_rays_refused(tmp_path):
     assert scene.reference(o, d, max_work=1e9)["value"].shape == (8, 8)
 
 
+def test_a_volume_without_end_is_refused_from_file(tmp_path):
+    """A VTI file that never ends (/dev/zero) was read until MemoryError; it is refused naming the
+    file, under max_memory (GiB), whose own bad values are named as the keyword."""
+    (tmp_path / "endless.vti").symlink_to("/dev/zero")
+    (tmp_path / "endless.toml").write_text('[field]\nkind = "volume"\nfile = "endless.vti"\n[transfer]\n'
+                                           'emission = [[0.0, 0.0], [1.0, 1.0]]\nextinction = [[0.0, 0.0], [1.0, 1.0]]\n')
+    with pytest.raises(ValueError, match=r"endless\.vti: \(file\): its XML text, held while its arrays are read, "
+                                         r"is longer than the 1073741 bytes allowed"):
+        vrv.Scene.from_file(str(tmp_path / "endless.toml"), max_memory=0.001)
+    with pytest.raises(ValueError, match=r"^max_memory: must be a positive number of GiB, got 0"):
+        vrv.Scene.from_file(str(tmp_path / "endless.toml"), max_memory=0)
+
+
 def test_verify_refused_with_vrv_verifys_message(tmp_path):
     scene = vrv.Scene.default()
     steps = [0.02, 0.01]

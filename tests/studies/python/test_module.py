@@ -115,6 +115,9 @@ def test_plan_is_vrv_plan_and_its_choice_meets_the_target():
         vrv.plan(scene, 1e-3, metric="p99")
     with pytest.raises(ValueError, match=r"^rules: unknown rule 'simpson'"):
         vrv.plan(scene, 1e-3, rules="moreland,simpson")
+    # The work limit spelled as the keyword (it said --max-work to a Python user).
+    with pytest.raises(ValueError, match=r"^max_work: one estimate of this camera takes about .*allow it with max_work$"):
+        vrv.plan(scene, 1e-3, max_work=10)
 
 
 def test_opacity_colour_conventions_are_bitwise_vrv_ray(tmp_path):

@@ -130,6 +130,9 @@ def test_bad_input_raises_the_command_lines_message(scene_and_rays, tmp_path):
         vrv.verify(scene, zeros, STEPS, out=str(tmp_path / "file"))
     with pytest.raises(TypeError):
         vrv.verify(scene, zeros, STEPS, expected_ordre=2)
+    # The plot goes into out: without it plots=True was accepted and nothing drawn.
+    with pytest.raises(ValueError, match=r"^plots: the plot is drawn into out; give out= as well$"):
+        vrv.verify(scene, zeros, STEPS, plots=True)
 
 
 def test_out_is_published_whole(scene_and_rays, tmp_path):
