@@ -116,6 +116,30 @@ double estimate_work(std::size_t rays, double longest, double step) {
   return static_cast<double>(rays) * (longest / step + 2) * (1 + kErrorBoundEvaluationsPerSegment);
 }
 
+// A target so far below the estimates that, at the order the last two show, the step meeting it
+// would take this many times --max-work: the ladder stops instead of walking down to the limit
+// (an unreachable --target 1e-300 took 77 s).  The factor leaves room for a pre-asymptotic
+// order that rises as the step falls.
+constexpr double kHopelessWork = 100;
+
+// The order at which the estimate falls from the coarser step to the finer, or NaN.
+double observed_order(const ImageEstimate& coarse, const ImageEstimate& fine) {
+  if (!(fine.error > 0 && coarse.error > 0)) return NAN;
+  return std::log(coarse.error / fine.error) / std::log(coarse.step / fine.step);
+}
+
+// True when the last three ladder estimates fall at one settled order p (at least 1/2, the two
+// steps' orders within a quarter of each other: coarse steps are pre-asymptotic, and an order
+// read there predicted steps far too fine) and the step (aim/error)^(1/p) that order predicts
+// for the target is `too_costly`.
+template <class TooCostly>
+bool out_of_reach(const ImageEstimate& a, const ImageEstimate& b, const ImageEstimate& c, double aim,
+                  TooCostly&& too_costly) {
+  const double p1 = observed_order(a, b), p2 = observed_order(b, c);
+  if (!(p1 >= 0.5 && p2 >= 0.5 && std::abs(p1 - p2) <= 0.25 * p2)) return false;
+  return too_costly(c.step * std::pow(aim / c.error, 1 / p2));
+}
+
 // The largest step whose estimate meets the target, as a brute-force search would find it on a
 // ladder of steps (errors are not monotone in the step where samples meet breakpoints): down from
 // half the box's diagonal by factors of kLadder until one meets it, then bisected (in log h)
@@ -140,14 +164,19 @@ PlannedRule plan_rule(const Scene& scene, const std::vector<Ray>& rays, SegmentR
     return estimate_image(scene, rays, c, o.metric, evaluations);
   };
   const double longest = (scene.box.max - scene.box.min).norm();
-  std::optional<ImageEstimate> met, last;
+  std::optional<ImageEstimate> met, last, before_last;
   for (double step = longest / 2; estimate_work(rays.size(), longest, step) <= o.max_work; step /= kLadder) {
     const ImageEstimate e = at(step);
     if (e.error <= aim) {
       met = e;
       break;
     }
+    const bool hopeless = before_last && out_of_reach(*before_last, *last, e, aim, [&](double h) {
+      return estimate_work(rays.size(), longest, h) > kHopelessWork * o.max_work;
+    });
+    before_last = last;
     last = e;
+    if (hopeless) break;
   }
   if (met && last) {
     double above = last->step;
