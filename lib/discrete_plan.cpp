@@ -54,6 +54,9 @@ PlanOptions plan_options(const PlanSettings& settings) {
     if (!rule)
       throw OptionError(Option::rules,
                         fmt::format("unknown rule '{}' ({})", name, segment_rule_list()));
+    // A rule named twice was planned twice (two identical rows).
+    if (std::find(p.rules.begin(), p.rules.end(), *rule) != p.rules.end())
+      throw OptionError(Option::rules, fmt::format("'{}' listed twice", name));
     p.rules.push_back(*rule);
     start = comma + 1;
   }

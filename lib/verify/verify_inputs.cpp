@@ -42,8 +42,9 @@ void check_image(const ImageWithStep& im, const std::vector<ImageWithStep>& imag
 void check_options(const VerifyOptions& opt) {
   if (!(opt.threshold >= 0)) throw OptionError(Option::threshold, "must be >= 0");
   check_tolerance(opt.reference_tol);
-  if (opt.expected_order && !std::isfinite(*opt.expected_order))
-    throw OptionError(Option::expected_order, "must be finite");
+  if (opt.expected_order && !(*opt.expected_order > 0 && std::isfinite(*opt.expected_order)))
+    throw OptionError(Option::expected_order,
+                      fmt::format("must be a positive finite order, got {}", *opt.expected_order));
   for (int n : opt.table_sizes)
     if (n < 2 || n > kMaxTableSize)
       throw std::invalid_argument(fmt::format("table_sizes: {} is not in [2, {}]", n, kMaxTableSize));

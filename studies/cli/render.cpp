@@ -321,6 +321,11 @@ ImageF64 read_reference_image(const std::string& path, const Camera& camera, con
     throw bad(fmt::format("rendered from another scene (scene hash {}; this render's {})",
                           provenance->scene_hash.substr(0, 12), hash.substr(0, 12)));
   }
+  // Errors are measured against the reference integral: a discrete render in its place would
+  // report the difference of two raycasts as an error.
+  if (provenance->method.find("reference") == std::string::npos)
+    throw bad(fmt::format("a discrete render ({}), not a reference: render the reference with vrv render --reference",
+                          provenance->method));
   for (std::size_t i = 0; i < ref.pixels.size(); ++i) {
     const double v = ref.pixels[i];
     const std::size_t pixel = i / channels;

@@ -415,13 +415,16 @@ py::array_t<double> render_channels(const Scene& scene, const Camera& camera, co
 
 // (height, width) values of the scene's camera: the reference without `method`, else the
 // discrete raycast the keywords describe; with mode=, the projection's reference or discrete version.
-py::array_t<double> render(const Scene& scene, double tol, std::optional<int> width,
+py::array_t<double> render(const Scene& scene, std::optional<double> given_tol, std::optional<int> width,
                            std::optional<int> height, bool alpha, const py::kwargs& given) {
   py::dict kw;
   const std::optional<ProjectionMode> mode = mode_keyword(take_mode(given, kw));
   if (mode && alpha) throw std::invalid_argument("alpha=: a projection's image has one channel");
-  if (mode && kw.contains("method") && !kw["method"].is_none())
-    return render_projection(scene, *mode, scene_camera(scene, width, height), kw);
+  const bool discrete = kw.contains("method") && !kw["method"].is_none();
+  // As the command line: a tolerance with a method would be accepted and ignored.
+  if (discrete && given_tol) throw std::invalid_argument("tol: applies to the reference only, not to method");
+  const double tol = given_tol.value_or(ReferenceOptions{}.tol);
+  if (mode && discrete) return render_projection(scene, *mode, scene_camera(scene, width, height), kw);
   const auto keywords = discrete_keywords(scene, kw);
   const auto& config = keywords->config;
   const Camera camera = scene_camera(scene, width, height);
@@ -497,6 +500,14 @@ py::dict box(const Scene& scene) {
 // a .npy file (lib/io/image_channels.h): grey, grey+alpha, RGB or RGBA; float32 keeps its type
 // (and its quantum), anything else is taken as float64.  ValueError "images[i]: <reason>".
 ChannelImage array_image(const py::handle& h, std::size_t index) {
+  // numpy would cast a complex image to its real part (a warning, not an error) and booleans to
+  // 0 and 1: neither is a renderer's image.
+  if (py::isinstance<py::array>(h)) {
+    const char kind = py::cast<py::array>(h).dtype().kind();
+    if (kind != 'f' && kind != 'i' && kind != 'u')
+      throw std::invalid_argument(fmt::format("images[{}]: dtype {} is not real numbers (give float32 or float64)",
+                                              index, py::str(py::cast<py::array>(h).dtype()).cast<std::string>()));
+  }
   NpyArray a;
   const auto as_npy = [&](auto array, const char* dtype) {
     a.dtype = dtype;
@@ -670,6 +681,13 @@ PYBIND11_MODULE(vrv, m) {
   using namespace vrv;
   using namespace vrv::python;
   // The keywords' defaults: the library's option structs' own (as the command line's).
+  static const std::string render_doc = fmt::format(
+      "The scene camera's image as a (height, width) float64 array: the reference (to tol, default {:g}; "
+      "refused with method=...), or with method=... the discrete raycast (options as for `discrete`); "
+      "max_work=1e9 as --max-work; mode=... (as `reference`) the projection's reference image, with method=... "
+      "its discrete version (as `discrete`); (height, width, 3) for an RGB scene; alpha=True adds "
+      "A = 1 - e^-Phi as a last channel ((height, width, 2) grey, (height, width, 4) RGB), as `vrv render --alpha`",
+      ReferenceOptions{}.tol);
   const PlanSettings plan_defaults{};
   const VerifySettings verify_defaults{};
   m.doc() = "vrv: the emission-absorption integral to near machine precision, and discrete "
@@ -719,13 +737,9 @@ PYBIND11_MODULE(vrv, m) {
            "the discrete projection (method riemann, trapezoid, simpson; max for MIP; strategy, rate, "
            "step), MIP adding position; an RGB scene's value has a trailing axis of 3, each channel "
            "cast alone, samples summed")
-      .def("render", &render, py::arg("tol") = ReferenceOptions{}.tol, py::arg("width") = py::none(),
+      .def("render", &render, py::arg("tol") = py::none(), py::arg("width") = py::none(),
            py::arg("height") = py::none(), py::arg("alpha") = false,
-           "The scene camera's image as a (height, width) float64 array: the reference, or with "
-           "method=... the discrete raycast (options as for `discrete`); max_work=1e9 as --max-work; "
-           "mode=... (as `reference`) the projection's reference image, with method=... its discrete "
-           "version (as `discrete`); (height, width, 3) for an RGB scene; alpha=True adds A = 1 - e^-Phi "
-           "as a last channel ((height, width, 2) grey, (height, width, 4) RGB), as `vrv render --alpha`")
+           render_doc.c_str())
       .def("rays", &rays, py::arg("width") = py::none(), py::arg("height") = py::none(),
            "The scene camera's rays: (origins, directions), each (height, width, 3)");
   m.def("plan", &plan_py, py::arg("scene"), py::arg("target"), py::kw_only(), py::arg("metric") = plan_defaults.metric,

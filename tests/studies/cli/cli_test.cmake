@@ -100,6 +100,7 @@ foreach(cmd ray demo render plan verify)
   endif()
 endforeach()
 expect_failure(plan_bad_tol "--tol: must be a positive finite number, got -1$" plan --target 1e-3 --check --tol -1)
+expect_failure(plan_rule_twice "--rules: 'riemann' listed twice$" plan --target 1e-3 --rules riemann,alpha,riemann)
 expect_failure(plan_tol_without_check "--tol requires --check" plan --target 1e-3 --tol 1e-9)
 # An optional size with a default of its own shows it (plan's 32 x 32; render's has none: the scene's).
 expect_success(help_plan_size plan --help)

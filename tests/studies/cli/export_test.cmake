@@ -92,6 +92,9 @@ endif()
 file(WRITE ${OUT}/camera.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.5]]\n[camera]\nprojection = \"perspective\"\neye = [0, 0, -5]\nwidth = 6\nheight = 5\n")
 run(other_camera 0 render --scene ${OUT}/camera.toml --reference --quiet -o ${OUT}/other_camera.exr)
 run(err_ok 0 render --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/a.exr --error-against ${OUT}/ref.exr)
+# A discrete render is no reference: the difference of two raycasts was reported as an error.
+expect_error(err_discrete "--error-against: .*a.exr: a discrete render \\(alpha .*\\), not a reference"
+  render --method riemann --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/c.exr --error-against ${OUT}/a.exr)
 file(WRITE ${OUT}/other.toml "[volume]\nmin = [-1, -1, -1]\nmax = [1, 1, 1]\n[field]\nkind = \"marschner_lobb\"\n[transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 0.6]]\n")
 expect_error(err_other_scene "--error-against: .*ref.exr: rendered from another scene \\(scene hash"
   render --scene ${OUT}/other.toml --method alpha --step 0.05 --width 6 --height 5 --quiet -o ${OUT}/b.exr --error-against ${OUT}/ref.exr)

@@ -90,6 +90,9 @@ expect_error(step_count "--steps: 1 steps for 2 images"
   verify --scene ${SCENE} ${OUT}/alpha_0.1.exr ${OUT}/alpha_0.05.exr --steps 0.1 --no-cache)
 expect_error(bad_alpha "--alpha: 'sideways'"
   verify --scene ${SCENE} ${OUT}/alpha_0.1.exr --steps 0.1 --alpha sideways --no-cache)
+# An order that is not positive passed any convergent images ("observed 0.681, expected -1").
+expect_error(expected_order_negative "--expected-order: must be a positive finite order, got -1"
+  verify --scene ${SCENE} ${OUT}/alpha_0.1.exr --steps 0.1 --expected-order -1 --no-cache)
 expect_error(alpha_without_alpha "--alpha: straight: the images have no alpha channel"
   verify --scene ${SCENE} ${OUT}/alpha_0.1.exr --steps 0.1 --alpha straight --no-cache)
 file(WRITE ${OUT}/bad_bounds.toml "[defaults]\nrms = { warn = 1, fail = 0.5 }\n")

@@ -36,6 +36,9 @@ def test_render_refused_with_vrv_renders_message(tmp_path):
     assert str(e.value) == cli_error("render", "--reference", "--width", "64", "--height", "64",
                                      "--max-work", "1000", "-o", str(tmp_path / "x.exr"))
     assert scene.render(width=4, height=4, method="alpha", step=0.1, max_work=1e6).shape == (4, 4)
+    # As --tol with --method: a tolerance the discrete render would ignore is refused.
+    with pytest.raises(ValueError, match=r"^tol: applies to the reference only, not to method$"):
+        scene.render(width=4, height=4, method="alpha", step=0.1, tol=1e-2)
 
 
 def test_rays_refused(tmp_path):

@@ -130,6 +130,11 @@ def test_bad_input_raises_the_command_lines_message(scene_and_rays, tmp_path):
         vrv.verify(scene, zeros, STEPS, out=str(tmp_path / "file"))
     with pytest.raises(TypeError):
         vrv.verify(scene, zeros, STEPS, expected_ordre=2)
+    # A complex image lost its imaginary part (numpy's warning only); booleans became 0 and 1.
+    with pytest.raises(ValueError, match=r"^images\[0\]: dtype complex128 is not real numbers"):
+        vrv.verify(scene, [z.astype(complex) for z in zeros], STEPS)
+    with pytest.raises(ValueError, match=r"^images\[0\]: dtype bool is not real numbers"):
+        vrv.verify(scene, [z.astype(bool) for z in zeros], STEPS)
     # The plot goes into out: without it plots=True was accepted and nothing drawn.
     with pytest.raises(ValueError, match=r"^plots: the plot is drawn into out; give out= as well$"):
         vrv.verify(scene, zeros, STEPS, plots=True)
