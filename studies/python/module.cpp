@@ -140,7 +140,21 @@ void set_keyword(DiscreteOptions& opt, T DiscreteOptions::*member, const Discret
   using Value = typename std::conditional_t<std::is_same_v<T, std::optional<double>>, std::type_identity<double>,
                                             std::conditional_t<std::is_same_v<T, std::optional<std::string>>,
                                                                std::type_identity<std::string>, std::type_identity<T>>>::type;
-  const Value v = py::cast<Value>(value);
+  // pybind11's cast error ("Unable to cast Python instance to C++ type", a RuntimeError) names
+  // neither the keyword nor the value.
+  const auto expected = [] {
+    if constexpr (std::is_same_v<Value, bool>) return "True or False";
+    else if constexpr (std::is_same_v<Value, std::string>) return "a string";
+    else if constexpr (std::is_integral_v<Value>) return "a whole number within a C int";
+    else return "a number";
+  };
+  Value v;
+  try {
+    v = py::cast<Value>(value);
+  } catch (const py::cast_error&) {
+    throw py::type_error(fmt::format("{}: expected {}, got {}", option_name(f.option, Spelling::key), expected(),
+                                     py::repr(value).cast<std::string>()));
+  }
   opt.*member = v;
   if (!f.needs_method) return;
   if constexpr (std::is_same_v<Value, bool>) {

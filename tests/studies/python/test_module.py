@@ -122,6 +122,19 @@ def test_plan_is_vrv_plan_and_its_choice_meets_the_target():
         vrv.plan(scene, 1e-3, max_work=10)
 
 
+@pytest.mark.parametrize("keyword, value, expected", [
+    ("step", "0.1", "a number"), ("oversample", 1.5, "a whole number within a C int"),
+    ("table_size", 10**12, "a whole number within a C int"), ("method", 1, "a string"),
+])
+def test_a_keyword_of_the_wrong_type_is_named(keyword, value, expected):
+    """pybind11's RuntimeError 'Unable to cast Python instance to C++ type' named neither."""
+    scene = vrv.Scene.default()
+    o, d = scene.rays(width=2, height=2)
+    options = {"method": "alpha", "step": 0.1, keyword: value}
+    with pytest.raises(TypeError, match=rf"^{keyword}: expected {expected}, got {re.escape(repr(value))}$"):
+        scene.discrete(o, d, **options)
+
+
 def test_opacity_colour_conventions_are_bitwise_vrv_ray(tmp_path):
     """The renderer conventions of `vrv ray` (--opacity-unit, --color, --table-size, --table-lookup)
     as keywords, named as on the command line."""
