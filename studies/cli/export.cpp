@@ -279,10 +279,13 @@ void check_unit_distance(const Scene& scene, const ExportOptions& opt) {
     if (r.opacity >= 1) refuse("rounds to 1, which a scene cannot state", "shorter");
     if (r.opacity == 0 && r.extinction > 0) refuse("underflows to 0 where the extinction is positive", "longer");
   };
-  if (scene.color)
-    for (const TransferRow& r : tabulate_color_transfer(*scene.color, opt.unit(), opt.table_points)[0]) check(r);
-  else
+  if (scene.color) {
+    // Held: a range-for over [0] of the temporary would read the rows after it is destroyed.
+    const auto rows = tabulate_color_transfer(*scene.color, opt.unit(), opt.table_points);
+    for (const TransferRow& r : rows[0]) check(r);
+  } else {
     for (const TransferRow& r : tabulate_transfer(scene.transfer, opt.unit(), opt.table_points)) check(r);
+  }
 }
 
 // --nrrd and --vti: a known value, and only with their format in --formats.
