@@ -49,11 +49,11 @@ struct ExportOptions {
   std::optional<std::string> nrrd;  // with nrrd in --formats: attached (the default) or detached
   std::optional<std::string> vti;   // with vti in --formats: raw (the default) or ascii
   std::string formats = "nrrd,vti";  // any of nrrd, vti, metaimage, nifti
+  std::optional<double> max_memory_gib;  // not given: default_memory_limit(), as vrv study
 
   double unit() const { return unit_distance.value_or(1.0); }
   bool ascii_vti() const { return vti == "ascii"; }
   bool detached_nrrd() const { return nrrd == "detached"; }
-  std::optional<double> max_memory_gib;  // not given: default_memory_limit(), as vrv study
 };
 
 struct OutputFile {

@@ -173,7 +173,7 @@ struct TemporaryFolder {
 
 int run_gate(const GateOptions& o) {
   check_threads(o.threads);
-  memory_limit_bytes(o.max_memory_gib);  // checked even when every case is a study case
+  const double memory_limit = memory_limit_bytes(o.max_memory_gib);  // checked even when every case is a study
   const BoundsFile file = load_bounds(o.bounds);
   std::vector<const GateCase*> cases;
   if (!o.case_name.empty()) cases.push_back(&named_case(file, o.case_name));
@@ -195,7 +195,7 @@ int run_gate(const GateOptions& o) {
       steps.emplace_back();
       continue;
     }
-    scenes.push_back(load_scene_or_default(c->scene.string(), memory_limit_bytes(o.max_memory_gib)));
+    scenes.push_back(load_scene_or_default(c->scene.string(), memory_limit));
     steps.push_back(case_steps(*c, o.bounds));
     const bool projection = scene_mode(scene_text_or_default(c->scene.string())).has_value();
     if (c->render && projection)
