@@ -17,17 +17,15 @@ std::vector<ChannelsDiscreteResult> discrete_channel_values(const Scene& scene, 
   return out;
 }
 
-std::vector<std::vector<double>> discrete_channel_planes(const Scene& scene, const Camera& camera,
-                                                         const DiscreteConfig& config, bool alpha) {
+ImageF64 discrete_channel_image(const Scene& scene, const Camera& camera, const DiscreteConfig& config,
+                                bool alpha) {
   validate(camera);
   validate(config, std::holds_alternative<GridField>(scene.field));
-  const long pixels = pixel_count(camera);
-  const int channels = scene.channel_count() + (alpha ? 1 : 0);
-  std::vector<std::vector<double>> planes(channels, std::vector<double>(static_cast<std::size_t>(pixels)));
+  ImageF64 image(camera.width, camera.height, 0.0, scene.channel_count() + (alpha ? 1 : 0));
   discrete_channel_pixels(scene, camera, config, [&](long i, const ChannelsDiscreteResult& r) {
-    for (std::size_t c = 0; c < planes.size(); ++c) planes[c][i] = r.value[c];
+    for (int c = 0; c < image.channels; ++c) image.value(i, c) = r.value[c];
   }, {}, {}, alpha);
-  return planes;
+  return image;
 }
 
 }  // namespace vrv

@@ -9,6 +9,7 @@
 
 #include "lib/discrete_raycast.h"
 #include "lib/image_loop.h"
+#include "lib/io/image_io.h"
 #include "lib/reference_channels.h"
 #include "lib/scene.h"
 
@@ -72,9 +73,9 @@ void discrete_channel_pixels(const Scene& scene, const Camera& camera, const Dis
 std::vector<ChannelsDiscreteResult> discrete_channel_values(const Scene& scene, std::span<const Ray> rays,
                                                             const DiscreteConfig& config);
 
-// A camera's image, one plane per channel (row-major, row 0 at the top; with `alpha`, A last);
-// validates the camera and the configuration as discrete_channel_values does.
-std::vector<std::vector<double>> discrete_channel_planes(const Scene& scene, const Camera& camera,
-                                                         const DiscreteConfig& config, bool alpha = false);
+// A camera's image, every channel of a pixel together (with `alpha`, A last); validates the
+// camera and the configuration as discrete_channel_values does.
+ImageF64 discrete_channel_image(const Scene& scene, const Camera& camera, const DiscreteConfig& config,
+                                bool alpha = false);
 
 }  // namespace vrv

@@ -68,7 +68,7 @@ void keep_reference_image(const std::vector<ReferenceImage>& refs, VerifyReport&
 // none); for an RGB scene the colour channel with the largest error in the finest image, where a
 // fault of one channel (its colour table) shows.
 int diagnosed_channel(const VerifyReport& rep, const ChannelImage& first, bool rgb, Metric metric) {
-  const int nc = static_cast<int>(first.planes.size());
+  const int nc = first.channels;
   int colour = first_colour_channel(first);
   if (!rgb) return colour;
   const std::size_t finest = rep.channels.size() - nc;  // image-major, by decreasing step
@@ -133,7 +133,7 @@ VerifyReport verify_images(const Scene& scene, const std::vector<ImageWithStep>&
     geos.push_back(pixel_geometry(channel_scenes[k], rep.camera, refs[k], opt));
   count_regions(geos, rep.reference);
 
-  const int nc = static_cast<int>(first.planes.size());
+  const int nc = first.channels;
   std::vector<double> backgrounds;  // a projection has none
   for (int c = 0; c < nc; ++c) backgrounds.push_back(opt.mode ? 0.0 : channel_scenes[truth[c]].background);
   for (const ImageWithStep* im : sorted)

@@ -171,11 +171,7 @@ ChannelImage channels_of(const ValueImage& image, const std::string& name) {
       image.values.size() != static_cast<std::size_t>(image.width) * image.height)
     throw VerifyInputError(fmt::format("{}: {} values for {} x {} pixels", name, image.values.size(),
                                        image.width, image.height));
-  ChannelImage channels;
-  channels.width = image.width;
-  channels.height = image.height;
-  channels.names = {"Y"};
-  channels.planes = {image.values};
+  ChannelImage channels(ImageF64(image.width, image.height, image.values));
   channels.pixel_type = "double";  // quantum 0: in memory, not rounded to a file's type
   return channels;
 }

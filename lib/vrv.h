@@ -55,7 +55,7 @@ void reference_values(const Scene& scene, std::span<const Ray> rays,
 // The functions here take grey scenes and throw std::invalid_argument for an RGB one (Scene::color,
 // docs/color.md) but this: the three channels' references along each ray, one set of panels for
 // all three.  Throws std::invalid_argument for a grey scene.  A discrete cast of an RGB scene is
-// discrete_channel_values() or discrete_channel_planes() (lib/discrete_channels.h): each channel
+// discrete_channel_values() or discrete_channel_image() (lib/discrete_channels.h): each channel
 // cast alone, as vrv render does.
 std::vector<ChannelsReferenceResult> color_reference_values(const Scene& scene, std::span<const Ray> rays,
                                                             const ReferenceOptions& options = {});

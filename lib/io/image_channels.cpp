@@ -44,6 +44,13 @@ double quantum_of(const fs::path& path, const std::string& type, double largest)
   return q;
 }
 
+double largest_finite(const std::vector<double>& values) {
+  double largest = 0;
+  for (const double v : values)
+    if (std::isfinite(v)) largest = std::max(largest, std::abs(v));
+  return largest;
+}
+
 // A renderer's numpy array saved with numpy.save: read by lib/io/npy.h (OpenImageIO does not).
 ChannelImage read_npy_image(const fs::path& path) {
   std::error_code ec;
@@ -52,6 +59,16 @@ ChannelImage read_npy_image(const fs::path& path) {
 }
 
 }  // namespace
+
+ChannelImage::ChannelImage(ImageF64 pixels, std::vector<std::string> channel_names_given)
+    : ImageF64(std::move(pixels)), names(std::move(channel_names_given)) {
+  if (names.empty()) names = channel_names(channels);
+  if (static_cast<int>(names.size()) != channels)
+    throw std::invalid_argument(fmt::format("ChannelImage: {} names for {} channels", names.size(), channels));
+  for (int c = 0; c < channels && alpha < 0; ++c)
+    if (names[c] == "A" || names[c] == "a" || names[c] == "alpha") alpha = c;
+  if (alpha < 0 && (channels == 2 || channels == 4)) alpha = channels - 1;
+}
 
 ChannelImage channel_image(const NpyArray& a, const std::string& name) {
   const fs::path path(name);
@@ -62,22 +79,9 @@ ChannelImage channel_image(const NpyArray& a, const std::string& name) {
   if (h == 0 || w == 0 || h > kMaxSide || w > kMaxSide || static_cast<std::int64_t>(h * w) > kMaxPixels)
     throw_file_error(path, fmt::format("{} x {} pixels (1 to {} on a side, at most {} in all)", w, h, kMaxSide, kMaxPixels));
   if (nc < 1 || nc > 4) throw_file_error(path, fmt::format("{} channels (1 to 4: grey, grey+alpha, RGB or RGBA)", nc));
-  ChannelImage img;
-  img.width = static_cast<int>(w);
-  img.height = static_cast<int>(h);
-  const std::vector<std::vector<std::string>> names = {{"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
-  img.names = names[nc - 1];
-  if (nc == 2 || nc == 4) img.alpha = static_cast<int>(nc) - 1;
-  img.planes.assign(nc, std::vector<double>(w * h));
-  double largest = 0;
-  for (std::size_t i = 0; i < w * h; ++i)
-    for (std::size_t c = 0; c < nc; ++c) {
-      const double v = a.values[i * nc + c];
-      img.planes[c][i] = v;
-      if (std::isfinite(v)) largest = std::max(largest, std::abs(v));
-    }
+  ChannelImage img(ImageF64(static_cast<int>(w), static_cast<int>(h), a.values, static_cast<int>(nc)));
   img.pixel_type = a.dtype == "<f4" ? "float" : "double";
-  img.quantum = quantum_of(path, img.pixel_type, largest);
+  img.quantum = quantum_of(path, img.pixel_type, largest_finite(img.pixels));
   return img;
 }
 
@@ -97,31 +101,16 @@ ChannelImage read_channel_image(const fs::path& path) {
   request.max_pixels = kMaxPixels;
   request.keep_straight_alpha = true;
   const image_module::ReadResult read = image_module::read_file(path, request);
-  ChannelImage img;
-  img.straight_alpha = read.straight_alpha;
-  img.width = read.width;
-  img.height = read.height;
   const int nc = read.channels;
-  img.alpha = read.alpha_channel;
-  const std::vector<std::string> grey = {"Y"}, grey_alpha = {"Y", "A"}, rgb = {"R", "G", "B"},
-                                  rgba = {"R", "G", "B", "A"};
-  for (int c = 0; c < nc; ++c) {
-    std::string name = c < static_cast<int>(read.channel_names.size()) ? read.channel_names[c] : "";
-    if (name.empty()) name = (nc == 1 ? grey : nc == 2 ? grey_alpha : nc == 3 ? rgb : rgba)[c];
-    img.names.push_back(name);
-    if (img.alpha < 0 && (name == "A" || name == "a" || name == "alpha")) img.alpha = c;
-  }
-  if (img.alpha < 0 && (nc == 2 || nc == 4)) img.alpha = nc - 1;  // YA and RGBA by position
-  img.planes.assign(nc, std::vector<double>(static_cast<std::size_t>(img.width) * img.height));
-  double largest = 0;
-  for (std::size_t i = 0; i < img.planes[0].size(); ++i)
-    for (int c = 0; c < nc; ++c) {
-      const double v = read.doubles[i * nc + c];
-      img.planes[c][i] = v;
-      if (std::isfinite(v)) largest = std::max(largest, std::abs(v));
-    }
+  std::vector<std::string> names = read.channel_names;
+  names.resize(nc);
+  for (int c = 0; c < nc; ++c)
+    if (names[c].empty()) names[c] = channel_names(nc)[c];
+  ChannelImage img(ImageF64(read.width, read.height, read.doubles, nc), std::move(names));
+  if (read.alpha_channel >= 0) img.alpha = read.alpha_channel;
+  img.straight_alpha = read.straight_alpha;
   img.pixel_type = read.pixel_type;
-  img.quantum = quantum_of(path, img.pixel_type, largest);
+  img.quantum = quantum_of(path, img.pixel_type, largest_finite(img.pixels));
   return img;
 }
 
@@ -130,19 +119,16 @@ double effective_quantum(const ChannelImage& image) {
     if (image.quantum >= 1 / steps * 0.999) return image.quantum;  // already as coarse
     std::vector<double> distinct;
     bool on_grid = true;
-    for (const std::vector<double>& plane : image.planes) {
-      for (const double v : plane) {
-        if (!std::isfinite(v)) continue;
-        const double k = v * steps;
-        // float32 rounding of k/steps, in units of 1/steps, with room for a conversion or two.
-        if (std::abs(k - std::round(k)) > 4e-7 * std::max(1.0, std::abs(k))) {
-          on_grid = false;
-          break;
-        }
-        if (distinct.size() < 16 && std::find(distinct.begin(), distinct.end(), std::round(k)) == distinct.end())
-          distinct.push_back(std::round(k));
+    for (const double v : image.pixels) {
+      if (!std::isfinite(v)) continue;
+      const double k = v * steps;
+      // float32 rounding of k/steps, in units of 1/steps, with room for a conversion or two.
+      if (std::abs(k - std::round(k)) > 4e-7 * std::max(1.0, std::abs(k))) {
+        on_grid = false;
+        break;
       }
-      if (!on_grid) break;
+      if (distinct.size() < 16 && std::find(distinct.begin(), distinct.end(), std::round(k)) == distinct.end())
+        distinct.push_back(std::round(k));
     }
     if (on_grid && distinct.size() >= 16) return 1 / steps;
   }

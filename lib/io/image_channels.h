@@ -5,15 +5,18 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "lib/io/image_io.h"
 
 namespace vrv {
 
-struct ChannelImage {
-  int width = 0, height = 0;
-  std::vector<std::string> names;          // e.g. {"R", "G", "B", "A"} or {"Y"}
-  std::vector<std::vector<double>> planes;  // one per channel, row-major, row 0 = top
-  int alpha = -1;                           // index of the alpha channel, -1 without one
+// The pixels are an ImageF64's (interleaved, row 0 at the top: value(i, c)); the rest is what the
+// file says of them.
+struct ChannelImage : ImageF64 {
+  std::vector<std::string> names;  // e.g. {"R", "G", "B", "A"} or {"Y"}
+  int alpha = -1;                  // index of the alpha channel, -1 without one
   // The file declares its colour straight (not premultiplied by alpha: PNG, a TIFF with
   // unassociated alpha) and it was read as stored; AlphaMode::as_stored then takes it straight.
   bool straight_alpha = false;
@@ -23,9 +26,11 @@ struct ChannelImage {
   // |value| (half: 2^-10 relative, float: 2^-23, double: 2^-52).  Rounding to the nearest
   // stored value is then uniform on +-quantum/2: max error quantum/2, RMS quantum/sqrt(12).
   double quantum = 0;
-  double at(int channel, int x, int y) const {
-    return planes[static_cast<std::size_t>(channel)][static_cast<std::size_t>(y) * width + x];
-  }
+
+  ChannelImage() = default;
+  // `pixels` with its channels' names (channel_names() of its count when empty) and alpha: the
+  // first channel named "A", "a" or "alpha", else the last of two or four (YA, RGBA by position).
+  explicit ChannelImage(ImageF64 pixels, std::vector<std::string> channel_names = {});
 };
 
 // The quantum a ChannelImage of `pixel_type` ("uint8", "uint16", "half", "float", "double", ...)

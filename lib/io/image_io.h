@@ -46,6 +46,10 @@ struct PixelImage {
   // A one-channel image's pixel.
   T& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
   T at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
+  // Channel c of pixel i (row-major from the top left), any channel count.
+  T& value(std::size_t i, int c) { return pixels[i * channels + c]; }
+  T value(std::size_t i, int c) const { return pixels[i * channels + c]; }
+  std::size_t pixel_count() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
 };
 using Image = PixelImage<float>;
 using ImageF64 = PixelImage<double>;

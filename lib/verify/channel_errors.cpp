@@ -45,7 +45,7 @@ ChannelReport channel_report(const ImageWithStep& im, int c, const ReferenceImag
 double difference_metric(const ChannelImage& a, const ChannelImage& b, int c, double background,
                          const VerifyOptions& opt) {
   std::vector<double> d;
-  for (std::size_t i = 0; i < a.planes[c].size(); ++i) {
+  for (std::size_t i = 0; i < a.pixel_count(); ++i) {
     const double x = comparable(a, c, i, background, opt.alpha) - comparable(b, c, i, background, opt.alpha);
     if (std::isfinite(x)) d.push_back(x);
   }

@@ -57,7 +57,7 @@ std::optional<Fault> swapped_channels(const ImageWithStep& image, const std::vec
   const ChannelImage& im = image.image;
   std::array<int, 3> colour{}, given{};
   int found = 0;
-  for (int c = 0; c < static_cast<int>(im.planes.size()) && found < 3; ++c)
+  for (int c = 0; c < im.channels && found < 3; ++c)
     if (c != im.alpha) colour[found] = c, given[found] = truth[c], ++found;
   if (found < 3 || refs.size() != 3) return std::nullopt;
   const OrderErrors errors = order_errors(im, colour, refs, color, alpha);

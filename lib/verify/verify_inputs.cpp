@@ -24,19 +24,19 @@ void check_image(const ImageWithStep& im, const std::vector<ImageWithStep>& imag
     throw VerifyInputError(fmt::format("{}: size {} x {} differs from {}'s {} x {}", im.name,
                                        im.image.width, im.image.height, images.front().name,
                                        first.width, first.height));
-  if (im.image.planes.size() != first.planes.size())
-    throw VerifyInputError(fmt::format("{}: {} channels, {} has {}", im.name, im.image.planes.size(),
-                                       images.front().name, first.planes.size()));
+  if (im.image.channels != first.channels)
+    throw VerifyInputError(fmt::format("{}: {} channels, {} has {}", im.name, im.image.channels,
+                                       images.front().name, first.channels));
   for (const ImageWithStep& other : images)
     if (&other != &im && other.step == im.step)
       throw VerifyInputError(fmt::format("{}: step {} repeats {}'s", im.name, im.step, other.name));
   if (allow_nan) return;
-  for (std::size_t c = 0; c < im.image.planes.size(); ++c)
-    for (std::size_t i = 0; i < im.image.planes[c].size(); ++i)
-      if (!std::isfinite(im.image.planes[c][i]))
+  for (int c = 0; c < im.image.channels; ++c)  // channel by channel: the first NaN of the first channel
+    for (std::size_t i = 0; i < im.image.pixel_count(); ++i)
+      if (!std::isfinite(im.image.value(i, c)))
         throw VerifyInputError(fmt::format("{}: pixel ({}, {}) channel {} is {}", im.name,
                                            i % im.image.width, i / im.image.width,
-                                           im.image.names[c], im.image.planes[c][i]));
+                                           im.image.names[c], im.image.value(i, c)));
 }
 
 void check_options(const VerifyOptions& opt) {
@@ -71,9 +71,9 @@ std::vector<const ImageWithStep*> sorted_by_step(const std::vector<ImageWithStep
 }
 
 double comparable(const ChannelImage& im, int c, std::size_t i, double background, AlphaMode mode) {
-  const double v = im.planes[c][i];
+  const double v = im.value(i, c);
   if (im.alpha < 0 || c == im.alpha) return v;
-  const double a = im.planes[im.alpha][i];
+  const double a = im.value(i, im.alpha);
   const bool straight = mode == AlphaMode::straight || (mode == AlphaMode::as_stored && im.straight_alpha);
   return (straight ? v * a : v) + background * (1 - a);
 }
@@ -95,10 +95,10 @@ int colour_of_name(const std::string& name) {
 
 std::vector<int> reference_channels(const ImageWithStep& im, int scene_channels) {
   const ChannelImage& image = im.image;
-  std::vector<int> truth(image.planes.size(), 0);
+  std::vector<int> truth(image.channels, 0);
   if (scene_channels == 1) return truth;
   std::vector<int> colour;
-  for (int c = 0; c < static_cast<int>(image.planes.size()); ++c)
+  for (int c = 0; c < image.channels; ++c)
     if (c != image.alpha) colour.push_back(c);
   if (colour.size() != 3)
     throw VerifyInputError(fmt::format("{}: {} colour channel(s) ({}), but the scene is RGB: give an image with "
@@ -118,7 +118,7 @@ std::vector<int> reference_channels(const ImageWithStep& im, int scene_channels)
 }
 
 int first_colour_channel(const ChannelImage& image) {
-  const int nc = static_cast<int>(image.planes.size());
+  const int nc = image.channels;
   int colour = 0;
   while (colour < nc && colour == image.alpha) ++colour;
   return colour;

@@ -114,14 +114,10 @@ std::vector<ImageWithStep> render_case(const GateCase& c, const Scene& scene) {
   std::vector<ImageWithStep> images;
   for (double h : c.steps) {
     const DiscreteConfig config = *discrete_config(discrete_options(*c.render, h), scene);
-    ChannelImage im;
-    im.width = camera.width, im.height = camera.height;
-    im.names = scene.color ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"Y"};
-    im.pixel_type = "float";  // as `vrv render` writes it
+    ChannelImage im(discrete_channel_image(scene, camera, config));  // as vrv render casts it
+    im.pixel_type = "float";                                          // and writes it
     double largest = 0;
-    im.planes = discrete_channel_planes(scene, camera, config);  // as vrv render casts it
-    for (auto& plane : im.planes)
-      for (double& x : plane) x = static_cast<float>(x), largest = std::max(largest, std::abs(x));
+    for (double& x : im.pixels) x = static_cast<float>(x), largest = std::max(largest, std::abs(x));
     im.quantum = stored_quantum(im.pixel_type, largest);
     images.push_back({fmt::format("{} h={:g}", c.name, h), h, std::move(im)});
   }

@@ -421,9 +421,8 @@ py::array_t<double> render_channels(const Scene& scene, const Camera& camera, co
       for (int c = 0; c < n; ++c) p[n * i + c] = r[i].channel[c].value;
     return a;
   }
-  const auto planes = interruptible([&] { return discrete_channel_planes(scene, camera, *config, alpha); });
-  for (int c = 0; c < n; ++c)
-    for (std::size_t i = 0; i < planes[c].size(); ++i) p[n * i + c] = planes[c][i];
+  const ImageF64 image = interruptible([&] { return discrete_channel_image(scene, camera, *config, alpha); });
+  std::copy(image.pixels.begin(), image.pixels.end(), p);
   return a;
 }
 

@@ -1,7 +1,7 @@
 // Fuzz target: an image as `vrv verify` reads it (read_channel_image and read_provenance,
 // lib/io/image_channels.h, lib/io/image_io.h; PNG, EXR, PFM and TIFF through OpenImageIO's module,
 // .npy by lib/io/npy).  The first byte picks the file's extension, the rest are its bytes.  Any
-// input gives an image whose planes match its size and channels and whose quantum is finite and
+// input gives an image whose pixels match its size and channels and whose quantum is finite and
 // non-negative, or one std::runtime_error line naming the file; never a crash, a hang or a leak.
 // EXR and PNG headers claiming more than kMaxImagePixels are skipped (tests/fuzz/fuzz_limits.h).
 // The module is found through VRV_IMAGE_MODULE (set by CTest).
@@ -36,11 +36,11 @@ void check_one_line(const std::string& msg, const std::string& file) {
 }
 
 void check_image(const vrv::ChannelImage& im) {
-  if (im.width < 1 || im.height < 1 || im.names.size() != im.planes.size() || im.planes.empty() || im.planes.size() > 4)
+  if (im.width < 1 || im.height < 1 || im.names.size() != static_cast<std::size_t>(im.channels) || im.channels < 1 ||
+      im.channels > 4)
     std::abort();
-  for (const auto& p : im.planes)
-    if (p.size() != static_cast<std::size_t>(im.width) * im.height) std::abort();
-  if (im.alpha >= static_cast<int>(im.planes.size())) std::abort();
+  if (im.pixels.size() != im.pixel_count() * im.channels) std::abort();
+  if (im.alpha >= im.channels) std::abort();
   const double q = vrv::effective_quantum(im);
   if (!(q >= 0) || !std::isfinite(q)) std::abort();
 }

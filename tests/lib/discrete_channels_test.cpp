@@ -67,14 +67,13 @@ TEST(DiscreteChannels, PlanesAreTheCameraRaysValuesPerChannel) {
   const Scene rgb = parse_scene(kRgb, "rgb.toml");
   const Camera camera = scene_camera(rgb, 9, 4);
   const DiscreteConfig config = trapezoid(0.05);
-  const auto planes = discrete_channel_planes(rgb, camera, config);
+  const ImageF64 image = discrete_channel_image(rgb, camera, config);
   const auto values = discrete_channel_values(rgb, camera_rays(camera), config);
-  ASSERT_EQ(planes.size(), 3u);
-  for (int c = 0; c < 3; ++c) {
-    ASSERT_EQ(planes[c].size(), values.size());
-    for (std::size_t i = 0; i < values.size(); ++i) EXPECT_EQ(planes[c][i], values[i].value[c]) << c << ' ' << i;
-  }
-  EXPECT_EQ(discrete_channel_planes(default_scene(), camera, config).size(), 1u);
+  ASSERT_EQ(image.channels, 3);
+  ASSERT_EQ(image.pixel_count(), values.size());
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t i = 0; i < values.size(); ++i) EXPECT_EQ(image.value(i, c), values[i].value[c]) << c << ' ' << i;
+  EXPECT_EQ(discrete_channel_image(default_scene(), camera, config).channels, 1);
 }
 
 TEST(DiscreteChannels, BadConfigurationAndCameraAreRefused) {
@@ -84,9 +83,9 @@ TEST(DiscreteChannels, BadConfigurationAndCameraAreRefused) {
   DiscreteConfig bad = trapezoid(0.05);
   bad.oversample = 0;
   EXPECT_THROW(discrete_channel_values(rgb, rays, bad), std::invalid_argument);
-  EXPECT_THROW(discrete_channel_planes(rgb, camera, bad), std::invalid_argument);
+  EXPECT_THROW(discrete_channel_image(rgb, camera, bad), std::invalid_argument);
   camera.width = 0;
-  EXPECT_THROW(discrete_channel_planes(rgb, camera, trapezoid(0.05)), std::invalid_argument);
+  EXPECT_THROW(discrete_channel_image(rgb, camera, trapezoid(0.05)), std::invalid_argument);
 }
 
 // A shaded RGB grid whose colour reaches past its opacity's breakpoints (tables span the colour's).

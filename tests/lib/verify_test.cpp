@@ -51,11 +51,8 @@ TEST_F(VerifyToy, RgbaPremultipliedAndStraight) {
       std::vector<double> c = toy::render(scene, *scene.camera, h, toy::Fault::none, h, &a);
       if (mode == AlphaMode::straight)
         for (std::size_t i = 0; i < c.size(); ++i) c[i] = a[i] > 0 ? c[i] / a[i] : 0;
-      ChannelImage im;
-      im.width = scene.camera->width, im.height = scene.camera->height;
-      im.names = {"R", "G", "B", "A"};
-      im.planes = {c, c, c, a};
-      im.alpha = 3;
+      ChannelImage im = planar_image(scene.camera->width, scene.camera->height, {c, c, c, a}, {"R", "G", "B", "A"});
+      ASSERT_EQ(im.alpha, 3);
       im.pixel_type = "double";
       images.push_back({"rgba " + std::to_string(h), h, im});
     }
@@ -101,7 +98,7 @@ TEST(ImageFormats, NpyAndPfmAreReadAsTheRendererWroteThem) {
   ASSERT_EQ(g.height, h);
   EXPECT_EQ(g.names, std::vector<std::string>{"Y"});
   EXPECT_EQ(g.pixel_type, "float");
-  EXPECT_EQ(g.at(0, 2, 1), static_cast<double>(grey[5]));
+  EXPECT_EQ(g.value(1 * w + 2, 0), static_cast<double>(grey[5]));
 
   std::vector<double> rgba(w * h * 4);
   for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = 0.01 * static_cast<double>(i);
@@ -109,8 +106,8 @@ TEST(ImageFormats, NpyAndPfmAreReadAsTheRendererWroteThem) {
   const ChannelImage c = read_channel_image(scratch() / "rgba.npy");
   EXPECT_EQ(c.names, (std::vector<std::string>{"R", "G", "B", "A"}));
   EXPECT_EQ(c.alpha, 3);
-  EXPECT_EQ(c.at(2, 1, 1), rgba[(1 * w + 1) * 4 + 2]);
-  EXPECT_EQ(c.at(3, 2, 0), rgba[(0 * w + 2) * 4 + 3]);
+  EXPECT_EQ(c.value(1 * w + 1, 2), rgba[(1 * w + 1) * 4 + 2]);
+  EXPECT_EQ(c.value(0 * w + 2, 3), rgba[(0 * w + 2) * 4 + 3]);
 
   write_file_atomically(scratch() / "five.npy", npy_bytes(std::span<const double>(rgba), {2, 3, 2, 2}));
   EXPECT_THROW(read_channel_image(scratch() / "five.npy"), std::runtime_error);
@@ -124,7 +121,7 @@ TEST(ImageFormats, NpyAndPfmAreReadAsTheRendererWroteThem) {
   ASSERT_EQ(p.width, w);
   ASSERT_EQ(p.height, h);
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) EXPECT_EQ(p.at(0, x, y), static_cast<double>(grey[y * w + x])) << x << ", " << y;
+    for (int x = 0; x < w; ++x) EXPECT_EQ(p.at(x, y), static_cast<double>(grey[y * w + x])) << x << ", " << y;
 }
 
 // What --max-work compares (issue 22): the reference on every pixel and the diagnosis' casts,

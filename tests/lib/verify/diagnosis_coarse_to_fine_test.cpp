@@ -40,10 +40,7 @@ std::vector<ImageWithStep> trapezoid_images(const Scene& scene) {
     config.rule = SegmentRule::trapezoid;
     config.sampling.strategy = Strategy::inviwo;
     config.sampling.step = h;
-    ChannelImage im;
-    im.width = scene.camera->width, im.height = scene.camera->height;
-    im.names = {"Y"};
-    im.planes = {discrete_image(scene, *scene.camera, config)};
+    ChannelImage im(ImageF64(scene.camera->width, scene.camera->height, discrete_image(scene, *scene.camera, config)));
     im.pixel_type = "double";
     out.push_back({fmt::format("trapezoid_{}", h), h, std::move(im)});
   }
@@ -116,7 +113,7 @@ TEST(DiagnosisCoarseToFine, LeadersCarryTheNumbersOfEveryDiagnosisPixel) {
   for (std::size_t k = 0; k < sorted.size(); ++k) {
     const std::vector<double> cast = cast_pixels(scene, *scene.camera, m.per_step[k], pixels);
     for (std::size_t j = 0; j < pixels.size(); ++j) {
-      const double d = sorted[k]->image.planes[0][pixels[j]] - cast[j];
+      const double d = sorted[k]->image.pixels[pixels[j]] - cast[j];
       sum_sq += d * d, max = std::max(max, std::abs(d)), ++count;
     }
   }

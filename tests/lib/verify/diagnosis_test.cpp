@@ -95,10 +95,7 @@ TEST(VerifyDiagnosisFaults, OpacityPerSampleIsMissingCorrection) {
     config.rule = SegmentRule::alpha;
     config.sampling.strategy = Strategy::inviwo;
     config.sampling.step = h;
-    ChannelImage im;
-    im.width = im.height = 20;
-    im.names = {"Y"};
-    im.planes = {discrete_image(scene, *scene.camera, config)};
+    ChannelImage im(ImageF64(20, 20, discrete_image(scene, *scene.camera, config)));
     ims.push_back({fmt::format("per_sample_{}", h), h, std::move(im)});
   }
   const VerifyReport r = verify_images(scene, ims, {});

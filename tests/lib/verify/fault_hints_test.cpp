@@ -59,7 +59,7 @@ TEST_F(VerifyToy, ErrorAtTransferFunctionJumpsIsNamed) {
 TEST_F(VerifyToy, EightBitImagesStateTheirFloorAndClaimNoOrderBelowIt) {
   std::vector<ImageWithStep> images = toy_images(scene, toy::Fault::none, "eightbit");
   for (ImageWithStep& im : images) {
-    for (double& v : im.image.planes[0]) v = std::round(std::clamp(v, 0.0, 1.0) * 255) / 255;
+    for (double& v : im.image.pixels) v = std::round(std::clamp(v, 0.0, 1.0) * 255) / 255;
     im.image.quantum = 1.0 / 255;
     im.image.pixel_type = "uint8";
   }
@@ -76,7 +76,7 @@ TEST_F(VerifyToy, EightBitValuesInAFloatExrAreAQuantisationFloor) {
   std::vector<ImageWithStep> images;
   for (const ImageWithStep& in : toy_images(scene, toy::Fault::none, "eightbit_float")) {
     Image im(in.image.width, in.image.height);
-    std::transform(in.image.planes[0].begin(), in.image.planes[0].end(), im.pixels.begin(), [](double v) {
+    std::transform(in.image.pixels.begin(), in.image.pixels.end(), im.pixels.begin(), [](double v) {
       return static_cast<float>(std::round(std::clamp(v, 0.0, 1.0) * 255) / 255);
     });
     const fs::path file = scratch() / fmt::format("eightbit_float_{}.exr", in.step);
@@ -91,7 +91,7 @@ TEST_F(VerifyToy, EightBitValuesInAFloatExrAreAQuantisationFloor) {
   EXPECT_FALSE(has_fault(r, FaultKind::jitter));
   // Float values off the grid keep the float's ulp.
   ImageWithStep fine = images.back();
-  fine.image.planes[0][0] += 1e-4;
+  fine.image.pixels[0] += 1e-4;
   EXPECT_LT(effective_quantum(fine.image), 1e-6);
 }
 

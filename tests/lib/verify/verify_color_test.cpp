@@ -60,11 +60,10 @@ std::vector<ImageWithStep> rgb_images(const toy::RendererConvention& c = {}, std
                                       std::vector<std::string> names = {"R", "G", "B"}) {
   std::vector<ImageWithStep> out;
   for (double h : verify_toy::kThreeSteps) {
-    ChannelImage im;
-    im.width = im.height = 20;
-    im.names = names;
+    std::vector<std::vector<double>> planes;
+    for (int k : order) planes.push_back(toy_channel(k, h, c));
+    ChannelImage im = verify_toy::planar_image(20, 20, planes, names);
     im.pixel_type = "double";
-    for (int k : order) im.planes.push_back(toy_channel(k, h, c));
     out.push_back({fmt::format("toy_{}", h), h, std::move(im)});
   }
   return out;
@@ -125,7 +124,7 @@ TEST(VerifyColor, SwappedChannelsAreNamed) {
 TEST(VerifyColor, DiagnosisReadsTheWorstChannel) {
   std::vector<ImageWithStep> images = rgb_images();
   for (ImageWithStep& im : images)
-    for (double& v : im.image.planes[1]) v *= 1.05;
+    for (std::size_t i = 0; i < im.image.pixel_count(); ++i) im.image.value(i, 1) *= 1.05;
   const VerifyReport r = verify_images(rgb_scene(), images, {});
   EXPECT_EQ(r.diagnosis_channel.value_or(""), "G");
   EXPECT_EQ(fault_of(r, FaultKind::swapped_channels), nullptr);
@@ -139,10 +138,7 @@ TEST(VerifyColor, RgbaInBothConventions) {
   for (AlphaMode mode : {AlphaMode::premultiplied, AlphaMode::straight}) {
     std::vector<ImageWithStep> images;
     for (double h : verify_toy::kThreeSteps) {
-      ChannelImage im;
-      im.width = im.height = 20;
-      im.names = {"R", "G", "B", "A"};
-      im.alpha = 3;
+      std::vector<std::vector<double>> planes;
       std::vector<double> alpha;
       for (int k = 0; k < 3; ++k) {
         std::vector<double> c = toy_channel(k, h, {}, 0.0), one = toy_channel(k, h, {}, 1.0);
@@ -150,9 +146,11 @@ TEST(VerifyColor, RgbaInBothConventions) {
           for (std::size_t i = 0; i < c.size(); ++i) alpha.push_back(1 - (one[i] - c[i]));
         if (mode == AlphaMode::straight)
           for (std::size_t i = 0; i < c.size(); ++i) c[i] = alpha[i] > 0 ? c[i] / alpha[i] : 0;
-        im.planes.push_back(std::move(c));
+        planes.push_back(std::move(c));
       }
-      im.planes.push_back(alpha);
+      planes.push_back(alpha);
+      ChannelImage im = verify_toy::planar_image(20, 20, planes, {"R", "G", "B", "A"});
+      ASSERT_EQ(im.alpha, 3);
       images.push_back({fmt::format("rgba_{}", h), h, std::move(im)});
     }
     VerifyOptions opt;
@@ -187,8 +185,11 @@ TEST(VerifyColor, AlphaConventionWithoutAlphaIsRefused) {
 TEST(VerifyColor, ImageWithoutThreeColourChannelsIsRefused) {
   std::vector<ImageWithStep> images = rgb_images();
   for (ImageWithStep& im : images) {
-    im.image.planes.resize(1);
-    im.image.names = {"Y"};
+    std::vector<double> red(im.image.pixel_count());
+    for (std::size_t i = 0; i < red.size(); ++i) red[i] = im.image.value(i, 0);
+    ChannelImage grey(ImageF64(im.image.width, im.image.height, red));
+    grey.pixel_type = im.image.pixel_type;
+    im.image = std::move(grey);
   }
   try {
     verify_images(rgb_scene(), images, {});
@@ -204,11 +205,8 @@ TEST(VerifyColor, GreySceneStillTakesAnyChannels) {
   const Scene grey = channel_scene(rgb_scene(), 0);
   std::vector<ImageWithStep> images;
   for (double h : verify_toy::kThreeSteps) {
-    ChannelImage im;
-    im.width = im.height = 20;
-    im.names = {"R", "G", "B"};
     const std::vector<double> v = toy::render(grey, *grey.camera, h, {});
-    im.planes = {v, v, v};
+    ChannelImage im = verify_toy::planar_image(20, 20, {v, v, v}, {"R", "G", "B"});
     images.push_back({fmt::format("grey_{}", h), h, std::move(im)});
   }
   const VerifyReport r = verify_images(grey, images, {});

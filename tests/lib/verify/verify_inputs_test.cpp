@@ -28,7 +28,7 @@ TEST_F(VerifyToy, BadInputIsOneLineNamingTheImage) {
     return std::string("no error");
   };
   auto nan = images;
-  nan[1].image.planes[0][5] = NAN;
+  nan[1].image.pixels[5] = NAN;
   EXPECT_NE(message(nan).find(images[1].name + ": pixel (5, 0) channel Y is nan"), std::string::npos) << message(nan);
   auto small = images;
   small[2].image.width = 20;
@@ -76,9 +76,7 @@ TEST(VerifySettings, EachBadValueIsRefusedNamingItsOption) {
 // last part), in order when the names do not name three different colours; alpha reads channel 0.
 TEST(ReferenceChannels, ByNameElseInOrder) {
   const auto truth = [](std::vector<std::string> names, int alpha = -1) {
-    ImageWithStep im{"im.exr", 0.1, {}};
-    im.image.names = names;
-    im.image.planes.assign(names.size(), std::vector<double>(1));
+    ImageWithStep im{"im.exr", 0.1, ChannelImage(ImageF64(1, 1, 0.0, static_cast<int>(names.size())), names)};
     im.image.alpha = alpha;
     return reference_channels(im, 3);
   };
@@ -88,9 +86,7 @@ TEST(ReferenceChannels, ByNameElseInOrder) {
   EXPECT_EQ(truth({"X", "Y", "Z"}), (std::vector<int>{0, 1, 2}));
   EXPECT_EQ(truth({"R", "R", "B"}), (std::vector<int>{0, 1, 2}));
   EXPECT_EQ(truth({"A", "B", "G", "R"}, 0), (std::vector<int>{0, 2, 1, 0}));
-  ImageWithStep grey{"grey.exr", 0.1, {}};
-  grey.image.names = {"Y"};
-  grey.image.planes.assign(1, std::vector<double>(1));
+  ImageWithStep grey{"grey.exr", 0.1, ChannelImage(ImageF64(1, 1))};
   EXPECT_EQ(reference_channels(grey, 1), (std::vector<int>{0}));
   EXPECT_THROW(reference_channels(grey, 3), VerifyInputError);
 }

@@ -102,11 +102,8 @@ std::vector<double> toy_image(double step, double d) {
 std::vector<ImageWithStep> toy_images(double d) {
   std::vector<ImageWithStep> out;
   for (double h : {0.1, 0.05, 0.025}) {
-    ChannelImage im;
-    im.width = im.height = 16;
-    im.names = {"Y"};
+    ChannelImage im(ImageF64(16, 16, toy_image(h, d)));
     im.pixel_type = "double";
-    im.planes.push_back(toy_image(h, d));
     out.push_back({fmt::format("toy_{}", h), h, std::move(im)});
   }
   return out;

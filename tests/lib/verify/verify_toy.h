@@ -61,17 +61,22 @@ std::vector<ImageWithStep> images_through_exr(const Scene& scene, Render render,
   return out;
 }
 
+// An image of one plane per channel (row-major), named `names`.
+inline ChannelImage planar_image(int w, int h, const std::vector<std::vector<double>>& planes,
+                                 std::vector<std::string> names) {
+  ImageF64 image(w, h, 0.0, static_cast<int>(planes.size()));
+  for (int c = 0; c < image.channels; ++c)
+    for (std::size_t i = 0; i < image.pixel_count(); ++i) image.value(i, c) = planes[c].at(i);
+  return ChannelImage(std::move(image), std::move(names));
+}
+
 // A renderer's images at every step in double, as in-memory images (no file quantisation).
 template <class Render>
 std::vector<ImageWithStep> images_in_memory(const Scene& scene, Render render, const std::string& tag,
                                             const std::vector<double>& steps = kSteps) {
   std::vector<ImageWithStep> out;
   for (double h : steps) {
-    ChannelImage im;
-    im.width = scene.camera->width;
-    im.height = scene.camera->height;
-    im.names = {"Y"};
-    im.planes = {render(h)};
+    ChannelImage im(ImageF64(scene.camera->width, scene.camera->height, render(h)));
     im.pixel_type = "double";
     out.push_back({tag + "_" + std::to_string(h), h, std::move(im)});
   }
