@@ -124,11 +124,11 @@ ValueImage render_reference_image(const Scene& scene, const Camera& camera, cons
   validate(camera);
   validate(options);
   const long pixels = pixel_count(camera);
-  ValueImage image{camera.width, camera.height, std::vector<double>(static_cast<std::size_t>(pixels))};
-  std::vector<long> evaluations(image.values.size());
-  std::vector<double> estimates(image.values.size());
+  ValueImage image(camera.width, camera.height);
+  std::vector<long> evaluations(image.pixels.size());
+  std::vector<double> estimates(image.pixels.size());
   reference_pixels(scene, camera, options, [&](long i, const ReferenceResult& r) {
-    image.values[i] = r.value, evaluations[i] = r.evaluations, estimates[i] = r.error_estimate;
+    image.pixels[i] = r.value, evaluations[i] = r.evaluations, estimates[i] = r.error_estimate;
   });
   // The sums in pixel order: the same for any thread count.
   for (long i = 0; i < pixels; ++i) {
@@ -147,9 +147,9 @@ ValueImage render_discrete_image(const Scene& scene, const Camera& camera, const
     const DiscreteRaycaster<F> caster = scene_raycaster(field, scene, config);
     return image_loop(camera, [&](const Ray& ray) { return caster.cast(ray); });
   });
-  ValueImage image{camera.width, camera.height, std::vector<double>(results.size())};
+  ValueImage image(camera.width, camera.height);
   for (std::size_t i = 0; i < results.size(); ++i) {
-    image.values[i] = results[i].value;
+    image.pixels[i] = results[i].value;
     image.work += results[i].samples;
   }
   return image;
@@ -167,11 +167,13 @@ void check_step_count(std::size_t steps, std::size_t images) {
 
 // A computed image as verify_images reads a file: one channel "Y" in double, no quantisation.
 ChannelImage channels_of(const ValueImage& image, const std::string& name) {
-  if (image.width <= 0 || image.height <= 0 ||
-      image.values.size() != static_cast<std::size_t>(image.width) * image.height)
-    throw VerifyInputError(fmt::format("{}: {} values for {} x {} pixels", name, image.values.size(),
+  if (image.channels != 1)
+    throw VerifyInputError(fmt::format("{}: {} channels (a ValueImage is grey: give ChannelImages for more)", name,
+                                       image.channels));
+  if (image.width <= 0 || image.height <= 0 || image.pixels.size() != image.pixel_count())
+    throw VerifyInputError(fmt::format("{}: {} values for {} x {} pixels", name, image.pixels.size(),
                                        image.width, image.height));
-  ChannelImage channels(ImageF64(image.width, image.height, image.values));
+  ChannelImage channels(image);
   channels.pixel_type = "double";  // quantum 0: in memory, not rounded to a file's type
   return channels;
 }

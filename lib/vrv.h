@@ -25,6 +25,7 @@
 #include "lib/reference_channels.h"
 #include "lib/gate.h"
 #include "lib/geometry.h"
+#include "lib/io/image_io.h"
 #include "lib/projection/discrete_projection.h"
 #include "lib/projection/projection_reference.h"
 #include "lib/reference_integrator.h"
@@ -78,13 +79,12 @@ std::vector<ProjectionResult> projection_values(const Scene& scene, std::span<co
 std::vector<DiscreteProjectionResult> discrete_projection_values(const Scene& scene, std::span<const Ray> rays,
                                                                  const DiscreteProjectionConfig& config);
 
-// One value per pixel in double (row-major, row 0 at the top), and what it cost.
-struct ValueImage {
-  int width = 0, height = 0;
-  std::vector<double> values;
+// A grey image (lib/io/image_io.h's ImageF64 of one channel: `pixels` row-major, row 0 at the
+// top, at(x, y)) and what it cost.  ValueImage{width, height, pixels} makes one.
+struct ValueImage : ImageF64 {
+  using ImageF64::ImageF64;
   long work = 0;                  // field evaluations (reference) or samples (discrete)
   double max_error_estimate = 0;  // reference: the largest per-pixel estimate; discrete: 0
-  double at(int x, int y) const { return values[static_cast<std::size_t>(y) * width + x]; }
 };
 
 ValueImage render_reference_image(const Scene& scene, const Camera& camera,

@@ -43,7 +43,7 @@ Check check_plan(const Scene& scene, const Camera& camera, const PlannedRule& ch
   const ValueImage reference = render_reference_image(scene, camera, {tol});
   const ValueImage discrete = render_discrete_image(scene, camera, chosen.config);
   ErrorSums sums;
-  for (std::size_t i = 0; i < reference.values.size(); ++i) sums.add(discrete.values[i] - reference.values[i]);
+  for (std::size_t i = 0; i < reference.pixels.size(); ++i) sums.add(discrete.pixels[i] - reference.pixels[i]);
   const double measured = metric_value(sums.stats(), p.metric);
   return {measured, measured <= p.target};
 }

@@ -456,7 +456,7 @@ py::array_t<double> render(const Scene& scene, std::optional<double> given_tol, 
     return config ? render_discrete_image(scene, camera, *config) : render_reference_image(scene, camera, options);
   });
   py::array_t<double> a({image.height, image.width});
-  std::copy(image.values.begin(), image.values.end(), a.mutable_data());
+  std::copy(image.pixels.begin(), image.pixels.end(), a.mutable_data());
   return a;
 }
 

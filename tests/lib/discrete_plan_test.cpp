@@ -21,7 +21,7 @@ double measured(const Scene& scene, const Camera& camera, const ValueImage& refe
                 Metric metric) {
   const ValueImage image = render_discrete_image(scene, camera, c);
   ErrorSums sums;
-  for (std::size_t i = 0; i < image.values.size(); ++i) sums.add(image.values[i] - reference.values[i]);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) sums.add(image.pixels[i] - reference.pixels[i]);
   return metric_value(sums.stats(), metric);
 }
 

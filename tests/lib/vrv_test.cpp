@@ -1,10 +1,11 @@
-// The library API of lib/vrv.h for projections: batches equal the per-ray functions bit for bit,
-// whatever the thread count, and a bad tolerance is refused with the command line's message.
+// The library API of lib/vrv.h: projection batches equal the per-ray functions bit for bit,
+// whatever the thread count; a bad tolerance or image is refused with the command line's message.
 #include "lib/vrv.h"
 
 #include <gtest/gtest.h>
 
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "lib/util/parallel.h"
@@ -84,6 +85,27 @@ color = [0.3, 0.3, 0.3]
       EXPECT_EQ(three[i].channel[c].value, one[i].value) << i;
       EXPECT_EQ(three[i].channel[c].error_estimate, one[i].error_estimate) << i;
     }
+}
+
+// A ValueImage is a grey ImageF64: one of more channels, or whose pixels do not fill its size,
+// is refused by name before any reference is computed.
+TEST(LibraryVerify, ValueImagesOfTheWrongShapeAreRefused) {
+  const Scene scene = default_scene();
+  const auto message = [&](const ValueImage& bad) {
+    try {
+      verify(scene, {ValueImage(4, 4), bad}, {0.1, 0.05});
+    } catch (const VerifyInputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message(ValueImage(4, 4, 0.0, 3)), "image 1 (step 0.05): 3 channels (a ValueImage is grey: give ChannelImages for more)");
+  ValueImage short_of_pixels(4, 4);
+  short_of_pixels.pixels.pop_back();
+  EXPECT_EQ(message(short_of_pixels), "image 1 (step 0.05): 15 values for 4 x 4 pixels");
+  const ValueImage grey{4, 4, std::vector<double>(16, 0.5)};
+  EXPECT_EQ(grey.at(3, 3), 0.5);
+  EXPECT_EQ(grey.channels, 1);
 }
 
 }  // namespace

@@ -23,9 +23,9 @@ struct Scenario {
 
 double rms_error(const vrv::ValueImage& image, const vrv::ValueImage& reference) {
   double sum = 0;
-  for (std::size_t i = 0; i < image.values.size(); ++i)
-    sum += std::pow(image.values[i] - reference.values[i], 2);
-  return std::sqrt(sum / static_cast<double>(image.values.size()));
+  for (std::size_t i = 0; i < image.pixels.size(); ++i)
+    sum += std::pow(image.pixels[i] - reference.pixels[i], 2);
+  return std::sqrt(sum / static_cast<double>(image.pixels.size()));
 }
 
 // Least-squares slope of log(RMS error) against log(step).
