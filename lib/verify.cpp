@@ -25,11 +25,11 @@ void check_reference(const std::vector<ReferenceImage>& refs, double tol, int wi
   info.tol = tol;
   info.from_cache = refs.front().from_cache;
   info.cache_file = refs.front().cache_file;
-  for (std::size_t i = 0; i < refs.front().value.size(); ++i) {
+  for (std::size_t i = 0; i < refs.front().pixel_count(); ++i) {
     bool missed = false;
     for (const ReferenceImage& ref : refs) {
       info.max_error_estimate = std::max(info.max_error_estimate, ref.error_estimate[i]);
-      missed = missed || !(ref.error_estimate[i] <= tol) || !std::isfinite(ref.value[i]);
+      missed = missed || !(ref.error_estimate[i] <= tol) || !std::isfinite(ref.pixels[i]);
     }
     if (!missed) continue;
     ++info.missed;
@@ -57,11 +57,11 @@ void count_regions(const std::vector<PixelGeometry>& geos, ReferenceInfo& info) 
 }
 
 void keep_reference_image(const std::vector<ReferenceImage>& refs, VerifyReport& rep) {
-  const std::size_t n = refs.front().value.size(), nc = refs.size();
+  const std::size_t n = refs.front().pixel_count(), nc = refs.size();
   rep.reference_channels = static_cast<int>(nc);
   rep.reference_image.resize(n * nc);
   for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t c = 0; c < nc; ++c) rep.reference_image[i * nc + c] = static_cast<float>(refs[c].value[i]);
+    for (std::size_t c = 0; c < nc; ++c) rep.reference_image[i * nc + c] = static_cast<float>(refs[c].pixels[i]);
 }
 
 // The channel the diagnosis reads: the first colour channel (the channel count when there is

@@ -16,7 +16,7 @@ ChannelReport channel_report(const ImageWithStep& im, int c, const ReferenceImag
   r.quantum = effective_quantum(im.image);
   r.floor_max = r.quantum / 2;
   r.floor_rms = r.quantum / std::sqrt(12.0);
-  const std::size_t n = ref.value.size();
+  const std::size_t n = ref.pixel_count();
   r.error.assign(n, std::numeric_limits<float>::quiet_NaN());
   std::vector<double> by_region[4], all;  // indexed by the pixel regions (outside ... tf_jump)
   for (std::size_t i = 0; i < n; ++i) {
@@ -25,7 +25,7 @@ ChannelReport channel_report(const ImageWithStep& im, int c, const ReferenceImag
       ++r.nan_count;
       continue;
     }
-    const double truth = r.alpha ? -std::expm1(-ref.optical_depth[i]) : ref.value[i];
+    const double truth = r.alpha ? -std::expm1(-ref.optical_depth[i]) : ref.pixels[i];
     const double e = v - truth;
     r.error[i] = static_cast<float>(e);
     all.push_back(e);

@@ -26,13 +26,13 @@ struct OrderErrors {
 OrderErrors order_errors(const ChannelImage& im, const std::array<int, 3>& colour,
                          const std::vector<ReferenceImage>& refs, const ColorChannels& color, AlphaMode alpha) {
   OrderErrors e;
-  const std::size_t n = refs.front().value.size();
+  const std::size_t n = refs.front().pixel_count();
   for (std::size_t p = 0; p < n; ++p) {
     std::array<std::array<double, 3>, 3> d{};
     bool finite = true;
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) {
-        d[i][k] = comparable(im, colour[i], p, color.background[k], alpha) - refs[k].value[p];
+        d[i][k] = comparable(im, colour[i], p, color.background[k], alpha) - refs[k].pixels[p];
         finite = finite && std::isfinite(d[i][k]);
       }
     if (!finite) continue;  // NaN pixels are counted in the channel reports, not here

@@ -55,7 +55,7 @@ void trace_pixels(const Scene& scene, const Camera& camera, const ReferenceImage
     image_loop_into(
         camera, {},
         [&](const Ray& ray, long i) {
-          return trace(field, scene, jumps, jump_samples, ray, ref.value[i], ref.optical_depth[i]);
+          return trace(field, scene, jumps, jump_samples, ray, ref.pixels[i], ref.optical_depth[i]);
         },
         [&](long i, const Trace& t) {
           g.hit[i] = t.hit, crosses[i] = t.crosses, g.d_entry[i] = t.d_entry, g.d_exit[i] = t.d_exit;

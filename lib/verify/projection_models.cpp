@@ -72,18 +72,15 @@ std::string projection_cache_tag(ProjectionMode mode) {
 ReferenceImage projection_reference_image(const Scene& scene, const Camera& camera, ProjectionMode mode, double tol,
                                           bool progress) {
   require_grey(scene, "scene", "projection_reference_image");
-  ReferenceImage r;
-  r.width = camera.width, r.height = camera.height;
-  const long n = pixel_count(camera);
-  r.value.resize(n), r.error_estimate.resize(n), r.optical_depth.assign(n, 0.0);
-  Progress bar("reference", n, progress);
+  ReferenceImage r(camera.width, camera.height);  // a projection has no optical depth: 0
+  Progress bar("reference", pixel_count(camera), progress);
   ImageLoopHooks hooks;
   hooks.progress = [&](long done) { bar.advance(done); };
   visit_field(scene, [&](const auto& field) {
     image_loop_into(
         camera, {}, [&](const Ray& ray) { return projection_reference(field, scene.box, scene.transfer, ray, mode, {tol}); },
         [&](long i, const ProjectionResult& v) {
-          r.value[i] = v.value;
+          r.pixels[i] = v.value;
           // A result that missed its tolerance (a work cap) is reported as missing it.
           r.error_estimate[i] = v.tolerance_met ? v.error_estimate : std::max(v.error_estimate, 2 * tol);
         },

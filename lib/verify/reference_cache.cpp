@@ -61,12 +61,10 @@ std::string reference_cache_name(const std::string& key) { return fmt::format("r
 std::optional<ReferenceImage> read_reference_cache(const fs::path& file, const std::string& key, int w, int h) {
   const std::optional<std::string> bytes = cache_entry(file, key, w, h);
   if (!bytes) return std::nullopt;
-  ReferenceImage r;
-  r.width = w, r.height = h;
-  const std::size_t n = static_cast<std::size_t>(w) * h;
+  ReferenceImage r(w, h);
+  const std::size_t n = r.pixel_count();
   const char* at = bytes->data() + kCacheMagic.size() + sizeof(std::uint64_t) + key.size();
-  for (auto* plane : {&r.value, &r.error_estimate, &r.optical_depth}) {
-    plane->resize(n);
+  for (std::vector<double>* plane : {&r.pixels, &r.error_estimate, &r.optical_depth}) {
     std::memcpy(plane->data(), at, n * sizeof(double));
     at += n * sizeof(double);
   }
@@ -80,7 +78,7 @@ void write_reference_cache(const fs::path& file, const std::string& key, const R
   const std::uint64_t key_size = key.size();
   bytes.append(reinterpret_cast<const char*>(&key_size), sizeof key_size);
   bytes += key;
-  for (const auto* plane : {&r.value, &r.error_estimate, &r.optical_depth})
+  for (const std::vector<double>* plane : {&r.pixels, &r.error_estimate, &r.optical_depth})
     bytes.append(reinterpret_cast<const char*>(plane->data()), plane->size() * sizeof(double));
   const std::uint64_t crc = crc64(bytes);
   bytes.append(reinterpret_cast<const char*>(&crc), sizeof crc);

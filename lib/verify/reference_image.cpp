@@ -19,15 +19,12 @@ namespace {
 namespace fs = std::filesystem;
 
 ReferenceImage render_reference(const Scene& scene, const Camera& camera, double tol, bool progress) {
-  ReferenceImage r;
-  r.width = camera.width, r.height = camera.height;
-  const long n = pixel_count(camera);
-  r.value.resize(n), r.error_estimate.resize(n), r.optical_depth.resize(n);
-  Progress bar("reference", n, progress);
+  ReferenceImage r(camera.width, camera.height);
+  Progress bar("reference", pixel_count(camera), progress);
   ImageLoopHooks hooks;
   hooks.progress = [&](long done) { bar.advance(done); };
   reference_pixels(scene, camera, {tol}, [&](long i, const ReferenceResult& v) {
-    r.value[i] = v.value, r.error_estimate[i] = v.error_estimate, r.optical_depth[i] = v.optical_depth;
+    r.pixels[i] = v.value, r.error_estimate[i] = v.error_estimate, r.optical_depth[i] = v.optical_depth;
   }, hooks);
   bar.finish();
   return r;
@@ -53,19 +50,14 @@ ColorPixel color_pixel(const ChannelsReferenceResult& v) {
 // The three channels of an RGB scene from one walk per ray.
 std::vector<ReferenceImage> render_color_reference(const Scene& scene, const Camera& camera, double tol,
                                                    bool progress) {
-  std::vector<ReferenceImage> r(3);
-  const long n = pixel_count(camera);
-  for (ReferenceImage& c : r) {
-    c.width = camera.width, c.height = camera.height;
-    c.value.resize(n), c.error_estimate.resize(n), c.optical_depth.resize(n);
-  }
-  Progress bar("reference", n, progress);
+  std::vector<ReferenceImage> r(3, ReferenceImage(camera.width, camera.height));
+  Progress bar("reference", pixel_count(camera), progress);
   ImageLoopHooks hooks;
   hooks.progress = [&](long done) { bar.advance(done); };
   const ImageChannels channels(scene, false);
   image_channel_pixels(scene, camera, channels, {tol}, color_pixel, [&](long i, const ColorPixel& p) {
     for (int c = 0; c < 3; ++c)
-      r[c].value[i] = p.value[c], r[c].error_estimate[i] = p.estimate[c], r[c].optical_depth[i] = p.optical_depth;
+      r[c].pixels[i] = p.value[c], r[c].error_estimate[i] = p.estimate[c], r[c].optical_depth[i] = p.optical_depth;
   }, hooks);
   bar.finish();
   return r;

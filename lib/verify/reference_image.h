@@ -5,15 +5,19 @@
 #include <vector>
 
 #include "lib/camera.h"
+#include "lib/io/image_io.h"
 #include "lib/scene.h"
 #include "lib/verify/verify_options.h"
 
 namespace vrv {
 
-// Per pixel (row-major): the value, its error estimate and the optical depth.
-struct ReferenceImage {
-  int width = 0, height = 0;
-  std::vector<double> value, error_estimate, optical_depth;
+// Per pixel (row-major, row 0 at the top): the value (the ImageF64's grey pixels), its error
+// estimate and the optical depth.
+struct ReferenceImage : ImageF64 {
+  ReferenceImage() = default;
+  // w x h pixels, every value, estimate and depth 0.
+  ReferenceImage(int w, int h) : ImageF64(w, h), error_estimate(pixel_count()), optical_depth(pixel_count()) {}
+  std::vector<double> error_estimate, optical_depth;
   bool from_cache = false;
   std::string cache_file;
 };

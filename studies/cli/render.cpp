@@ -180,9 +180,7 @@ class PixelPlanes {
       : r_{ImageF64(camera.width, camera.height, 0.0, channels)},
         channels_(channels), work_(pixel_count(camera)), estimate_(work_.size()), met_(work_.size()) {}
   void put(long i, const PixelResult& p) {
-    for (int c = 0; c < channels_; ++c) {
-      r_.image.pixels[i * channels_ + c] = p.value[c];
-    }
+    for (int c = 0; c < channels_; ++c) r_.image.value(i, c) = p.value[c];
     work_[i] = p.work;
     estimate_[i] = p.estimate;
     met_[i] = p.tolerance_met;

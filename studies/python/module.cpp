@@ -448,7 +448,7 @@ py::array_t<double> render(const Scene& scene, std::optional<double> given_tol, 
   if (mode) {
     const ReferenceImage ref = interruptible([&] { return projection_reference_image(scene, camera, *mode, tol, false); });
     py::array_t<double> a({camera.height, camera.width});
-    std::copy(ref.value.begin(), ref.value.end(), a.mutable_data());
+    std::copy(ref.pixels.begin(), ref.pixels.end(), a.mutable_data());
     return a;
   }
   if (scene.color || alpha) return render_channels(scene, camera, config, options, alpha);

@@ -139,15 +139,17 @@ Camera image_camera(const ShadingStudy& study, bool quick) {
   return c;
 }
 
-struct ReferenceImage {
+// The reference per pixel and whether its ray hit the box, all the error maps need (verify's
+// ReferenceImage, lib/verify/reference_image.h, also keeps estimates and depths).
+struct TruthImage {
   std::vector<double> value;
   std::vector<char> hit;
 };
 
 // The reference at every pixel; its estimates and misses join the study's (in pixel order).
-ReferenceImage reference_image(const Scene& scene, const Camera& camera, double tol, ShadingResult& out) {
+TruthImage truth_image(const Scene& scene, const Camera& camera, double tol, ShadingResult& out) {
   const auto n = static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height);
-  ReferenceImage r{std::vector<double>(n), std::vector<char>(n)};
+  TruthImage r{std::vector<double>(n), std::vector<char>(n)};
   std::vector<double> estimate(n);
   std::vector<char> met(n);
   reference_pixels(scene, camera, {tol}, [&](long i, const ReferenceResult& v) {
@@ -167,7 +169,7 @@ Image to_image(const std::vector<double>& v, const Camera& camera) {
 
 // The discrete raycast's signed error at every pixel, and its statistics over the hits.
 std::pair<Image, ErrorStats> error_image(const Scene& scene, const Camera& camera, const DiscreteConfig& config,
-                                         const ReferenceImage& ref) {
+                                         const TruthImage& ref) {
   std::vector<double> e = visit_field(scene, [&](const auto& field) {
     const auto caster = scene_raycaster(field, scene, config);
     return image_loop(camera, [&](const Ray& ray) { return caster.cast(ray).value; });
@@ -186,7 +188,7 @@ void field_images(const ShadingStudy& study, const Scene& scene, const std::stri
                   const std::vector<ShadingScheme>& schemes, double step, bool unshaded, bool quick,
                   ShadingResult& out) {
   const Camera camera = image_camera(study, quick);
-  const ReferenceImage ref = reference_image(scene, camera, study.reference_tol, out);
+  const TruthImage ref = truth_image(scene, camera, study.reference_tol, out);
   out.images.push_back({stem + "_reference", to_image(ref.value, camera), false, 0});
   const std::size_t first_map = out.images.size();
   for (const ShadingScheme& scheme : schemes) {
@@ -198,7 +200,7 @@ void field_images(const ShadingStudy& study, const Scene& scene, const std::stri
   if (unshaded) {
     Scene plain = scene;
     plain.shading.reset();
-    const ReferenceImage plain_ref = reference_image(plain, camera, study.reference_tol, out);
+    const TruthImage plain_ref = truth_image(plain, camera, study.reference_tol, out);
     auto [map, stats] = error_image(plain, camera, config_of(study, plain, {}, step), plain_ref);
     out.image_rows.push_back({field, "unshaded", step, stats});
     out.images.push_back({stem + "_unshaded_error", std::move(map), true, 0});

@@ -132,7 +132,7 @@ TEST_F(ProjectionVerify, ReferenceIsTheProjectionReferencePerPixel) {
   const ReferenceImage ref = reference_image(scene, cam, o);
   for (int i : {0, 17 * 32 + 15, 32 * 32 - 1}) {
     const ProjectionResult p = projection_reference(scene, cam.ray(i % 32, i / 32), ProjectionMode::xray, {o.reference_tol});
-    EXPECT_EQ(ref.value[i], p.value);
+    EXPECT_EQ(ref.pixels[i], p.value);
     EXPECT_EQ(ref.optical_depth[i], 0.0);
   }
 }
@@ -156,10 +156,10 @@ TEST_F(ProjectionVerify, CacheKeysDifferPerModeAndEmissionAbsorptionKeepsItsKey)
   EXPECT_FALSE(xray.from_cache);
   EXPECT_NE(mip.cache_file, xray.cache_file);
   EXPECT_NE(mip.cache_file, ea.cache_file);
-  EXPECT_NE(mip.value, xray.value);
+  EXPECT_NE(mip.pixels, xray.pixels);
   const ReferenceImage again = reference_image(scene, cam, o);
   EXPECT_TRUE(again.from_cache);
-  EXPECT_EQ(again.value, xray.value);
+  EXPECT_EQ(again.pixels, xray.pixels);
 }
 
 // The estimate before a projection's diagnosis: its models' samples, not the EA catalogue's.
