@@ -95,14 +95,17 @@ RenderSpec read_render(const StudyReader& r, const toml::table& t, const std::st
   if (s.scene.camera->projection == Projection::fan) r.fail(at + ".scene.camera", "needs an image camera, not a fan");
   s.steps = r.numbers(t, "steps", at, 1e-6, 10);
   s.quick_steps = r.numbers(t, "quick_steps", at, 1e-6, 10);
-  if (s.steps.size() < 2) r.fail(at + ".steps", "needs at least two steps for an order");
-  if (s.quick_steps.size() < 2) r.fail(at + ".quick_steps", "needs at least two steps for an order");
+  if (const toml::node* c = t.get("check_orders")) s.check_orders = r.boolean(*c, at + ".check_orders");
+  // A gated order's tolerance comes from the fit's spread (order_check): three steps at least.
+  const std::size_t fewest = s.check_orders ? 3 : 2;
+  const char* why = s.check_orders ? "at least three steps (a gated order and its spread)" : "at least two steps (an order)";
+  if (s.steps.size() < fewest) r.fail(at + ".steps", why);
+  if (s.quick_steps.size() < fewest) r.fail(at + ".quick_steps", why);
   s.map_step = r.number(r.require(t, "map_step", at), at + ".map_step");
   auto has = [&](const std::vector<double>& v) { return std::find(v.begin(), v.end(), s.map_step) != v.end(); };
   if (!has(s.steps) || !has(s.quick_steps)) r.fail(at + ".map_step", "must be one of steps and of quick_steps");
   s.quick_width = static_cast<int>(r.integer(r.require(t, "quick_width", at), at + ".quick_width", 1, 4096));
   s.quick_height = static_cast<int>(r.integer(r.require(t, "quick_height", at), at + ".quick_height", 1, 4096));
-  if (const toml::node* c = t.get("check_orders")) s.check_orders = r.boolean(*c, at + ".check_orders");
   return s;
 }
 

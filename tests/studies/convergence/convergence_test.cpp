@@ -60,7 +60,7 @@ std::string valid_study() {
          "[scene.field]\nkind = \"marschner_lobb\"\nfM = 2.0\n"
          "[scene.transfer]\nemission = [[-1, 1.5], [2, 0]]\nextinction = [[-1, 0.1], [2, 2.5]]\n"
          "[[method]]\nrule = \"riemann\"\nexpected_order = 1\n"
-         "[sampling]\nstrategy = \"inviwo\"\nsteps = [0.1, 0.05]\n"
+         "[sampling]\nstrategy = \"inviwo\"\nsteps = [0.1, 0.05, 0.025]\n"
          "[rays]\ncount = 2\n";
 }
 
@@ -85,23 +85,28 @@ TEST(ConvergenceStudy, BadStudyFilesGiveOneLineNamingFileAndKey) {
        "bad.toml: sampling.strategy: unknown value 'bogus' (one of step, inviwo)"},
       {replace(valid_study(), "\"inviwo\"", "\"eye\""),
        "bad.toml: sampling.strategy: 'eye' is not taken here (one of step, inviwo)"},
-      {replace(valid_study(), "[0.1, 0.05]", "[]"), "bad.toml: sampling.steps: empty"},
-      {replace(valid_study(), "[0.1, 0.05]", "[0.1, -0.05]"), "bad.toml: sampling.steps[1]: must be positive"},
+      {replace(valid_study(), "[0.1, 0.05, 0.025]", "[]"), "bad.toml: sampling.steps: at least three steps"},
+      // Two steps fit an order but give its gate no spread: refused here, not failed after the run.
+      {replace(valid_study(), "[0.1, 0.05, 0.025]", "[0.1, 0.05]"),
+       "bad.toml: sampling.steps: at least three steps (an order and its spread)"},
+      {replace(valid_study(), "[0.1, 0.05, 0.025]", "[0.1, -0.05, 0.025]"), "bad.toml: sampling.steps[1]: must be positive"},
       {replace(valid_study(), "[rays]\ncount = 2\n", ""), "bad.toml: rays: missing"},
       {replace(valid_study(), "count = 2", "count = 2\ncolour = 1"), "bad.toml: rays.colour: unknown key"},
       {replace(valid_study(), "fM = 2.0", "fM = -2.0"), "bad.toml: scene.field.fM"},
       {"kind = \"convergence\"\n", "bad.toml: scene: missing"},
-      {valid_study() + "[grid_refinement]\nresolutions = [9]\n",
-       "bad.toml: grid_refinement.resolutions: one resolution gives no order"},
-      {valid_study() + "[grid_refinement]\nresolutions = [9, 17.5]\n",
+      {valid_study() + "[grid_refinement]\nresolutions = [9, 17]\n",
+       "bad.toml: grid_refinement.resolutions: at least three resolutions (an order and its spread)"},
+      {valid_study() + "[grid_refinement]\nresolutions = [9, 17, 33]\nquick_resolutions = [9, 17]\n",
+       "bad.toml: grid_refinement.quick_resolutions: at least three resolutions"},
+      {valid_study() + "[grid_refinement]\nresolutions = [9, 17.5, 33]\n",
        "bad.toml: grid_refinement.resolutions[1]: expected a whole number, got 17.5"},
-      {valid_study() + "[grid_refinement]\nresolutions = [9, 17]\nsteps_per_cell = 0\n",
+      {valid_study() + "[grid_refinement]\nresolutions = [9, 17, 33]\nsteps_per_cell = 0\n",
        "bad.toml: grid_refinement.steps_per_cell: must be in"},
       {valid_study() + "[grid_refinement]\nresolution = [9, 17]\n",
        "bad.toml: grid_refinement.resolution: unknown key"},
       {replace(valid_study(), "kind = \"marschner_lobb\"\nfM = 2.0\n",
                "kind = \"grid\"\nresolution = [5, 5, 5]\n[scene.field.source]\nkind = \"marschner_lobb\"\n") +
-           "[grid_refinement]\nresolutions = [9, 17]\n",
+           "[grid_refinement]\nresolutions = [9, 17, 33]\n",
        "bad.toml: grid_refinement: needs an analytic field"},
       // Outside vrv study (which runs one study per channel) an RGB scene is refused, not made red.
       {replace(valid_study(), "emission = [[-1, 1.5], [2, 0]]", "emission = [[-1, 1.5, 0.5, 0], [2, 0, 1, 0.25]]"),

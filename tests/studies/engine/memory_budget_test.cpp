@@ -72,7 +72,7 @@ TEST(StudyMemory, CountsTheGridsAStudyKindDeclares) {
   const StudyGrids convergence = find_study_grids("convergence");
   ASSERT_NE(convergence, nullptr);
   const StudyMemory c = estimate_study_memory(
-      parsed("[grid_refinement]\nresolutions = [17, 129, 65]\nquick_resolutions = [17, 33]\n"), convergence);
+      parsed("[grid_refinement]\nresolutions = [17, 129, 65]\nquick_resolutions = [9, 17, 33]\n"), convergence);
   EXPECT_EQ(c.grids, 1);
   EXPECT_EQ(c.largest, (NodeCounts{129, 129, 129}));
 

@@ -43,7 +43,7 @@ const std::string kBox = "[volume]\nmin = [-1.0, -1.0, -1.0]\nmax = [1.0, 1.0, 1
 std::string study_of(const std::string& scene) {
   return "kind = \"convergence\"\nscene = \"" + scene +
          "\"\n[[method]]\nrule = \"riemann\"\nexpected_order = 1\n[sampling]\nstrategy = \"inviwo\"\n"
-         "steps = [0.1, 0.05]\n[rays]\ncount = 2\nquick_count = 2\nseed = 1\n";
+         "steps = [0.1, 0.05, 0.025]\n[rays]\ncount = 2\nquick_count = 2\nseed = 1\n";
 }
 
 LoadedStudy load(const fs::path& study, double limit) {

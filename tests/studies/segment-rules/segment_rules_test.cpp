@@ -197,6 +197,13 @@ TEST(SegmentRules, BadFilesNameTheKey) {
   EXPECT_EQ(parse_error("strategy = \"inviwo\"", "strategy = \"entry\""),
             "bad.toml: images.strategy: 'entry' is not taken here (one of step, vtk, inviwo, partial, exit_anchored)");
   EXPECT_NE(parse_error("quick_points = 21", "quick_point = 21").find("bad.toml: unit_segment"), std::string::npos);
+  // A gated order needs three steps for its tolerance (two ran the whole study, then failed).
+  EXPECT_EQ(parse_error("quick_steps = [0.04, 0.02, 0.01]", "quick_steps = [0.04, 0.02]"),
+            "bad.toml: render[0].quick_steps: at least three steps (a gated order and its spread)");
+  EXPECT_EQ(parse_error("quick_steps = [0.04, 0.02, 0.01]", "quick_steps = [0.04, 0.02]\ncheck_orders = false"),
+            "accepted");
+  EXPECT_EQ(parse_error("quick_steps = [0.04, 0.02, 0.01]", "quick_steps = [0.04]\ncheck_orders = false"),
+            "bad.toml: render[0].quick_steps: at least two steps (an order)");
 }
 
 }  // namespace

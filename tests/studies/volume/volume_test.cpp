@@ -18,7 +18,7 @@ constexpr const char* kImages =
     "[[images.rule]]\nrule = \"trapezoid\"\nexpected_order = 2\n";
 
 constexpr const char* kRender =
-    "[render]\nname = \"scan\"\nsteps = [1.0, 0.5, 0.25]\nquick_steps = [1.0, 0.5]\nmap_step = 1.0\n"
+    "[render]\nname = \"scan\"\nsteps = [1.0, 0.5, 0.25]\nquick_steps = [1.0, 0.5, 0.25]\nmap_step = 1.0\n"
     "quick_width = 8\nquick_height = 8\n"
     "[render.scene.transfer]\nemission = [[0, 0], [1, 1]]\nextinction = [[0, 0], [1, 1]]\n"
     "[render.scene.camera]\neye = [0, 0, -5]\ntarget = [0, 0, 0]\nup = [0, 1, 0]\nfov = 40\n"
