@@ -124,7 +124,7 @@ ValueImage render_reference_image(const Scene& scene, const Camera& camera, cons
   validate(camera);
   validate(options);
   const long pixels = pixel_count(camera);
-  ValueImage image(camera.width, camera.height);
+  ValueImage image(camera.width, camera.height, std::vector<double>(static_cast<std::size_t>(pixels)));
   std::vector<long> evaluations(image.pixels.size());
   std::vector<double> estimates(image.pixels.size());
   reference_pixels(scene, camera, options, [&](long i, const ReferenceResult& r) {
@@ -147,7 +147,7 @@ ValueImage render_discrete_image(const Scene& scene, const Camera& camera, const
     const DiscreteRaycaster<F> caster = scene_raycaster(field, scene, config);
     return image_loop(camera, [&](const Ray& ray) { return caster.cast(ray); });
   });
-  ValueImage image(camera.width, camera.height);
+  ValueImage image(camera.width, camera.height, std::vector<double>(results.size()));
   for (std::size_t i = 0; i < results.size(); ++i) {
     image.pixels[i] = results[i].value;
     image.work += results[i].samples;

@@ -80,11 +80,19 @@ std::vector<DiscreteProjectionResult> discrete_projection_values(const Scene& sc
                                                                  const DiscreteProjectionConfig& config);
 
 // A grey image (lib/io/image_io.h's ImageF64 of one channel: `pixels` row-major, row 0 at the
-// top, at(x, y)) and what it cost.  ValueImage{width, height, pixels} makes one.
+// top, at(x, y)) and what it cost.
 struct ValueImage : ImageF64 {
-  using ImageF64::ImageF64;
   long work = 0;                  // field evaluations (reference) or samples (discrete)
   double max_error_estimate = 0;  // reference: the largest per-pixel estimate; discrete: 0
+
+  ValueImage() = default;
+  // ValueImage{width, height, pixels, work, max_error_estimate}, the members in that order as a
+  // plain struct's braces would take them.  The pixels are not checked against the size here:
+  // verify() refuses a mismatch as a VerifyInputError naming the image, as for a file.
+  ValueImage(int w, int h, std::vector<double> given = {}, long cost = 0, double largest_estimate = 0)
+      : work(cost), max_error_estimate(largest_estimate) {
+    width = w, height = h, pixels = std::move(given);
+  }
 };
 
 ValueImage render_reference_image(const Scene& scene, const Camera& camera,

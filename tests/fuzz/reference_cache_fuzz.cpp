@@ -53,7 +53,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::ofstream(s.entry, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   const vrv::ReferenceImage r = vrv::reference_image(s.scene, s.camera, s.options);
-  if (!same(r.value, s.truth.value) || !same(r.error_estimate, s.truth.error_estimate) ||
+  if (!same(r.pixels, s.truth.pixels) || !same(r.error_estimate, s.truth.error_estimate) ||
       !same(r.optical_depth, s.truth.optical_depth))
     std::abort();
   return 0;

@@ -87,25 +87,29 @@ color = [0.3, 0.3, 0.3]
     }
 }
 
-// A ValueImage is a grey ImageF64: one of more channels, or whose pixels do not fill its size,
-// is refused by name before any reference is computed.
+// A ValueImage is a grey ImageF64 filled as a plain struct: one of more channels, or whose pixels
+// do not fill its size, is refused by verify naming the image, before any reference is computed.
 TEST(LibraryVerify, ValueImagesOfTheWrongShapeAreRefused) {
   const Scene scene = default_scene();
   const auto message = [&](const ValueImage& bad) {
     try {
-      verify(scene, {ValueImage(4, 4), bad}, {0.1, 0.05});
+      verify(scene, {ValueImage{4, 4, std::vector<double>(16)}, bad}, {0.1, 0.05});
     } catch (const VerifyInputError& e) {
       return std::string(e.what());
     }
     return std::string("accepted");
   };
-  EXPECT_EQ(message(ValueImage(4, 4, 0.0, 3)), "image 1 (step 0.05): 3 channels (a ValueImage is grey: give ChannelImages for more)");
-  ValueImage short_of_pixels(4, 4);
-  short_of_pixels.pixels.pop_back();
-  EXPECT_EQ(message(short_of_pixels), "image 1 (step 0.05): 15 values for 4 x 4 pixels");
-  const ValueImage grey{4, 4, std::vector<double>(16, 0.5)};
+  ValueImage rgb{4, 4, std::vector<double>(48)};
+  rgb.channels = 3;
+  EXPECT_EQ(message(rgb), "image 1 (step 0.05): 3 channels (a ValueImage is grey: give ChannelImages for more)");
+  EXPECT_EQ(message(ValueImage{4, 4, std::vector<double>(15)}), "image 1 (step 0.05): 15 values for 4 x 4 pixels");
+  EXPECT_EQ(message(ValueImage{4, 4}), "image 1 (step 0.05): 0 values for 4 x 4 pixels");
+  // The braces fill the members in order, as when ValueImage was a plain struct.
+  const ValueImage grey{4, 4, std::vector<double>(16, 0.5), 7, 1e-9};
   EXPECT_EQ(grey.at(3, 3), 0.5);
   EXPECT_EQ(grey.channels, 1);
+  EXPECT_EQ(grey.work, 7);
+  EXPECT_EQ(grey.max_error_estimate, 1e-9);
 }
 
 }  // namespace

@@ -56,7 +56,7 @@ double cast(const vrv::Scene& scene, const Field& field, const vrv::Ray& ray, do
 // One value per pixel of `camera`, row-major from the top-left, as vrv::ValueImage.
 inline vrv::ValueImage render(const vrv::Scene& scene, const vrv::Camera& camera, double step) {
   const std::vector<vrv::Ray> rays = vrv::camera_rays(camera);
-  vrv::ValueImage image(camera.width, camera.height);
+  vrv::ValueImage image{camera.width, camera.height, std::vector<double>(rays.size())};
   vrv::visit_field(scene, [&](const auto& field) {
     for (std::size_t i = 0; i < rays.size(); ++i) image.pixels[i] = cast(scene, field, rays[i], step);
   });
