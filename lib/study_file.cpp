@@ -103,6 +103,18 @@ long StudyReader::integer_or(const toml::table& t, std::string_view key, std::st
   return n ? integer(*n, child(path, key), lo, hi) : def;
 }
 
+double StudyReader::positive(const toml::node& n, std::string_view path) const {
+  const double x = number(n, path);
+  if (!(x > 0)) fail(path, fmt::format("must be positive, got {}", x));
+  return x;
+}
+
+double StudyReader::non_negative(const toml::node& n, std::string_view path) const {
+  const double x = number(n, path);
+  if (!(x >= 0)) fail(path, fmt::format("must be >= 0, got {}", x));
+  return x;
+}
+
 std::vector<double> StudyReader::numbers(const toml::table& t, std::string_view key,
                                          std::string_view path, double lo, double hi) const {
   const std::string at = child(path, key);
@@ -116,6 +128,10 @@ std::vector<double> StudyReader::numbers(const toml::table& t, std::string_view 
     out.push_back(x);
   }
   return out;
+}
+
+void StudyReader::fail_repeat(std::string_view at, std::size_t index, double value) const {
+  fail(fmt::format("{}[{}]", at, index), fmt::format("{} is listed twice", value));
 }
 
 std::vector<long> StudyReader::whole_numbers(const toml::table& t, std::string_view key,
@@ -455,6 +471,7 @@ RaySample read_ray_sample(const StudyReader& r, const toml::table& doc, RaySampl
 
 std::vector<double> read_refinement_steps(const StudyReader& r, const toml::table& doc) {
   std::vector<double> steps = r.numbers(doc, "steps", "", 1e-6, 1.0);
+  r.check_distinct(steps, "", "steps");
   if (steps.size() < 3) r.fail("steps", "at least three steps (an order and its spread)");
   return steps;
 }

@@ -57,6 +57,10 @@ class StudyReader {
   const toml::array& array(const toml::node& n, std::string_view path) const;
   std::string string(const toml::node& n, std::string_view path) const;
   double number(const toml::node& n, std::string_view path) const;  // finite
+  // number(), and > 0 ("must be positive, got X") or >= 0 ("must be >= 0, got X"): orders, steps,
+  // and the tolerances of checks (a negative one is a check that cannot pass).
+  double positive(const toml::node& n, std::string_view path) const;
+  double non_negative(const toml::node& n, std::string_view path) const;
   long integer(const toml::node& n, std::string_view path, long lo, long hi) const;
   bool boolean(const toml::node& n, std::string_view path) const;
   // Optional keys: the default when absent.
@@ -66,6 +70,16 @@ class StudyReader {
   // A non-empty array of finite numbers, each in [lo, hi].
   std::vector<double> numbers(const toml::table& t, std::string_view key, std::string_view path,
                               double lo, double hi) const;
+  // Fails at "<path.key>[i]" when entry i repeats an earlier one ("V is listed twice"): lists of
+  // refinement levels (steps, resolutions), where a repeat is a typo that puts two of an order's
+  // points in one place.
+  template <class T>
+  void check_distinct(const std::vector<T>& values, std::string_view path, std::string_view key) const {
+    for (std::size_t i = 1; i < values.size(); ++i)
+      if (std::find(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(i), values[i]) !=
+          values.begin() + static_cast<std::ptrdiff_t>(i))
+        fail_repeat(child(path, key), i, static_cast<double>(values[i]));
+  }
   // The same, each a whole number (written 17 or 17.0): grid sizes, node counts.
   std::vector<long> whole_numbers(const toml::table& t, std::string_view key, std::string_view path, long lo,
                                   long hi) const;
@@ -79,6 +93,7 @@ class StudyReader {
   // cannot tell order 1 from order 2, and tolerance = 1e308 made a gate pass whatever happened.
   double order_tolerance(const toml::node& n, std::string_view path) const;
   static std::string child(std::string_view path, std::string_view key);
+  [[noreturn]] void fail_repeat(std::string_view at, std::size_t index, double value) const;
   // The channel of an RGB scene this read is for (studies/engine/channel_study.h): read_study_scene
   // then gives that channel's grey scene.  Every scene read is noted, so a read without a channel
   // tells the loader to study each channel (saw_rgb_scene), and a file mixing grey and RGB scenes

@@ -33,15 +33,10 @@ constexpr double kMaxSamplesPerRay = 1e8;  // per method and ray, as for every s
 std::vector<int> read_resolutions(const StudyReader& r, const toml::table& t, std::string_view key) {
   const std::string at = StudyReader::child("grid_refinement", key);
   const std::vector<long> v = r.whole_numbers(t, key, "grid_refinement", 2, 513);
+  r.check_distinct(v, "grid_refinement", key);
   // Every grid order is gated, and a gate's tolerance comes from the fit's spread (order_check).
   if (v.size() < 3) r.fail(at, "at least three resolutions (an order and its spread)");
-  std::vector<int> out;
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    if (std::find(out.begin(), out.end(), static_cast<int>(v[i])) != out.end())
-      r.fail(fmt::format("{}[{}]", at, i), fmt::format("{} is listed twice", v[i]));
-    out.push_back(static_cast<int>(v[i]));
-  }
-  return out;
+  return std::vector<int>(v.begin(), v.end());
 }
 
 void read_grid_refinement(const StudyReader& r, const toml::table& doc, StudyDefinition& s) {
@@ -91,9 +86,7 @@ StudyDefinition read_convergence_study(const StudyInput& in) {
     for (const StudyMethod& earlier : s.methods)
       if (earlier.rule == rule)
         r.fail(path + ".rule", fmt::format("'{}' is listed twice", segment_rule_name(rule)));
-    const double order = r.number(r.require(m, "expected_order", path), path + ".expected_order");
-    if (!(order > 0)) r.fail(path + ".expected_order", fmt::format("must be positive, got {}", order));
-    s.methods.push_back({rule, order});
+    s.methods.push_back({rule, r.positive(r.require(m, "expected_order", path), path + ".expected_order")});
   }
 
   // [sampling]: strategy and steps.
@@ -108,8 +101,7 @@ StudyDefinition read_convergence_study(const StudyInput& in) {
   if (sa->size() > kMaxSteps) r.fail("sampling.steps", fmt::format("more than {} steps", kMaxSteps));
   for (std::size_t i = 0; i < sa->size(); ++i) {
     const std::string path = fmt::format("sampling.steps[{}]", i);
-    const double h = r.number(*sa->get(i), path);
-    if (!(h > 0)) r.fail(path, fmt::format("must be positive, got {}", h));
+    const double h = r.positive(*sa->get(i), path);
     // Here, not at run time (where it would be reported as --step): a cap on the work per ray.
     const double samples = s.scene.box.extent().norm() / h;
     if (samples > kMaxSamplesPerRay)

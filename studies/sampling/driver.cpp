@@ -85,10 +85,12 @@ std::vector<SegmentRule> read_rules(const StudyReader& r, const toml::table& ord
 
 // [[checks.order]] {rule, strategies, min_order} (a lower bound on the observed orders) and
 // [[checks.exact]] {rule, strategies, max_error} (configurations that reproduce the continuous
-// solution up to rounding): the same shape, read once.  Bound is Study::OrderBound or ExactBound.
+// solution up to rounding): the same shape, read once.  Bound is Study::OrderBound or ExactBound;
+// `read_value` is StudyReader::positive (an order) or non_negative (an error).
 template <class Bound>
 std::vector<Bound> read_bounds(const StudyReader& r, const toml::table& checks, const Study& st,
-                               std::string_view key, std::string_view value_key) {
+                               std::string_view key, std::string_view value_key,
+                               double (StudyReader::*read_value)(const toml::node&, std::string_view) const) {
   std::vector<Bound> out;
   const toml::node* n = checks.get(key);
   if (!n) return out;
@@ -102,7 +104,7 @@ std::vector<Bound> read_bounds(const StudyReader& r, const toml::table& checks, 
     if (!rule || std::find(st.rules.begin(), st.rules.end(), *rule) == st.rules.end())
       r.fail(p + ".rule", "not among orders.rules");
     Bound b{*rule, read_strategies(r, t, "strategies", p),
-            r.number(r.require(t, value_key, p), StudyReader::child(p, value_key))};
+            (r.*read_value)(r.require(t, value_key, p), StudyReader::child(p, value_key))};
     for (Strategy s : b.strategies)
       if (std::find(st.strategies.begin(), st.strategies.end(), s) == st.strategies.end())
         r.fail(p + ".strategies", fmt::format("{} is not among the study's strategies", strategy_name(s)));
@@ -172,8 +174,8 @@ StudyPlan parse_sampling_study(const StudyInput& in) {
              "needs emission = kappa * extinction, each given by the same two control points");
     st.closed_form_kappa = kappa;
   }
-  st.order_bounds = read_bounds<Study::OrderBound>(r, checks, st, "order", "min_order");
-  st.exact_bounds = read_bounds<Study::ExactBound>(r, checks, st, "exact", "max_error");
+  st.order_bounds = read_bounds<Study::OrderBound>(r, checks, st, "order", "min_order", &StudyReader::positive);
+  st.exact_bounds = read_bounds<Study::ExactBound>(r, checks, st, "exact", "max_error", &StudyReader::non_negative);
   st.keeps_every_ray = read_subset(r, checks, "keeps_every_ray", st.strategies);
   st.drops_corner_rays = read_subset(r, checks, "drops_corner_rays", st.strategies);
   return {[st](const StudyRun& run) { return run_sampling_study(st, run); },

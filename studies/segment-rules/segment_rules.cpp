@@ -51,16 +51,16 @@ UnitSpec read_unit(const StudyReader& r, const toml::table& doc) {
   u.quick_points = r.integer(r.require(t, "quick_points", at), at + ".quick_points", 2, 2001);
   u.alpha_top = r.number(r.require(t, "alpha_top", at), at + ".alpha_top");
   if (!(u.alpha_top > 0 && u.alpha_top < 1)) r.fail(at + ".alpha_top", "must be in (0, 1)");
-  u.identity_tolerance = r.number(r.require(t, "identity_tolerance", at), at + ".identity_tolerance");
+  u.identity_tolerance = r.non_negative(r.require(t, "identity_tolerance", at), at + ".identity_tolerance");
   u.independent_tolerance =
-      r.number(r.require(t, "independent_tolerance", at), at + ".independent_tolerance");
+      r.non_negative(r.require(t, "independent_tolerance", at), at + ".independent_tolerance");
   const std::string mat = at + ".max_error";
   const toml::table& m = r.table(r.require(t, "max_error", at), mat);
   r.check_keys(m, mat, {"zeta_linear_alpha", "psi_linear_alpha", "zeta_linear_tau", "psi_linear_tau"});
   for (int model = 0; model < 2; ++model)
     for (int q = 0; q < 2; ++q) {
       const std::string key = fmt::format("{}_{}", kQuantities[q], kModels[model]);
-      u.max_error[model][q] = r.number(r.require(m, key, mat), StudyReader::child(mat, key));
+      u.max_error[model][q] = r.non_negative(r.require(m, key, mat), StudyReader::child(mat, key));
     }
   return u;
 }
@@ -76,7 +76,9 @@ std::vector<RuleSpec> read_rules(const StudyReader& r, const toml::table& images
     r.check_keys(t, at, {"rule", "expected_order"});
     const SegmentRule rule = read_choice(r, r.require(t, "rule", at), at + ".rule", all_segment_rules(),
                                          parse_segment_rule, segment_rule_name);
-    rules.push_back({rule, r.number(r.require(t, "expected_order", at), at + ".expected_order")});
+    for (const RuleSpec& earlier : rules)
+      if (earlier.rule == rule) r.fail(at + ".rule", fmt::format("'{}' is listed twice", segment_rule_name(rule)));
+    rules.push_back({rule, r.positive(r.require(t, "expected_order", at), at + ".expected_order")});
   }
   if (rules.empty()) r.fail("images.rule", "needs at least one rule");
   return rules;
@@ -95,6 +97,8 @@ RenderSpec read_render(const StudyReader& r, const toml::table& t, const std::st
   if (s.scene.camera->projection == Projection::fan) r.fail(at + ".scene.camera", "needs an image camera, not a fan");
   s.steps = r.numbers(t, "steps", at, 1e-6, 10);
   s.quick_steps = r.numbers(t, "quick_steps", at, 1e-6, 10);
+  r.check_distinct(s.steps, at, "steps");
+  r.check_distinct(s.quick_steps, at, "quick_steps");
   if (const toml::node* c = t.get("check_orders")) s.check_orders = r.boolean(*c, at + ".check_orders");
   // A gated order's tolerance comes from the fit's spread (order_check): three steps at least.
   const std::size_t fewest = s.check_orders ? 3 : 2;
@@ -134,9 +138,13 @@ SegmentRulesStudy read_study(const StudyInput& in) {
   st.order_tolerance = images.order_tolerance;
   st.rules = std::move(images.rules);
   const toml::array& renders = r.array(r.require(in.doc, "render", ""), "render");
+  if (renders.empty()) r.fail("render", "needs at least one [[render]]");
   for (std::size_t i = 0; i < renders.size(); ++i) {
     const std::string at = fmt::format("render[{}]", i);
     st.renders.push_back(read_render(r, r.table(renders[i], at), at));
+    for (std::size_t k = 0; k + 1 < st.renders.size(); ++k)
+      if (st.renders[k].name == st.renders.back().name)  // it names the images, which would be overwritten
+        r.fail(at + ".name", fmt::format("'{}' is listed twice (render[{}] has it)", st.renders.back().name, k));
   }
   return st;
 }

@@ -48,9 +48,7 @@ double open_unit(const StudyReader& r, const toml::table& t, std::string_view ke
 }
 
 double positive(const StudyReader& r, const toml::table& t, std::string_view key, std::string_view path) {
-  const double x = r.number(r.require(t, key, path), StudyReader::child(path, key));
-  if (!(x > 0)) r.fail(StudyReader::child(path, key), fmt::format("must be positive, got {}", x));
-  return x;
+  return r.positive(r.require(t, key, path), StudyReader::child(path, key));
 }
 
 VisibilityStudy read_study(const StudyInput& in) {

@@ -209,6 +209,9 @@ TEST(SamplingStudy, StudyFileIsValidatedKeyByKey) {
   expect_rejected("max_error = 1e-12", "max_error = 1e-12\nbogus = 2", "checks.exact[0].bogus: unknown key");
   expect_rejected("keeps_every_ray = [\"entry_exit_corner\"]", "keeps_every_ray = [\"step\"]",
                   "checks.keeps_every_ray[0]");
+  // Bounds no result could meet (exit 1 after the run) or that none could miss are refused.
+  expect_rejected("max_error = 1e-12", "max_error = -1e-12", "test.toml: checks.exact[0].max_error: must be >= 0, got -1e-12");
+  expect_rejected("min_order = 0.75", "min_order = -0.75", "test.toml: checks.order[0].min_order: must be positive, got -0.75");
 }
 
 }  // namespace

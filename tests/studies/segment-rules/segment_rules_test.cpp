@@ -170,12 +170,12 @@ TEST(SegmentRules, RenderErrorsShrinkAtTheExpectedOrdersAndDoNotDependOnThreads)
 namespace vrv {
 namespace {
 
-// A bad study file is one line naming the file, the key and the reason.
-std::string parse_error(const std::string& edit_from, const std::string& edit_to) {
-  std::string text = read_study_text(std::filesystem::path(VRV_SOURCE_DIR) / "studies" / "segment-rules" / "segment-rules.toml");
-  const auto at = text.find(edit_from);
-  if (at == std::string::npos) return "edit not found: " + edit_from;
-  text.replace(at, edit_from.size(), edit_to);
+std::string shipped_study() {
+  return read_study_text(std::filesystem::path(VRV_SOURCE_DIR) / "studies" / "segment-rules" / "segment-rules.toml");
+}
+
+// A bad study file is one line naming the file, the key and the reason ("accepted" for a good one).
+std::string error_of(const std::string& text) {
   const toml::table doc = parse_study_toml(text, "bad.toml");
   const StudyReader reader("bad.toml");
   try {
@@ -186,24 +186,50 @@ std::string parse_error(const std::string& edit_from, const std::string& edit_to
   return "accepted";
 }
 
+// The shipped file with its first `edit_from` replaced by `edit_to`.
+std::string parse_error(const std::string& edit_from, const std::string& edit_to) {
+  std::string text = shipped_study();
+  const auto at = text.find(edit_from);
+  if (at == std::string::npos) return "edit not found: " + edit_from;
+  return error_of(text.replace(at, edit_from.size(), edit_to));
+}
+
 TEST(SegmentRules, BadFilesNameTheKey) {
-  EXPECT_EQ(parse_error("map_step = 0.04", "map_step = 0.03"),
-            "bad.toml: render[0].map_step: must be one of steps and of quick_steps");
-  EXPECT_EQ(parse_error("alpha_top = 0.9990234375", "alpha_top = 1.0"),
-            "bad.toml: unit_segment.alpha_top: must be in (0, 1)");
-  EXPECT_EQ(parse_error("rule = \"moreland\"", "rule = \"simpson\""),
-            "bad.toml: images.rule[4].rule: unknown value 'simpson' (one of riemann, alpha, trapezoid, exact_linear, moreland)");
-  // It said "must be a step strategy (step, vtk, inviwo)", leaving out two it takes.
-  EXPECT_EQ(parse_error("strategy = \"inviwo\"", "strategy = \"entry\""),
-            "bad.toml: images.strategy: 'entry' is not taken here (one of step, vtk, inviwo, partial, exit_anchored)");
-  EXPECT_NE(parse_error("quick_points = 21", "quick_point = 21").find("bad.toml: unit_segment"), std::string::npos);
-  // A gated order needs three steps for its tolerance (two ran the whole study, then failed).
-  EXPECT_EQ(parse_error("quick_steps = [0.04, 0.02, 0.01]", "quick_steps = [0.04, 0.02]"),
-            "bad.toml: render[0].quick_steps: at least three steps (a gated order and its spread)");
-  EXPECT_EQ(parse_error("quick_steps = [0.04, 0.02, 0.01]", "quick_steps = [0.04, 0.02]\ncheck_orders = false"),
-            "accepted");
-  EXPECT_EQ(parse_error("quick_steps = [0.04, 0.02, 0.01]", "quick_steps = [0.04]\ncheck_orders = false"),
-            "bad.toml: render[0].quick_steps: at least two steps (an order)");
+  struct Case {
+    const char *from, *to, *error;
+  };
+  const Case cases[] = {
+      {"map_step = 0.04", "map_step = 0.03", "bad.toml: render[0].map_step: must be one of steps and of quick_steps"},
+      {"alpha_top = 0.9990234375", "alpha_top = 1.0", "bad.toml: unit_segment.alpha_top: must be in (0, 1)"},
+      {"rule = \"moreland\"", "rule = \"simpson\"",
+       "bad.toml: images.rule[4].rule: unknown value 'simpson' (one of riemann, alpha, trapezoid, exact_linear, moreland)"},
+      // It said "must be a step strategy (step, vtk, inviwo)", leaving out two it takes.
+      {"strategy = \"inviwo\"", "strategy = \"entry\"",
+       "bad.toml: images.strategy: 'entry' is not taken here (one of step, vtk, inviwo, partial, exit_anchored)"},
+      {"quick_points = 21", "quick_point = 21",
+       "bad.toml: unit_segment.quick_point: unknown key (allowed: points, quick_points, alpha_top, identity_tolerance, "
+       "independent_tolerance, max_error)"},
+      // A gated order needs three steps for its tolerance (two ran the whole study, then failed).
+      {"quick_steps = [0.04, 0.02, 0.01]", "quick_steps = [0.04, 0.02]",
+       "bad.toml: render[0].quick_steps: at least three steps (a gated order and its spread)"},
+      {"quick_steps = [0.04, 0.02, 0.01]", "quick_steps = [0.04, 0.02]\ncheck_orders = false", "accepted"},
+      {"quick_steps = [0.04, 0.02, 0.01]", "quick_steps = [0.04]\ncheck_orders = false",
+       "bad.toml: render[0].quick_steps: at least two steps (an order)"},
+      // Repeats that would put two of an order's points in one place, or overwrite a render's images.
+      {"quick_steps = [0.04, 0.02, 0.01]", "quick_steps = [0.04, 0.02, 0.04]",
+       "bad.toml: render[0].quick_steps[2]: 0.04 is listed twice"},
+      {"name = \"sharp\"", "name = \"smooth\"", "bad.toml: render[1].name: 'smooth' is listed twice (render[0] has it)"},
+      {"rule = \"moreland\"", "rule = \"riemann\"", "bad.toml: images.rule[4].rule: 'riemann' is listed twice"},
+      // Tolerances no result could meet: the checks failed after the whole run (exit 1).
+      {"identity_tolerance = ", "identity_tolerance = -1.0 #",
+       "bad.toml: unit_segment.identity_tolerance: must be >= 0, got -1"},
+  };
+  for (const Case& c : cases) EXPECT_EQ(parse_error(c.from, c.to), c.error) << c.to;
+  // No render at all: the [[render]] tables cut, `render = []` among the top-level keys.
+  std::string no_render = shipped_study();
+  no_render.erase(no_render.find("[[render]]"));
+  no_render.insert(no_render.find("[unit_segment]"), "render = []\n");
+  EXPECT_EQ(error_of(no_render), "bad.toml: render: needs at least one [[render]]");
 }
 
 }  // namespace
