@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "lib/camera.h"
+#include "lib/geometry.h"
 #include "studies/engine/study_driver.h"
 #include "studies/sampling/fan.h"
 #include "studies/sampling/run.h"
@@ -133,6 +135,11 @@ StudyPlan parse_sampling_study(const StudyInput& in) {
   st.reference_tol = read_reference_tol(r, doc, "");
   st.strategies = read_strategies(r, doc, "strategies", "");
   st.setup = read_setup(r, doc);
+  // A fan that misses the square measures nothing: every order would be NaN after the run.
+  const std::vector<Ray> fan = camera_rays(fan_camera(st.setup));
+  if (std::none_of(fan.begin(), fan.end(), [&](const Ray& ray) { return clip(ray, st.scene.box).has_value(); }))
+    r.fail("setup", fmt::format("none of the {} fan rays meets the volume (see eye, centre, angle_degrees and "
+                                "fov_degrees): there is nothing to measure", fan.size()));
 
   const toml::table& curves = r.table(r.require(doc, "curves", ""), "curves");
   r.check_keys(curves, "curves", {"rates"});

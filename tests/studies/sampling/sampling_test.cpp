@@ -212,6 +212,10 @@ TEST(SamplingStudy, StudyFileIsValidatedKeyByKey) {
   // Bounds no result could meet (exit 1 after the run) or that none could miss are refused.
   expect_rejected("max_error = 1e-12", "max_error = -1e-12", "test.toml: checks.exact[0].max_error: must be >= 0, got -1e-12");
   expect_rejected("min_order = 0.75", "min_order = -0.75", "test.toml: checks.order[0].min_order: must be positive, got -0.75");
+  // A fan turned away from the square: every order was NaN after the run (exit 1).
+  expect_rejected("angle_degrees = 0.0", "angle_degrees = 180.0",
+                  "test.toml: setup: none of the 120 fan rays meets the volume (see eye, centre, angle_degrees and "
+                  "fov_degrees): there is nothing to measure");
 }
 
 }  // namespace
