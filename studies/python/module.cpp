@@ -87,6 +87,19 @@ auto interruptible(Work&& work) -> decltype(work()) {
   return std::move(*result);
 }
 
+// An array (or a nested list) of real numbers as doubles.  numpy would cast a complex array to its
+// real part (a warning, not an error) and booleans to 0 and 1: ValueError naming the argument.
+Points real_array(const py::handle& h, const std::string& name) {
+  const py::array a = py::array::ensure(h);
+  if (a) {
+    const char kind = a.dtype().kind();
+    if (kind != 'f' && kind != 'i' && kind != 'u')
+      throw std::invalid_argument(fmt::format("{}: dtype {} is not real numbers (give float32 or float64)", name,
+                                              py::str(a.dtype()).cast<std::string>()));
+  }
+  return py::cast<Points>(h);
+}
+
 // The leading shape of an (..., 3) array; ValueError naming the argument otherwise.
 std::vector<py::ssize_t> leading_shape(const Points& a, const char* name) {
   if (a.ndim() < 1 || a.shape(a.ndim() - 1) != 3)
@@ -280,8 +293,9 @@ py::dict color_reference(const std::vector<py::ssize_t>& shape, const std::vecto
   return out;
 }
 
-py::dict reference(const Scene& scene, const Points& origins, const Points& directions, double tol,
+py::dict reference(const Scene& scene, const py::object& given_origins, const py::object& given_directions, double tol,
                    double max_work, const std::optional<std::string>& mode_name) {
+  const Points origins = real_array(given_origins, "origins"), directions = real_array(given_directions, "directions");
   const std::optional<ProjectionMode> mode = mode_keyword(mode_name);
   const std::vector<Ray> rays = make_rays(origins, directions);
   if (mode) {
@@ -342,8 +356,9 @@ bool take_bound(py::dict& kw) {
   return value.cast<bool>();
 }
 
-py::dict discrete(const Scene& scene, const Points& origins, const Points& directions,
+py::dict discrete(const Scene& scene, const py::object& given_origins, const py::object& given_directions,
                   const py::kwargs& given) {
+  const Points origins = real_array(given_origins, "origins"), directions = real_array(given_directions, "directions");
   py::dict kw;
   const std::optional<ProjectionMode> mode = mode_keyword(take_mode(given, kw));
   const bool bound = take_bound(kw);
@@ -513,26 +528,19 @@ py::dict box(const Scene& scene) {
 // a .npy file (lib/io/image_channels.h): grey, grey+alpha, RGB or RGBA; float32 keeps its type
 // (and its quantum), anything else is taken as float64.  ValueError "images[i]: <reason>".
 ChannelImage array_image(const py::handle& h, std::size_t index) {
-  // numpy would cast a complex image to its real part (a warning, not an error) and booleans to
-  // 0 and 1: neither is a renderer's image.
-  if (py::isinstance<py::array>(h)) {
-    const char kind = py::cast<py::array>(h).dtype().kind();
-    if (kind != 'f' && kind != 'i' && kind != 'u')
-      throw std::invalid_argument(fmt::format("images[{}]: dtype {} is not real numbers (give float32 or float64)",
-                                              index, py::str(py::cast<py::array>(h).dtype()).cast<std::string>()));
-  }
   NpyArray a;
   const auto as_npy = [&](auto array, const char* dtype) {
     a.dtype = dtype;
     a.shape.assign(array.shape(), array.shape() + array.ndim());
     a.values.assign(array.data(), array.data() + array.size());
   };
+  const std::string name = fmt::format("images[{}]", index);
   if (py::isinstance<py::array_t<float>>(h))
     as_npy(py::cast<py::array_t<float, py::array::c_style | py::array::forcecast>>(h), "<f4");
   else
-    as_npy(py::cast<Points>(h), "<f8");
+    as_npy(real_array(h, name), "<f8");
   try {
-    return channel_image(a, fmt::format("images[{}]", index));
+    return channel_image(a, name);
   } catch (const std::runtime_error& e) {
     throw std::invalid_argument(e.what());
   }

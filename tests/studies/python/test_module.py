@@ -243,6 +243,11 @@ def test_bad_scene_text_and_rays_raise_value_error():
         scene.reference(np.zeros((4, 3)), np.ones((5, 3)))
     with pytest.raises(ValueError, match=r"^rays\[0\]: ray origin is not finite$"):
         scene.reference([np.nan, 0, 0], [1, 0, 0])
+    # numpy cast a complex ray to its real part (a warning only) and booleans to 0 and 1.
+    with pytest.raises(ValueError, match=r"^origins: dtype complex128 is not real numbers"):
+        scene.reference(np.array([0, 0, -3 + 1j]), [0, 0, 1])
+    with pytest.raises(ValueError, match=r"^directions: dtype bool is not real numbers"):
+        scene.discrete([0, 0, -3], np.array([False, False, True]), method="trapezoid", step=0.1)
     with pytest.raises(ValueError, match=r"^width: must be in \[1, 16384\], got 0$"):
         scene.render(width=0)
     with pytest.raises(ValueError, match=r"^rate: applies to a discrete raycast only; add method "):
