@@ -276,7 +276,8 @@ Rendered render_projection(const Scene& scene, const Camera& camera, const Proje
 
 // A reference a verification can trust: floating point (an 8-bit preview is refused), the render's
 // size, of this scene and camera by its provenance, every pixel finite; read in double from
-// REF.f64.tiff when it lies beside REF.exr with the same provenance.
+// REF.f64.tiff, which vrv render writes beside REF.exr: a REF.f64.tiff of another render (a stale
+// half of the pair) is refused rather than passed over for the EXR's float values.
 ImageF64 read_reference_image(const std::string& path, const Camera& camera, const std::string& hash,
                               int channels) {
   auto bad = [&](const std::string& reason) {
@@ -295,7 +296,13 @@ ImageF64 read_reference_image(const std::string& path, const Camera& camera, con
     const fs::path f64 = double_sibling(path);
     if (fs::path(path).extension() == ".exr" && fs::exists(f64, ec)) {
       const auto p64 = read_provenance(f64);
-      if (p64 && provenance && p64->scene_hash == provenance->scene_hash) source = f64;
+      if (provenance && !(p64 && p64->scene_hash == provenance->scene_hash && p64->camera == provenance->camera &&
+                          p64->method == provenance->method))
+        throw bad(fmt::format("{} beside it is not the same render ({}; the EXR: {}), so one of the pair is stale: "
+                              "render the reference again or remove it", f64.filename().string(),
+                              p64 ? p64->method + " scene " + p64->scene_hash.substr(0, 12) : "no vrv provenance",
+                              provenance->method + " scene " + provenance->scene_hash.substr(0, 12)));
+      source = f64;
     }
     ref = read_image_f64(source, 4);
   } catch (const std::invalid_argument&) {

@@ -266,6 +266,16 @@ expect_failure(render_bad_error_against "^vrv: error: --error-against: .*nope.ex
 if(EXISTS ${OUT}/render_never.exr)
   message(FATAL_ERROR "render_bad_error_against: rendered although the reference is missing")
 endif()
+# REF.exr and REF.f64.tiff are one render's pair: a stale .f64.tiff beside it (another render's)
+# is refused, where its float EXR was quietly used instead.
+file(MAKE_DIRECTORY ${OUT}/pair)
+expect_success(pair_loose render --reference --tol 1e-6 --width 8 --height 8 --quiet -o ${OUT}/pair/loose.exr)
+file(COPY_FILE ${OUT}/render_ref.f64.tiff ${OUT}/pair/loose.f64.tiff)
+expect_failure(stale_double "--error-against: .*loose.exr: loose.f64.tiff beside it is not the same render \\(reference tol=1e-12 scene [0-9a-f]+; the EXR: reference tol=1e-06 scene [0-9a-f]+\\), so one of the pair is stale"
+  render --method riemann --width 8 --height 8 -o ${OUT}/pair/never.exr --error-against ${OUT}/pair/loose.exr)
+file(REMOVE ${OUT}/pair/loose.f64.tiff)
+expect_success(pair_exr_only render --method riemann --width 8 --height 8 --quiet -o ${OUT}/pair/r.exr
+  --error-against ${OUT}/pair/loose.exr)
 expect_failure(render_size_mismatch "render_ref.exr: size 8 x 8 differs" render --reference
   --width 4 --height 8 -o ${OUT}/render_never.exr --error-against ${OUT}/render_ref.exr)
 expect_failure(render_no_output "-o: an output file" render --reference --width 8 --height 8)
