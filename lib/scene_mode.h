@@ -15,6 +15,10 @@ namespace vrv {
 // `mode` and the reason); none without the key.
 std::optional<ProjectionMode> scene_mode(std::string_view toml_text);
 
+// Why `who` ("vrv plan does", "the studies do") refuses a scene with this mode rather than draw
+// emission-absorption in its place: one wording for every command and study reader.
+std::string projection_refusal(ProjectionMode mode, std::string_view who);
+
 // --mode's value for emission-absorption: it overrides a scene's mode.
 inline constexpr const char* kEmissionAbsorption = "emission_absorption";
 

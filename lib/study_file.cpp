@@ -292,10 +292,7 @@ Scene read_study_scene(const StudyReader& r, const toml::table& parent, std::str
                        std::string& toml_text, bool shaded) {
   Scene scene = read_any_study_scene(r, parent, path, toml_text);
   if (const auto mode = scene_mode(toml_text))
-    r.fail(StudyReader::child(path, "scene"),
-           fmt::format("the scene asks for the {} projection (its key mode), which the studies do not draw "
-                       "(emission-absorption only); vrv ray, render, verify and gate project it",
-                       projection_mode_name(*mode)));
+    r.fail(StudyReader::child(path, "scene"), projection_refusal(*mode, "the studies do"));
   // A volume's reader checked its size against what was left: now it is held.
   if (!scene.field_files.empty())
     r.spend_memory(StudyReader::child(path, "scene"), "the volume " + digest_file_names(scene.field_files),

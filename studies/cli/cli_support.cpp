@@ -57,9 +57,7 @@ std::string scene_text_or_default(const std::string& path) {
 void require_emission_absorption(const std::string& path, std::string_view what) {
   if (path.empty()) return;  // the default scene has no mode
   if (const auto mode = scene_mode(scene_text_or_default(path)))
-    throw std::invalid_argument(fmt::format("{}: mode: the scene asks for the {} projection, which {} does not draw "
-                                            "(emission-absorption only); vrv ray, render, verify and gate project it",
-                                            path, projection_mode_name(*mode), what));
+    throw std::invalid_argument(fmt::format("{}: mode: {}", path, projection_refusal(*mode, fmt::format("{} does", what))));
 }
 
 nlohmann::ordered_json to_json(const ReferenceResult& r) {

@@ -61,9 +61,9 @@ endif()
 # plan and demo draw emission-absorption only: a scene's projection is refused, not ignored.
 file(READ ${OUT}/ramp.toml ramp)
 file(WRITE ${OUT}/ramp_mip.toml "mode = \"mip\"\n${ramp}")
-expect_error(plan_scene_mode "^vrv: error: .*ramp_mip.toml: mode: the scene asks for the mip projection, which vrv plan does not draw"
+expect_error(plan_scene_mode "^vrv: error: .*ramp_mip.toml: mode: the scene asks for the mip projection \\(its key mode\\), which vrv plan does not draw"
   plan --scene ${OUT}/ramp_mip.toml --target 1e-3)
-expect_error(demo_scene_mode "^vrv: error: .*ramp_mip.toml: mode: the scene asks for the mip projection, which vrv demo does not draw"
+expect_error(demo_scene_mode "^vrv: error: .*ramp_mip.toml: mode: the scene asks for the mip projection \\(its key mode\\), which vrv demo does not draw"
   demo --scene ${OUT}/ramp_mip.toml)
 expect_error(bad_mode "^vrv: error: --mode: unknown value 'maximum' \\(one of xray, xray_classified, mip, mip_classified\\)"
   ray --mode maximum --origin -3,0.5,0 --direction 1,0,0)
