@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cmath>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -101,15 +100,6 @@ class LineChecks {
   std::vector<std::set<std::string>> keys_;  // of each object being read, outermost first
 };
 
-// True when `v` holds a number beyond 64-bit integers: the JSON reader kept a written integer such
-// as 18446744073709551616 as the nearest double, so the id echoed would not be the id given.
-bool has_rounded_integer(const nlohmann::json& v) {
-  if (v.is_number_float()) return std::abs(v.get<double>()) >= 0x1p64;
-  if (v.is_structured())
-    for (const auto& item : v) if (has_rounded_integer(item)) return true;
-  return false;
-}
-
 RayLine parse_line(const std::string& text) {
   nlohmann::json j;
   try {
@@ -133,12 +123,7 @@ RayLine parse_line(const std::string& text) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("direction: {}", e.what()));
   }
-  if (j.contains("id")) {
-    if (has_rounded_integer(j["id"]))
-      throw std::invalid_argument("id: holds a number beyond 64-bit integers, which would come back rounded; "
-                                  "give it as a string");
-    r.id = j["id"];
-  }
+  if (j.contains("id")) r.id = j["id"];
   return r;
 }
 

@@ -22,7 +22,7 @@ struct RayLine {
 // Every ray of `in`.  Throws std::invalid_argument "<name>:<line>: <reason>" for the first bad
 // line: invalid JSON (with the column, and why: NaN/Infinity, a number beyond a double, a
 // truncated object), not an object, an unknown key, a missing or malformed origin/direction, a
-// zero direction, an id holding a number past 2^64 (it would be echoed rounded).
+// zero direction.
 std::vector<RayLine> read_rays(std::istream& in, const std::string& name);
 
 // What a counting pass over a rays input saw: its non-blank lines (the rays it would give) and
