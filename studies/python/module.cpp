@@ -89,15 +89,21 @@ auto interruptible(Work&& work) -> decltype(work()) {
 
 // An array (or a nested list) of real numbers as doubles.  numpy would cast a complex array to its
 // real part (a warning, not an error) and booleans to 0 and 1: ValueError naming the argument.
+// Anything else numpy converts is taken (object arrays of numbers, integers past int64); what it
+// cannot convert is a TypeError naming the argument.
 Points real_array(const py::handle& h, const std::string& name) {
-  const py::array a = py::array::ensure(h);
-  if (a) {
+  if (const py::array a = py::array::ensure(h)) {
     const char kind = a.dtype().kind();
-    if (kind != 'f' && kind != 'i' && kind != 'u')
-      throw std::invalid_argument(fmt::format("{}: dtype {} is not real numbers (give float32 or float64)", name,
+    if (kind == 'c' || kind == 'b')
+      throw std::invalid_argument(fmt::format("{}: dtype {} is not real numbers (give floats or integers)", name,
                                               py::str(a.dtype()).cast<std::string>()));
   }
-  return py::cast<Points>(h);
+  try {
+    return py::cast<Points>(h);
+  } catch (const std::exception&) {  // pybind11's cast_error, or numpy's own ("could not convert string")
+    throw py::type_error(fmt::format("{}: expected an array of numbers, got {}", name,
+                                     py::str(py::type::of(h).attr("__name__")).cast<std::string>()));
+  }
 }
 
 // The leading shape of an (..., 3) array; ValueError naming the argument otherwise.

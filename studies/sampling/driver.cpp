@@ -88,7 +88,8 @@ std::vector<SegmentRule> read_rules(const StudyReader& r, const toml::table& ord
 // [[checks.order]] {rule, strategies, min_order} (a lower bound on the observed orders) and
 // [[checks.exact]] {rule, strategies, max_error} (configurations that reproduce the continuous
 // solution up to rounding): the same shape, read once.  Bound is Study::OrderBound or ExactBound;
-// `read_value` is StudyReader::positive (an order) or non_negative (an error).
+// `read_value` is StudyReader::number (an order: any bound can fail, a slope can be negative) or
+// non_negative (an error).
 template <class Bound>
 std::vector<Bound> read_bounds(const StudyReader& r, const toml::table& checks, const Study& st,
                                std::string_view key, std::string_view value_key,
@@ -135,9 +136,14 @@ StudyPlan parse_sampling_study(const StudyInput& in) {
   st.reference_tol = read_reference_tol(r, doc, "");
   st.strategies = read_strategies(r, doc, "strategies", "");
   st.setup = read_setup(r, doc);
-  // A fan that misses the square measures nothing: every order would be NaN after the run.
+  // A fan that misses the square measures nothing: every order would be NaN after the run.  A ray
+  // counts as the run counts it (fan.cpp): with a chord of positive length, not one grazing a corner.
   const std::vector<Ray> fan = camera_rays(fan_camera(st.setup));
-  if (std::none_of(fan.begin(), fan.end(), [&](const Ray& ray) { return clip(ray, st.scene.box).has_value(); }))
+  const auto crosses = [&](const Ray& ray) {
+    const std::optional<Interval> chord = clip(ray, st.scene.box);
+    return chord && chord->length() > 0;
+  };
+  if (std::none_of(fan.begin(), fan.end(), crosses))
     r.fail("setup", fmt::format("none of the {} fan rays meets the volume (see eye, centre, angle_degrees and "
                                 "fov_degrees): there is nothing to measure", fan.size()));
 
@@ -181,7 +187,7 @@ StudyPlan parse_sampling_study(const StudyInput& in) {
              "needs emission = kappa * extinction, each given by the same two control points");
     st.closed_form_kappa = kappa;
   }
-  st.order_bounds = read_bounds<Study::OrderBound>(r, checks, st, "order", "min_order", &StudyReader::positive);
+  st.order_bounds = read_bounds<Study::OrderBound>(r, checks, st, "order", "min_order", &StudyReader::number);
   st.exact_bounds = read_bounds<Study::ExactBound>(r, checks, st, "exact", "max_error", &StudyReader::non_negative);
   st.keeps_every_ray = read_subset(r, checks, "keeps_every_ray", st.strategies);
   st.drops_corner_rays = read_subset(r, checks, "drops_corner_rays", st.strategies);

@@ -248,6 +248,14 @@ def test_bad_scene_text_and_rays_raise_value_error():
         scene.reference(np.array([0, 0, -3 + 1j]), [0, 0, 1])
     with pytest.raises(ValueError, match=r"^directions: dtype bool is not real numbers"):
         scene.discrete([0, 0, -3], np.array([False, False, True]), method="trapezoid", step=0.1)
+    # What numpy converts to numbers is taken: object arrays of numbers, integers past int64.
+    assert scene.reference(np.array([0, 0, -3], dtype=object), [0, 0, 1])["value"] == \
+        scene.reference([0.0, 0.0, -3.0], [0, 0, 1])["value"]
+    assert np.isfinite(scene.reference([[-10**20, 0, 0]], [[1, 0, 0]])["value"]).all()
+    with pytest.raises(TypeError, match=r"^origins: expected an array of numbers, got str$"):
+        scene.reference("abc", [0, 0, 1])
+    with pytest.raises(ValueError, match=r"^origins: expected an array of shape"):
+        scene.reference(None, [0, 0, 1])
     with pytest.raises(ValueError, match=r"^width: must be in \[1, 16384\], got 0$"):
         scene.render(width=0)
     with pytest.raises(ValueError, match=r"^rate: applies to a discrete raycast only; add method "):

@@ -209,10 +209,15 @@ TEST(SamplingStudy, StudyFileIsValidatedKeyByKey) {
   expect_rejected("max_error = 1e-12", "max_error = 1e-12\nbogus = 2", "checks.exact[0].bogus: unknown key");
   expect_rejected("keeps_every_ray = [\"entry_exit_corner\"]", "keeps_every_ray = [\"step\"]",
                   "checks.keeps_every_ray[0]");
-  // Bounds no result could meet (exit 1 after the run) or that none could miss are refused.
+  // An error bound no result could meet is refused (it failed after the run, exit 1).
   expect_rejected("max_error = 1e-12", "max_error = -1e-12", "test.toml: checks.exact[0].max_error: must be >= 0, got -1e-12");
-  expect_rejected("min_order = 0.75", "min_order = -0.75", "test.toml: checks.order[0].min_order: must be positive, got -0.75");
   // A fan turned away from the square: every order was NaN after the run (exit 1).
+  // One ray that touches the square's corner (a chord of length 0) measures nothing either.
+  expect_rejected("eye = [-9.0, 0.0]\ncentre = [0.0, 0.0]\nrotation_degrees = 25.714285714285715   # 180/7 = pi/7\n"
+                  "angle_degrees = 0.0\nfov_degrees = 30.0\nrays = 120\n",
+                  "eye = [-3.0, 2.220446049250313e-16]\ncentre = [0.0, 0.0]\nrotation_degrees = 0.0\n"
+                  "angle_degrees = 45.0\nfov_degrees = 1.0\nrays = 1\n",
+                  "test.toml: setup: none of the 1 fan rays meets the volume");
   expect_rejected("angle_degrees = 0.0", "angle_degrees = 180.0",
                   "test.toml: setup: none of the 120 fan rays meets the volume (see eye, centre, angle_degrees and "
                   "fov_degrees): there is nothing to measure");
